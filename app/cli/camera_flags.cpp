@@ -1,0 +1,26 @@
+#include "app/cli/camera_flags.h"
+
+namespace accelviz::cli {
+
+void CameraFlags::add_to(CLI::App& command) {
+    command.add_option("--eye", eye, "Camera position x,y,z (default: framed on the scene)");
+    command.add_option("--target", target, "Point looked at x,y,z (default: scene centre)");
+    command.add_option("--up", up, "Up vector x,y,z (default: 0,1,0)");
+    command.add_option("--fov", fov, "Vertical field of view in degrees (default: 45)");
+}
+
+Expected<CameraParams> CameraFlags::resolve(const Aabb& scene_bounds) const {
+    CameraParams p = default_camera(scene_bounds);
+    struct Field { const std::string& text; Vec3d& out; const char* flag; };
+    for (Field f : {Field{eye, p.eye, "--eye"}, Field{target, p.target, "--target"}, Field{up, p.up, "--up"}}) {
+        if (f.text.empty()) continue;
+        auto v = parse_vec3(f.text);
+        if (!v) return Error{std::string(f.flag) + ": " + v.error()};
+        f.out = *v;
+    }
+    if (fov) p.fov_deg = *fov;
+    if (auto err = validate(p)) return *err;
+    return p;
+}
+
+}  // namespace accelviz::cli

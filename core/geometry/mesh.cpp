@@ -1,0 +1,26 @@
+#include "core/geometry/mesh.h"
+
+namespace accelviz {
+
+Aabb Mesh::bounds() const {
+    Aabb b;
+    for (const auto& tri : indices)
+        for (uint32_t i : tri) b.grow(positions[i]);
+    return b;
+}
+
+void Mesh::add_triangle(Vec3 a, Vec3 b, Vec3 c) {
+    const auto base = static_cast<uint32_t>(positions.size());
+    positions.push_back(a);
+    positions.push_back(b);
+    positions.push_back(c);
+    indices.push_back({base, base + 1, base + 2});
+}
+
+std::vector<Triangle> make_triangles(const Mesh& mesh) {
+    std::vector<Triangle> tris(mesh.triangle_count());
+    for (size_t i = 0; i < tris.size(); ++i) tris[i] = mesh.triangle(i);
+    return tris;
+}
+
+}  // namespace accelviz

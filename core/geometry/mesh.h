@@ -1,0 +1,38 @@
+#pragma once
+/// A triangle mesh: shared vertex positions and index triples.
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/geometry/triangle.h"
+
+namespace accelviz {
+
+struct Mesh {
+    std::string name;                             ///< where it came from (path or builtin:...)
+    std::vector<Vec3> positions;
+    std::vector<std::array<uint32_t, 3>> indices;  ///< one triple per triangle, into positions
+
+    size_t triangle_count() const { return indices.size(); }
+    Vec3 vertex(size_t tri, int corner) const { return positions[indices[tri][corner]]; }
+    Triangle triangle(size_t tri) const {
+        return Triangle::from_points(vertex(tri, 0), vertex(tri, 1), vertex(tri, 2));
+    }
+    Aabb triangle_bounds(size_t tri) const {
+        Aabb b;
+        for (int c = 0; c < 3; ++c) b.grow(vertex(tri, c));
+        return b;
+    }
+    /// Bounds of all referenced vertices (empty box for an empty mesh).
+    Aabb bounds() const;
+    /// Adds a triangle from three points (appends three vertices).
+    void add_triangle(Vec3 a, Vec3 b, Vec3 c);
+};
+
+/// The triangles of a mesh in intersection form, indexed by triangle id.
+/// Built once per mesh; structures test against it.
+std::vector<Triangle> make_triangles(const Mesh& mesh);
+
+}  // namespace accelviz

@@ -1,0 +1,66 @@
+#pragma once
+/// Observers of a traversal. Every traversal is one template
+///   template <class Observer> Hit intersect_closest(..., Observer& obs)
+/// that calls obs.on(TraversalEvent{...}) at each step. With NoObserver the call
+/// is an empty inline function and the optimizer removes the event entirely, so
+/// the fast path and the instrumented path are the same code.
+
+#include <vector>
+
+#include "core/traversal/events.h"
+
+namespace accelviz {
+
+/// The fast path: sees nothing, costs nothing.
+struct NoObserver {
+    void on(const TraversalEvent&) {}
+};
+
+/// Work done by one ray (or summed over many): what heat maps and bench show.
+struct Counters {
+    uint64_t nodes_visited = 0;   ///< VisitNode + EnterCell
+    uint64_t box_tests = 0;       ///< BoxTest
+    uint64_t triangle_tests = 0;  ///< TriangleTest
+    uint64_t mailbox_skips = 0;   ///< MailboxSkip
+    uint64_t hits_outside_cell = 0;
+    uint64_t culls = 0;
+
+    void add(const TraversalEvent& e) {
+        switch (e.kind) {
+            case EventKind::VisitNode:
+            case EventKind::EnterCell: ++nodes_visited; break;
+            case EventKind::BoxTest: ++box_tests; break;
+            case EventKind::TriangleTest: ++triangle_tests; break;
+            case EventKind::MailboxSkip: ++mailbox_skips; break;
+            case EventKind::HitOutsideCell: ++hits_outside_cell; break;
+            case EventKind::Cull: ++culls; break;
+            default: break;
+        }
+    }
+    Counters& operator+=(const Counters& o) {
+        nodes_visited += o.nodes_visited; box_tests += o.box_tests;
+        triangle_tests += o.triangle_tests; mailbox_skips += o.mailbox_skips;
+        hits_outside_cell += o.hits_outside_cell; culls += o.culls;
+        return *this;
+    }
+    bool operator==(const Counters&) const = default;
+};
+
+/// Counts work: heat maps and bench.
+struct CountingObserver {
+    Counters counters;
+    void on(const TraversalEvent& e) { counters.add(e); }
+};
+
+/// Records every event: `trace --json` and the stepper.
+struct RecordingObserver {
+    std::vector<TraversalEvent> events;
+    void on(const TraversalEvent& e) { events.push_back(e); }
+    Counters counters() const {
+        Counters c;
+        for (const auto& e : events) c.add(e);
+        return c;
+    }
+};
+
+}  // namespace accelviz
