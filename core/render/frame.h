@@ -8,6 +8,7 @@
 
 #include "core/geometry/triangle.h"
 #include "core/render/image.h"
+#include "core/traversal/observers.h"
 
 namespace accelviz {
 
@@ -17,7 +18,8 @@ struct Frame {
     std::vector<float> depth;      ///< hit distance t along the pixel's ray; +inf if none
     std::vector<uint32_t> tri;     ///< triangle id, Hit::kNoHit if none
     std::vector<uint32_t> nodes;   ///< per pixel: nodes/cells visited (ray caster with counters)
-    std::vector<uint32_t> tests;   ///< per pixel: triangle tests (ray caster) or depth tests (raster)
+    std::vector<uint32_t> tests;   ///< per pixel: triangle tests (ray caster) or fragments (raster)
+    Counters work;                 ///< ray caster with counters: the work summed over all pixels
 
     Frame() = default;
     Frame(int w, int h)

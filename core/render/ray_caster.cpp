@@ -1,6 +1,7 @@
 #include "core/render/ray_caster.h"
 
 #include <tbb/blocked_range2d.h>
+#include <tbb/combinable.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -16,6 +17,7 @@ Frame ray_cast(const Accelerator& accel, const std::vector<Triangle>& triangles,
         frame.nodes.assign(frame.depth.size(), 0);
         frame.tests.assign(frame.depth.size(), 0);
     }
+    tbb::combinable<Counters> work;  // per-thread sums, combined at the end
     auto trace_tile = [&](const tbb::blocked_range2d<int>& tile) {
         for (int y = tile.rows().begin(); y < tile.rows().end(); ++y)
             for (int x = tile.cols().begin(); x < tile.cols().end(); ++x) {
@@ -27,6 +29,7 @@ Frame ray_cast(const Accelerator& accel, const std::vector<Triangle>& triangles,
                     hit = accel.intersect_closest(ray, counter);
                     frame.nodes[i] = uint32_t(counter.counters.nodes_visited);
                     frame.tests[i] = uint32_t(counter.counters.triangle_tests);
+                    work.local() += counter.counters;
                 } else {
                     hit = accel.intersect_closest(ray);
                 }
@@ -42,6 +45,7 @@ Frame ray_cast(const Accelerator& accel, const std::vector<Triangle>& triangles,
     } else {
         tbb::parallel_for(all, trace_tile);
     }
+    if (options.count_work) work.combine_each([&](const Counters& c) { frame.work += c; });
     return frame;
 }
 
