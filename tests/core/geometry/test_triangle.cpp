@@ -1,0 +1,94 @@
+// Möller–Trumbore (lecture: 光线与三角形交叉 – 更快的算法): u, v, t, and the
+// inside test u >= 0, v >= 0, u + v <= 1, with edge cases and no epsilons.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/geometry/triangle.h"
+
+using namespace accelviz;
+
+namespace {
+// The right triangle (0,0,0), (1,0,0), (0,1,0) in the z = 0 plane.
+const Triangle kTri = Triangle::from_points({0, 0, 0}, {1, 0, 0}, {0, 1, 0});
+
+TriangleTest shoot_down_at(float x, float y) { return intersect_triangle(kTri, Ray{{x, y, 2}, {0, 0, -1}}); }
+}  // namespace
+
+TEST(MollerTrumbore, InteriorHitGivesBarycentricsAndDistance) {
+    const TriangleTest r = shoot_down_at(0.25f, 0.5f);
+    ASSERT_TRUE(r.hit);
+    EXPECT_FLOAT_EQ(r.t, 2.0f);
+    EXPECT_FLOAT_EQ(r.u, 0.25f);  // weight of p1 = (1,0,0)
+    EXPECT_FLOAT_EQ(r.v, 0.5f);   // weight of p2 = (0,1,0)
+}
+
+TEST(MollerTrumbore, HitsOnEdgesAndVerticesCount) {
+    EXPECT_TRUE(shoot_down_at(0.5f, 0.0f).hit);   // edge p0-p1 (v = 0)
+    EXPECT_TRUE(shoot_down_at(0.0f, 0.5f).hit);   // edge p0-p2 (u = 0)
+    EXPECT_TRUE(shoot_down_at(0.5f, 0.5f).hit);   // edge p1-p2 (u + v = 1)
+    EXPECT_TRUE(shoot_down_at(0.0f, 0.0f).hit);   // vertex p0
+    EXPECT_TRUE(shoot_down_at(1.0f, 0.0f).hit);   // vertex p1
+    EXPECT_TRUE(shoot_down_at(0.0f, 1.0f).hit);   // vertex p2
+}
+
+TEST(MollerTrumbore, JustOutsideMisses) {
+    EXPECT_FALSE(shoot_down_at(-1e-6f, 0.5f).hit);
+    EXPECT_FALSE(shoot_down_at(0.5f, -1e-6f).hit);
+    EXPECT_FALSE(shoot_down_at(0.5f + 1e-6f, 0.5f).hit);
+    EXPECT_FALSE(shoot_down_at(2, 2).hit);
+}
+
+TEST(MollerTrumbore, BehindTheOriginMisses) {
+    EXPECT_FALSE(intersect_triangle(kTri, Ray{{0.2f, 0.2f, -1}, {0, 0, -1}}).hit);
+}
+
+TEST(MollerTrumbore, RespectsTMax) {
+    EXPECT_FALSE(intersect_triangle(kTri, Ray{{0.2f, 0.2f, 2}, {0, 0, -1}, 0, 1.5f}).hit);
+    EXPECT_TRUE(intersect_triangle(kTri, Ray{{0.2f, 0.2f, 2}, {0, 0, -1}, 0, 2.0f}).hit);  // inclusive
+}
+
+TEST(MollerTrumbore, ParallelRayMisses) {
+    EXPECT_FALSE(intersect_triangle(kTri, Ray{{0.2f, 0.2f, 0}, {1, 0, 0}}).hit);
+    EXPECT_FALSE(intersect_triangle(kTri, Ray{{0.2f, 0.2f, 1}, {1, -0.0f, 0}}).hit);
+}
+
+TEST(MollerTrumbore, BothFacesAreHit) {
+    const TriangleTest r = intersect_triangle(kTri, Ray{{0.2f, 0.2f, -3}, {0, 0, 1}});
+    ASSERT_TRUE(r.hit);
+    EXPECT_FLOAT_EQ(r.t, 3.0f);
+}
+
+TEST(MollerTrumbore, DegenerateTrianglesNeverHitAndNeverNaN) {
+    const Triangle point = Triangle::from_points({0, 0, 0}, {0, 0, 0}, {0, 0, 0});
+    const Triangle line = Triangle::from_points({0, 0, 0}, {1, 0, 0}, {2, 0, 0});
+    for (const Triangle& tri : {point, line}) {
+        EXPECT_FALSE(intersect_triangle(tri, Ray{{0.5f, 0, 1}, {0, 0, -1}}).hit);
+        EXPECT_FALSE(intersect_triangle(tri, Ray{{0.5f, 1, 0}, {0, -1, 0}}).hit);
+    }
+}
+
+TEST(MollerTrumbore, NoAbsoluteEpsilonTinyAndHugeTrianglesWork) {
+    // A triangle 1e-4 across (det ~ 1e-8) and one 1e4 across: both must be hit.
+    for (float scale : {1e-4f, 1.0f, 1e4f}) {
+        const Triangle tri = Triangle::from_points({0, 0, 0}, {scale, 0, 0}, {0, scale, 0});
+        const TriangleTest r = intersect_triangle(tri, Ray{{0.25f * scale, 0.25f * scale, scale}, {0, 0, -1}});
+        EXPECT_TRUE(r.hit) << "scale " << scale;
+        EXPECT_FLOAT_EQ(r.t, scale);
+    }
+}
+
+TEST(MollerTrumbore, GrazingDirectionWithZeroComponents) {
+    // Ray lying exactly along the edge direction in the plane: parallel, so a miss, not NaN.
+    const TriangleTest r = intersect_triangle(kTri, Ray{{-1, 0, 0}, {1, 0, -0.0f}});
+    EXPECT_FALSE(r.hit);
+}
+
+TEST(ClosestHitOrder, SmallerTThenSmallerId) {
+    Hit best{5, 2.0f, 0, 0};
+    EXPECT_TRUE(is_closer(1.0f, 9, best));
+    EXPECT_TRUE(is_closer(2.0f, 4, best));
+    EXPECT_FALSE(is_closer(2.0f, 6, best));
+    EXPECT_FALSE(is_closer(3.0f, 0, best));
+    EXPECT_TRUE(is_closer(kInfinity, 0, Hit{}));  // anything beats "no hit" at the same infinity, by id
+}
