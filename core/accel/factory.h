@@ -5,6 +5,7 @@
 #include <string>
 
 #include "core/accel/accelerator.h"
+#include "core/accel/bvh_config.h"
 #include "core/util/expected.h"
 
 namespace accelviz {
@@ -13,6 +14,8 @@ namespace accelviz {
 /// Structure panel both write here).
 struct AccelConfig {
     std::string type = "naive";  ///< naive | bvh (later: grid | kd | octree)
+    BvhConfig bvh;               ///< bvh: --bvh-build --bins --leaf-size --cost-trav --cost-isect
+    BvhTraversal bvh_traversal = BvhTraversal::Ordered;  ///< bvh: --bvh-traversal
 };
 
 /// The names `type` accepts.

@@ -1,0 +1,13 @@
+#include "core/accel/bvh.h"
+
+namespace accelviz {
+
+nlohmann::json Bvh::config() const {
+    nlohmann::json j = to_json(build_config);
+    j["traversal"] = to_string(traversal);
+    return j;
+}
+
+nlohmann::json Bvh::stats() const { return to_json(build_stats); }
+
+}  // namespace accelviz

@@ -1,0 +1,297 @@
+#pragma once
+/// The bounding volume hierarchy (lecture: 层次包围盒, BVH) as flat data, and its
+/// traversals: algorithm 1 (unordered), algorithm 2 (ordered, early termination)
+/// and any-hit. Built by build_bvh() (core/accel/bvh_build.h).
+///
+/// Exactness: every traversal tests triangles with intersect_triangle() on the
+/// same Triangle values make_triangles() gives, keeps the closest by is_closer(),
+/// and culls a node only when its entry distance is strictly beyond the closest
+/// hit; so it returns the same triangle and bit-identical t as BruteForce.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/accel/bvh_config.h"
+#include "core/geometry/triangle.h"
+#include "core/traversal/observers.h"
+
+namespace accelviz {
+
+/// One node, 32 bytes (Wald's layout, see STYLE.md).
+/// Invariant: a leaf iff count > 0; its triangles are prim_ids[first .. first+count).
+/// Otherwise its children are nodes[first] (left) and nodes[first + 1] (right),
+/// and both child boxes lie inside `bounds`.
+struct BvhNode {
+    Aabb bounds;
+    uint32_t first = 0;
+    uint32_t count = 0;
+
+    bool is_leaf() const { return count > 0; }
+};
+static_assert(sizeof(BvhNode) == 32, "a BVH node is 32 bytes: two fit in a cache line");
+
+/// A BVH over a mesh's triangles.
+/// Invariants: nodes[0] is the root (nodes is empty iff there are no triangles);
+/// every triangle id appears exactly once in prim_ids, in exactly one leaf;
+/// triangles[k] == mesh.triangle(prim_ids[k]) (a copy in leaf order, so a leaf's
+/// triangles are contiguous in memory); no leaf is deeper than kBvhMaxDepth.
+struct Bvh {
+    std::vector<BvhNode> nodes;
+    std::vector<uint32_t> prim_ids;   ///< leaf order → triangle id
+    std::vector<Triangle> triangles;  ///< leaf order, triangles[k] is triangle prim_ids[k]
+    BvhConfig build_config;           ///< what it was built with
+    BvhBuildStats build_stats;        ///< what the build produced
+    BvhTraversal traversal = BvhTraversal::Ordered;  ///< which closest-hit algorithm intersect_closest runs
+
+    std::string name() const { return "bvh"; }
+    nlohmann::json config() const;  ///< build_config + traversal
+    nlohmann::json stats() const;   ///< build_stats
+
+    /// Closest hit in [ray.t_min, ray.t_max] by the configured traversal.
+    template <class Observer>
+    Hit intersect_closest(const Ray& ray, Observer& obs) const {
+        return traversal == BvhTraversal::Ordered ? intersect_ordered(ray, obs) : intersect_unordered(ray, obs);
+    }
+
+    /// Algorithm 1 (lecture): test the node's box; at a leaf test its triangles;
+    /// otherwise visit left, then right. No ordering, no pruning by the closest hit.
+    template <class Observer>
+    Hit intersect_unordered(const Ray& ray, Observer& obs) const;
+
+    /// Algorithm 2 (lecture): at an interior node test both children's boxes and
+    /// go to the nearer one first (smaller entry distance; the left on a tie),
+    /// keeping the other on the stack; skip every node whose entry distance is
+    /// beyond the closest hit found so far.
+    template <class Observer>
+    Hit intersect_ordered(const Ray& ray, Observer& obs) const;
+
+    /// Any hit in [ray.t_min, ray.t_max] (shadow rays): stops at the first one.
+    /// Visits children nearest first, like algorithm 2.
+    template <class Observer>
+    bool intersect_any(const Ray& ray, Observer& obs) const;
+    bool intersect_any(const Ray& ray) const {
+        NoObserver obs;
+        return intersect_any(ray, obs);
+    }
+
+private:
+    /// A deferred node: its id and its box's [t_enter, t_exit] (clipped to the ray).
+    struct StackEntry {
+        uint32_t node;
+        float t_enter;
+        float t_exit;
+    };
+
+    /// Tests the triangles of `leaf` against `ray` (whose t_max is the closest
+    /// hit so far, inclusive), updating `best` and `ray.t_max`.
+    template <class Observer>
+    void intersect_leaf(const BvhNode& leaf, Ray& ray, Hit& best, Observer& obs) const;
+
+    template <class Observer>
+    static Hit done(const Hit& best, Observer& obs) {
+        obs.on({.kind = EventKind::Done, .hit = best.found(), .tri = best.tri, .t = best.t, .u = best.u, .v = best.v});
+        return best;
+    }
+};
+
+// ---------------------------------------------------------------------------
+// Traversals. Written once each; NoObserver's empty on() makes them the fast path.
+// ---------------------------------------------------------------------------
+
+template <class Observer>
+void Bvh::intersect_leaf(const BvhNode& leaf, Ray& ray, Hit& best, Observer& obs) const {
+    obs.on({.kind = EventKind::Leaf, .node = uint32_t(&leaf - nodes.data()), .first = leaf.first, .count = leaf.count});
+    const uint32_t end = leaf.first + leaf.count;
+    for (uint32_t k = leaf.first; k < end; ++k) {
+        const TriangleTest test = intersect_triangle(triangles[k], ray);
+        obs.on({.kind = EventKind::TriangleTest, .hit = test.hit, .tri = prim_ids[k], .t = test.t, .u = test.u,
+                .v = test.v});
+        if (test.hit && is_closer(test.t, prim_ids[k], best)) {
+            best = {prim_ids[k], test.t, test.u, test.v};
+            ray.t_max = test.t;  // later triangles must be at least this close (inclusive, as BruteForce)
+            obs.on({.kind = EventKind::NewClosest, .tri = best.tri, .t = best.t, .u = best.u, .v = best.v});
+        }
+    }
+}
+
+template <class Observer>
+Hit Bvh::intersect_unordered(const Ray& ray, Observer& obs) const {
+    Hit best;
+    if (nodes.empty()) return done(best, obs);
+    const RayPrecomp precomp(ray);
+    Ray shrinking = ray;  // t_max follows the closest hit, for the triangle tests only
+    StackEntry stack[kBvhStackSize];
+    int stack_size = 0;
+    uint32_t node = 0;
+    while (true) {
+        const BvhNode& n = nodes[node];
+        // Boxes are tested against the whole ray: algorithm 1 does not prune by the closest hit.
+        const SlabResult box = slab_test(n.bounds, precomp, ray.t_min, ray.t_max);
+        obs.on({.kind = EventKind::BoxTest, .hit = box.hit(), .node = node, .t_enter = box.t_enter,
+                .t_exit = box.t_exit});
+        if (!box.hit()) {
+            obs.on({.kind = EventKind::Cull, .reason = CullReason::MissedBox, .node = node, .t_enter = box.t_enter,
+                    .t_exit = box.t_exit});
+        } else {
+            obs.on({.kind = EventKind::VisitNode, .node = node, .t_enter = box.t_enter, .t_exit = box.t_exit});
+            if (n.is_leaf()) {
+                intersect_leaf(n, shrinking, best, obs);
+            } else {
+                // Left now, right later. The right box is not tested yet: the stack
+                // entry carries this node's interval, a bound on the child's.
+                stack[stack_size++] = {n.first + 1, box.t_enter, box.t_exit};
+                obs.on({.kind = EventKind::Push, .node = n.first + 1, .t_enter = box.t_enter});
+                node = n.first;
+                continue;
+            }
+        }
+        if (stack_size == 0) break;
+        const StackEntry next = stack[--stack_size];
+        obs.on({.kind = EventKind::Pop, .node = next.node, .t_enter = next.t_enter});
+        node = next.node;
+    }
+    return done(best, obs);
+}
+
+template <class Observer>
+Hit Bvh::intersect_ordered(const Ray& ray, Observer& obs) const {
+    Hit best;
+    if (nodes.empty()) return done(best, obs);
+    const RayPrecomp precomp(ray);
+    Ray shrinking = ray;  // t_max follows the closest hit, for the triangle tests
+    StackEntry stack[kBvhStackSize];
+    int stack_size = 0;
+
+    // The root's box; after this, boxes are tested from the parent, both children at once.
+    const SlabResult root = slab_test(nodes[0].bounds, precomp, ray.t_min, ray.t_max);
+    obs.on({.kind = EventKind::BoxTest, .hit = root.hit(), .node = 0, .t_enter = root.t_enter, .t_exit = root.t_exit});
+    if (!root.hit()) {
+        obs.on({.kind = EventKind::Cull, .reason = CullReason::MissedBox, .node = 0, .t_enter = root.t_enter,
+                .t_exit = root.t_exit});
+        return done(best, obs);
+    }
+    StackEntry current{0, root.t_enter, root.t_exit};
+    while (true) {
+        obs.on({.kind = EventKind::VisitNode, .node = current.node, .t_enter = current.t_enter,
+                .t_exit = current.t_exit});
+        const BvhNode& n = nodes[current.node];
+        if (n.is_leaf()) {
+            intersect_leaf(n, shrinking, best, obs);
+        } else {
+            // find_hit_order (lecture): test both children, keep the ones the ray
+            // enters no later than the closest hit so far.
+            StackEntry child[2];
+            bool keep[2];
+            for (int side = 0; side < 2; ++side) {
+                const uint32_t id = n.first + uint32_t(side);
+                const SlabResult box = slab_test(nodes[id].bounds, precomp, ray.t_min, ray.t_max);
+                obs.on({.kind = EventKind::BoxTest, .hit = box.hit(), .node = id, .t_enter = box.t_enter,
+                        .t_exit = box.t_exit});
+                child[side] = {id, box.t_enter, box.t_exit};
+                keep[side] = box.hit() && !(box.t_enter > best.t);
+                if (!keep[side])
+                    obs.on({.kind = EventKind::Cull,
+                            .reason = box.hit() ? CullReason::BeyondClosestHit : CullReason::MissedBox, .node = id,
+                            .t_enter = box.t_enter, .t_exit = box.t_exit});
+            }
+            if (keep[0] && keep[1]) {
+                // Nearer first; the other waits on the stack with its entry distance.
+                const bool right_first = child[1].t_enter < child[0].t_enter;
+                const StackEntry& far = child[right_first ? 0 : 1];
+                stack[stack_size++] = far;
+                obs.on({.kind = EventKind::Push, .node = far.node, .t_enter = far.t_enter});
+                current = child[right_first ? 1 : 0];
+                continue;
+            }
+            if (keep[0] || keep[1]) {
+                current = child[keep[0] ? 0 : 1];
+                continue;
+            }
+        }
+        // Next deferred node, skipping those the closest hit has overtaken meanwhile.
+        bool found = false;
+        while (stack_size > 0) {
+            const StackEntry next = stack[--stack_size];
+            obs.on({.kind = EventKind::Pop, .node = next.node, .t_enter = next.t_enter});
+            if (next.t_enter > best.t) {
+                obs.on({.kind = EventKind::Cull, .reason = CullReason::BeyondClosestHit, .node = next.node,
+                        .t_enter = next.t_enter, .t_exit = next.t_exit});
+                continue;
+            }
+            current = next;
+            found = true;
+            break;
+        }
+        if (!found) break;
+    }
+    return done(best, obs);
+}
+
+template <class Observer>
+bool Bvh::intersect_any(const Ray& ray, Observer& obs) const {
+    auto finish = [&](const Hit& hit) {
+        obs.on({.kind = EventKind::Done, .hit = hit.found(), .tri = hit.tri, .t = hit.t, .u = hit.u, .v = hit.v});
+        return hit.found();
+    };
+    if (nodes.empty()) return finish(Hit{});
+    const RayPrecomp precomp(ray);
+    StackEntry stack[kBvhStackSize];
+    int stack_size = 0;
+    const SlabResult root = slab_test(nodes[0].bounds, precomp, ray.t_min, ray.t_max);
+    obs.on({.kind = EventKind::BoxTest, .hit = root.hit(), .node = 0, .t_enter = root.t_enter, .t_exit = root.t_exit});
+    if (!root.hit()) {
+        obs.on({.kind = EventKind::Cull, .reason = CullReason::MissedBox, .node = 0, .t_enter = root.t_enter,
+                .t_exit = root.t_exit});
+        return finish(Hit{});
+    }
+    StackEntry current{0, root.t_enter, root.t_exit};
+    while (true) {
+        obs.on({.kind = EventKind::VisitNode, .node = current.node, .t_enter = current.t_enter,
+                .t_exit = current.t_exit});
+        const BvhNode& n = nodes[current.node];
+        if (n.is_leaf()) {
+            obs.on({.kind = EventKind::Leaf, .node = current.node, .first = n.first, .count = n.count});
+            for (uint32_t k = n.first; k < n.first + n.count; ++k) {
+                const TriangleTest test = intersect_triangle(triangles[k], ray);
+                obs.on({.kind = EventKind::TriangleTest, .hit = test.hit, .tri = prim_ids[k], .t = test.t,
+                        .u = test.u, .v = test.v});
+                if (test.hit) return finish(Hit{prim_ids[k], test.t, test.u, test.v});
+            }
+        } else {
+            StackEntry child[2];
+            bool keep[2];
+            for (int side = 0; side < 2; ++side) {
+                const uint32_t id = n.first + uint32_t(side);
+                const SlabResult box = slab_test(nodes[id].bounds, precomp, ray.t_min, ray.t_max);
+                obs.on({.kind = EventKind::BoxTest, .hit = box.hit(), .node = id, .t_enter = box.t_enter,
+                        .t_exit = box.t_exit});
+                child[side] = {id, box.t_enter, box.t_exit};
+                keep[side] = box.hit();
+                if (!keep[side])
+                    obs.on({.kind = EventKind::Cull, .reason = CullReason::MissedBox, .node = id,
+                            .t_enter = box.t_enter, .t_exit = box.t_exit});
+            }
+            if (keep[0] && keep[1]) {
+                const bool right_first = child[1].t_enter < child[0].t_enter;
+                const StackEntry& far = child[right_first ? 0 : 1];
+                stack[stack_size++] = far;
+                obs.on({.kind = EventKind::Push, .node = far.node, .t_enter = far.t_enter});
+                current = child[right_first ? 1 : 0];
+                continue;
+            }
+            if (keep[0] || keep[1]) {
+                current = child[keep[0] ? 0 : 1];
+                continue;
+            }
+        }
+        if (stack_size == 0) break;
+        current = stack[--stack_size];
+        obs.on({.kind = EventKind::Pop, .node = current.node, .t_enter = current.t_enter});
+    }
+    return finish(Hit{});
+}
+
+}  // namespace accelviz

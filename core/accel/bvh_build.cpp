@@ -1,0 +1,582 @@
+#include "core/accel/bvh_build.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <numeric>
+
+#include "core/accel/sah.h"
+
+namespace accelviz {
+namespace {
+
+// ---------------------------------------------------------------------------
+// [SECTION] What the builders work on
+// ---------------------------------------------------------------------------
+
+/// A triangle as the builder sees it: its box and its id. 32 bytes, so the
+/// partitions move small, contiguous records instead of chasing ids into the mesh.
+struct PrimRef {
+    Aabb box;
+    uint32_t id = 0;
+    uint32_t unused = 0;
+
+    /// The lecture splits by "the position of the primitive's centroid"; we use the box centre.
+    Vec3 centroid() const { return (box.lo + box.hi) * 0.5f; }
+};
+
+/// A node's triangles during the build: positions [begin, end) of the builder's order.
+struct Range {
+    uint32_t begin, end;
+    uint32_t count() const { return end - begin; }
+};
+
+/// The split a builder proposes for a range.
+struct SplitChoice {
+    bool found = false;            ///< false: no plane separates the centroids
+    int axis = -1;
+    float position = 0;            ///< the plane, as a centroid coordinate on `axis`
+    uint32_t left_count = 0;
+    float cost = kInfinity;        ///< SAH builders: C_split of this choice
+    uint32_t index = 0;            ///< sah-binned: first bin on the right; sah-sweep: = left_count
+    bool median_fallback = false;  ///< midpoint only: the middle plane left one side empty
+};
+
+/// One builder's way of choosing and applying splits. The driver (build_bvh)
+/// owns the decisions (leaf or split, fallbacks, depth budget); a splitter only
+/// measures ranges, proposes a split, and reorders its triangles.
+class Splitter {
+public:
+    virtual ~Splitter() = default;
+    virtual bool uses_sah() const = 0;
+    /// Union of the range's triangle boxes, and the box of their centroids.
+    virtual void measure(Range range, Aabb& bounds, Aabb& centroid_bounds) const = 0;
+    /// The builder's split of the range. `step`, when not null, receives the candidates.
+    virtual SplitChoice find_split(Range range, const Aabb& bounds, const Aabb& centroid_bounds, BuildStep* step) = 0;
+    /// Reorders the range so that the choice's left side comes first; returns the first right position.
+    virtual uint32_t partition(Range range, const SplitChoice& choice) = 0;
+    /// The fallback: the first half of the range (by position) goes left. Returns begin + count/2.
+    virtual uint32_t partition_in_half(Range range) = 0;
+    /// The triangle id at position k once the build is done.
+    virtual uint32_t prim_id(uint32_t k) const = 0;
+};
+
+void measure_refs(const PrimRef* refs, Range range, Aabb& bounds, Aabb& centroid_bounds) {
+    bounds = {};
+    centroid_bounds = {};
+    for (uint32_t k = range.begin; k < range.end; ++k) {
+        bounds.grow(refs[k].box);
+        centroid_bounds.grow(refs[k].centroid());
+    }
+}
+
+/// Longest axis of the centroid bounds, or -1 if they are a single point (all centroids equal).
+int longest_axis(const Aabb& centroid_bounds) {
+    const Vec3 extent = centroid_bounds.extent();
+    const int axis = max_axis(extent);
+    return extent[axis] > 0.0f ? axis : -1;
+}
+
+/// Splitters that reorder one array of PrimRefs in place (all but the sweep).
+class InPlaceSplitter : public Splitter {
+public:
+    explicit InPlaceSplitter(std::vector<PrimRef> refs) : refs_(std::move(refs)) {}
+    void measure(Range range, Aabb& bounds, Aabb& centroid_bounds) const override {
+        measure_refs(refs_.data(), range, bounds, centroid_bounds);
+    }
+    uint32_t partition_in_half(Range range) override { return range.begin + range.count() / 2; }
+    uint32_t prim_id(uint32_t k) const override { return refs_[k].id; }
+
+protected:
+    /// Puts the median (by centroid on `axis`, ties by id) at begin + count/2, smaller ones before it.
+    float nth_element_median(Range range, int axis) {
+        const uint32_t mid = range.begin + range.count() / 2;
+        std::nth_element(refs_.begin() + range.begin, refs_.begin() + mid, refs_.begin() + range.end,
+                         [axis](const PrimRef& a, const PrimRef& b) {
+                             const float ca = a.centroid()[axis], cb = b.centroid()[axis];
+                             return ca < cb || (ca == cb && a.id < b.id);
+                         });
+        return refs_[mid].centroid()[axis];
+    }
+
+    std::vector<PrimRef> refs_;
+};
+
+// ---------------------------------------------------------------------------
+// [SECTION] Heuristic 1: split the longest axis at its middle
+// ---------------------------------------------------------------------------
+
+class MidpointSplitter final : public InPlaceSplitter {
+public:
+    using InPlaceSplitter::InPlaceSplitter;
+    bool uses_sah() const override { return false; }
+
+    SplitChoice find_split(Range range, const Aabb&, const Aabb& centroid_bounds, BuildStep*) override {
+        SplitChoice choice;
+        choice.axis = longest_axis(centroid_bounds);
+        if (choice.axis < 0) return {};
+        choice.found = true;
+        choice.position = (centroid_bounds.lo[choice.axis] + centroid_bounds.hi[choice.axis]) * 0.5f;
+        for (uint32_t k = range.begin; k < range.end; ++k)
+            choice.left_count += refs_[k].centroid()[choice.axis] < choice.position ? 1 : 0;
+        if (choice.left_count == 0 || choice.left_count == range.count()) {
+            // The centroid bounds are so thin that their middle rounds onto an end:
+            // split at the median instead, which always leaves both sides non-empty.
+            choice.median_fallback = true;
+            choice.position = nth_element_median(range, choice.axis);
+            choice.left_count = range.count() / 2;
+        }
+        return choice;
+    }
+
+    uint32_t partition(Range range, const SplitChoice& choice) override {
+        if (choice.median_fallback) return range.begin + choice.left_count;  // nth_element already did it
+        const auto mid = std::partition(refs_.begin() + range.begin, refs_.begin() + range.end,
+                                        [&](const PrimRef& r) { return r.centroid()[choice.axis] < choice.position; });
+        return uint32_t(mid - refs_.begin());
+    }
+};
+
+// ---------------------------------------------------------------------------
+// [SECTION] Heuristic 2: split the longest axis at the median triangle
+// ---------------------------------------------------------------------------
+
+class MedianSplitter final : public InPlaceSplitter {
+public:
+    using InPlaceSplitter::InPlaceSplitter;
+    bool uses_sah() const override { return false; }
+
+    SplitChoice find_split(Range range, const Aabb&, const Aabb& centroid_bounds, BuildStep*) override {
+        SplitChoice choice;
+        choice.axis = longest_axis(centroid_bounds);
+        if (choice.axis < 0) return {};
+        choice.found = true;
+        choice.position = nth_element_median(range, choice.axis);  // the partition itself
+        choice.left_count = range.count() / 2;
+        return choice;
+    }
+
+    uint32_t partition(Range range, const SplitChoice& choice) override { return range.begin + choice.left_count; }
+};
+
+// ---------------------------------------------------------------------------
+// [SECTION] Binned SAH (lecture: 高效地实现分区; Wald, "On fast Construction of
+// SAH-based Bounding Volume Hierarchies", 2007)
+// ---------------------------------------------------------------------------
+
+class BinnedSahSplitter final : public InPlaceSplitter {
+public:
+    BinnedSahSplitter(std::vector<PrimRef> refs, int bins, SahCostModel model)
+        : InPlaceSplitter(std::move(refs)), bin_count_(bins), model_(model) {}
+    bool uses_sah() const override { return true; }
+
+    SplitChoice find_split(Range range, const Aabb& bounds, const Aabb& centroid_bounds, BuildStep* step) override {
+        // Bins divide the centroid bounds of each axis into B equal buckets. An axis
+        // whose centroids all coincide has nothing to divide and is skipped.
+        bool usable[3] = {false, false, false};
+        for (int axis = 0; axis < 3; ++axis) {
+            const float extent = centroid_bounds.hi[axis] - centroid_bounds.lo[axis];
+            usable[axis] = extent > 0.0f;
+            origin_[axis] = centroid_bounds.lo[axis];
+            scale_[axis] = usable[axis] ? float(bin_count_) / extent : 0.0f;
+            for (int b = 0; b < bin_count_; ++b) bins_[axis][b] = {};
+        }
+        if (!usable[0] && !usable[1] && !usable[2]) return {};
+
+        // One pass: each triangle lands in one bin per axis (lecture: compute_bucket).
+        for (uint32_t k = range.begin; k < range.end; ++k) {
+            const PrimRef& ref = refs_[k];
+            const Vec3 c = ref.centroid();
+            for (int axis = 0; axis < 3; ++axis) {
+                if (!usable[axis]) continue;
+                Bin& bin = bins_[axis][bin_index(c[axis], axis)];
+                bin.box.grow(ref.box);
+                ++bin.count;
+            }
+        }
+
+        // B - 1 planes per axis; the plane i has bins [0, i) on the left, [i, B) on the right.
+        SplitChoice best;
+        const float area = bounds.area();
+        for (int axis = 0; axis < 3; ++axis) {
+            if (!usable[axis]) continue;
+            const Bin* bin = bins_[axis];
+            float right_area[kMaxBins];
+            uint32_t right_count[kMaxBins];
+            Aabb right;
+            uint32_t count = 0;
+            for (int i = bin_count_ - 1; i >= 1; --i) {
+                right.grow(bin[i].box);
+                count += bin[i].count;
+                right_area[i] = right.area();
+                right_count[i] = count;
+            }
+            Aabb left;
+            count = 0;
+            for (int i = 1; i < bin_count_; ++i) {
+                left.grow(bin[i - 1].box);
+                count += bin[i - 1].count;
+                const bool both_sides = count > 0 && right_count[i] > 0;
+                const float cost = both_sides
+                                       ? model_.split_cost(area, left.area(), count, right_area[i], right_count[i])
+                                       : kInfinity;
+                const float position = origin_[axis] + float(i) / scale_[axis];
+                if (step) {
+                    step->candidate_positions[axis].push_back(position);
+                    step->candidate_costs[axis].push_back(cost);
+                }
+                if (cost < best.cost) {  // strict: the first axis and plane win a tie
+                    best = {.found = true, .axis = axis, .position = position, .left_count = count, .cost = cost,
+                            .index = uint32_t(i)};
+                }
+            }
+        }
+        return best;
+    }
+
+    uint32_t partition(Range range, const SplitChoice& choice) override {
+        // The same bin_index as the binning pass, so exactly left_count triangles go left.
+        const auto mid = std::partition(refs_.begin() + range.begin, refs_.begin() + range.end, [&](const PrimRef& r) {
+            return uint32_t(bin_index(r.centroid()[choice.axis], choice.axis)) < choice.index;
+        });
+        return uint32_t(mid - refs_.begin());
+    }
+
+private:
+    static constexpr int kMaxBins = 64;
+    struct Bin {
+        Aabb box;
+        uint32_t count = 0;
+    };
+
+    /// Bucket of a centroid coordinate, clamped to [0, B-1] (NaN lands in 0).
+    int bin_index(float c, int axis) const {
+        const float f = (c - origin_[axis]) * scale_[axis];
+        return int(std::min(float(bin_count_ - 1), std::max(0.0f, f)));
+    }
+
+    int bin_count_;
+    SahCostModel model_;
+    float origin_[3] = {0, 0, 0};
+    float scale_[3] = {0, 0, 0};
+    Bin bins_[3][kMaxBins];
+};
+
+// ---------------------------------------------------------------------------
+// [SECTION] Full-sweep SAH: every centroid position on every axis. The triangles
+// are sorted once per axis; a split keeps each axis's order (stable partition),
+// so every node's range stays sorted on all three axes (Wald 2007, section 3).
+// ---------------------------------------------------------------------------
+
+class SweepSahSplitter final : public Splitter {
+public:
+    SweepSahSplitter(std::vector<PrimRef> refs, SahCostModel model)
+        : refs_(std::move(refs)), model_(model), goes_left_(refs_.size(), 0), scratch_(refs_.size()),
+          right_area_(refs_.size()) {
+        centroids_.reserve(refs_.size());
+        for (const PrimRef& r : refs_) centroids_.push_back(r.centroid());
+        for (int axis = 0; axis < 3; ++axis) {
+            order_[axis].resize(refs_.size());
+            std::iota(order_[axis].begin(), order_[axis].end(), 0u);
+            std::sort(order_[axis].begin(), order_[axis].end(), [&](uint32_t a, uint32_t b) {
+                const float ca = centroids_[a][axis], cb = centroids_[b][axis];
+                return ca < cb || (ca == cb && refs_[a].id < refs_[b].id);
+            });
+        }
+    }
+    bool uses_sah() const override { return true; }
+
+    void measure(Range range, Aabb& bounds, Aabb& centroid_bounds) const override {
+        bounds = {};
+        centroid_bounds = {};
+        for (uint32_t k = range.begin; k < range.end; ++k) {
+            const uint32_t r = order_[0][k];
+            bounds.grow(refs_[r].box);
+            centroid_bounds.grow(centroids_[r]);
+        }
+    }
+
+    SplitChoice find_split(Range range, const Aabb& bounds, const Aabb& centroid_bounds, BuildStep* step) override {
+        SplitChoice best;
+        const float area = bounds.area();
+        const uint32_t n = range.count();
+        for (int axis = 0; axis < 3; ++axis) {
+            if (!(centroid_bounds.hi[axis] > centroid_bounds.lo[axis])) continue;
+            const uint32_t* order = order_[axis].data() + range.begin;
+            // Suffix areas: right_area_[i] is the area of the boxes of order[i .. n).
+            Aabb right;
+            for (uint32_t i = n - 1; i >= 1; --i) {
+                right.grow(refs_[order[i]].box);
+                right_area_[i] = right.area();
+            }
+            // Prefix boxes; the plane before position i puts order[0 .. i) on the left. It
+            // exists only between two different centroid values.
+            Aabb left;
+            for (uint32_t i = 1; i < n; ++i) {
+                left.grow(refs_[order[i - 1]].box);
+                const float before = centroids_[order[i - 1]][axis], after = centroids_[order[i]][axis];
+                const float cost =
+                    before < after ? model_.split_cost(area, left.area(), i, right_area_[i], n - i) : kInfinity;
+                if (step) {
+                    step->candidate_positions[axis].push_back(after);
+                    step->candidate_costs[axis].push_back(cost);
+                }
+                if (cost < best.cost)
+                    best = {.found = true, .axis = axis, .position = after, .left_count = i, .cost = cost, .index = i};
+            }
+        }
+        return best;
+    }
+
+    uint32_t partition(Range range, const SplitChoice& choice) override {
+        return split_orders(range, choice.axis, choice.left_count);
+    }
+    uint32_t partition_in_half(Range range) override { return split_orders(range, 0, range.count() / 2); }
+    uint32_t prim_id(uint32_t k) const override { return refs_[order_[0][k]].id; }
+
+private:
+    /// The first `left_count` of axis `axis`'s order go left; the other two
+    /// axes' orders are stably partitioned to match, so they stay sorted.
+    uint32_t split_orders(Range range, int axis, uint32_t left_count) {
+        const uint32_t mid = range.begin + left_count;
+        for (uint32_t k = range.begin; k < range.end; ++k) goes_left_[order_[axis][k]] = k < mid ? 1 : 0;
+        for (int other = 0; other < 3; ++other) {
+            if (other == axis) continue;
+            uint32_t* order = order_[other].data();
+            uint32_t left = range.begin, right = 0;
+            for (uint32_t k = range.begin; k < range.end; ++k) {
+                if (goes_left_[order[k]]) order[left++] = order[k];
+                else scratch_[right++] = order[k];
+            }
+            std::copy(scratch_.begin(), scratch_.begin() + right, order + left);
+        }
+        return mid;
+    }
+
+    std::vector<PrimRef> refs_;  ///< by triangle id; never moved
+    std::vector<Vec3> centroids_;
+    SahCostModel model_;
+    std::array<std::vector<uint32_t>, 3> order_;  ///< per axis: refs sorted by centroid within each node range
+    std::vector<uint8_t> goes_left_;
+    std::vector<uint32_t> scratch_;
+    std::vector<float> right_area_;
+};
+
+// ---------------------------------------------------------------------------
+// [SECTION] The driver: one decision per node, explicit work stack
+// ---------------------------------------------------------------------------
+
+std::unique_ptr<Splitter> make_splitter(const BvhConfig& config, std::vector<PrimRef> refs) {
+    const SahCostModel model{config.cost_trav, config.cost_isect};
+    switch (config.builder) {
+        case BvhBuilder::Midpoint: return std::make_unique<MidpointSplitter>(std::move(refs));
+        case BvhBuilder::Median: return std::make_unique<MedianSplitter>(std::move(refs));
+        case BvhBuilder::SahSweep: return std::make_unique<SweepSahSplitter>(std::move(refs), model);
+        case BvhBuilder::SahBinned: break;
+    }
+    return std::make_unique<BinnedSahSplitter>(std::move(refs), config.bins, model);
+}
+
+/// How many halvings turn `count` triangles into leaves of at most `max_leaf` (0 if it fits).
+uint32_t levels_needed(uint32_t count, uint32_t max_leaf) {
+    uint32_t levels = 0;
+    for (; count > max_leaf; count = count - count / 2) ++levels;
+    return levels;
+}
+
+bool is_leaf(BuildDecision d) {
+    return d == BuildDecision::LeafFits || d == BuildDecision::LeafCheaper ||
+           d == BuildDecision::LeafNoSeparatingPlane || d == BuildDecision::LeafDepthLimit;
+}
+
+bool splits_in_half(BuildDecision d) {
+    return d == BuildDecision::SplitInHalfCentroidsEqual || d == BuildDecision::SplitInHalfDepthBudget;
+}
+
+/// Leaf or split, and which split (see BuildDecision). `choice` is filled when a split was searched.
+/// Depth budget: every node satisfies depth + levels_needed(count) <= kBvhMaxDepth (true at the
+/// root for any 32-bit count). A split by index keeps it; the builder's own split is taken
+/// only if its larger child keeps it too. So no leaf is ever deeper than kBvhMaxDepth.
+BuildDecision decide(Splitter& splitter, Range range, uint32_t depth, const Aabb& bounds, const Aabb& centroid_bounds,
+                     const BvhConfig& config, const SahCostModel& model, SplitChoice& choice, BuildStep* step) {
+    const uint32_t n = range.count();
+    const bool fits = n <= uint32_t(config.max_leaf_size);
+    if (n == 1 || (fits && !splitter.uses_sah())) return BuildDecision::LeafFits;
+
+    choice = splitter.find_split(range, bounds, centroid_bounds, step);
+    const uint32_t larger_child = std::max(choice.left_count, n - choice.left_count);
+    const bool within_budget =
+        choice.found && depth + 1 + levels_needed(larger_child, uint32_t(config.max_leaf_size)) <= kBvhMaxDepth;
+
+    if (!splitter.uses_sah()) {
+        if (!choice.found) return BuildDecision::SplitInHalfCentroidsEqual;
+        if (!within_budget) return BuildDecision::SplitInHalfDepthBudget;
+        return choice.median_fallback ? BuildDecision::SplitMedianFallback : BuildDecision::Split;
+    }
+    // SAH: split only if it is cheaper than the leaf, or if the leaf would not fit.
+    if (choice.found && choice.cost < model.leaf_cost(n)) {
+        if (within_budget) return BuildDecision::Split;
+        return fits ? BuildDecision::LeafDepthLimit : BuildDecision::SplitInHalfDepthBudget;
+    }
+    if (fits) return choice.found ? BuildDecision::LeafCheaper : BuildDecision::LeafNoSeparatingPlane;
+    if (!choice.found) return BuildDecision::SplitInHalfCentroidsEqual;
+    return within_budget ? BuildDecision::SplitForcedBySize : BuildDecision::SplitInHalfDepthBudget;
+}
+
+/// Depths, leaf sizes, SAH cost and memory of a finished tree (explicit stack walk).
+void compute_tree_stats(const Bvh& bvh, const SahCostModel& model, BvhBuildStats& stats) {
+    stats.nodes = uint32_t(bvh.nodes.size());
+    stats.memory_bytes = bvh.nodes.size() * sizeof(BvhNode) + bvh.prim_ids.size() * sizeof(uint32_t) +
+                         bvh.triangles.size() * sizeof(Triangle);
+    if (bvh.nodes.empty()) return;
+    const float root_area = bvh.nodes[0].bounds.area();
+    double depth_sum = 0, sah = 0;
+    struct Item { uint32_t node, depth; };
+    std::vector<Item> stack = {{0, 0}};
+    while (!stack.empty()) {
+        const Item item = stack.back();
+        stack.pop_back();
+        const BvhNode& node = bvh.nodes[item.node];
+        const double p = SahCostModel::hit_probability(node.bounds.area(), root_area);
+        if (node.is_leaf()) {
+            ++stats.leaves;
+            depth_sum += item.depth;
+            stats.max_depth = std::max(stats.max_depth, item.depth);
+            if (stats.leaf_size_histogram.size() <= node.count) stats.leaf_size_histogram.resize(node.count + 1, 0);
+            ++stats.leaf_size_histogram[node.count];
+            if (node.count > uint32_t(bvh.build_config.max_leaf_size)) ++stats.leaves_over_limit;
+            sah += p * node.count * model.cost_isect;
+        } else {
+            sah += p * model.cost_trav;
+            stack.push_back({node.first + 1, item.depth + 1});
+            stack.push_back({node.first, item.depth + 1});
+        }
+    }
+    stats.avg_leaf_depth = depth_sum / stats.leaves;
+    stats.sah_cost = sah;
+}
+
+/// One sentence per unusual decision, so the stats say why the tree looks as it does.
+void write_notes(const BvhConfig& config, BvhBuildStats& stats) {
+    auto note = [&](BuildDecision d, const std::string& what) {
+        if (const uint32_t n = stats.count(d)) stats.notes.push_back(std::to_string(n) + " " + what);
+    };
+    if (stats.triangles == 0) stats.notes.push_back("empty scene: the tree has no nodes and every ray misses");
+    note(BuildDecision::SplitInHalfCentroidsEqual,
+         "nodes split in half by index: all their triangles' centroids are equal, so no plane separates them");
+    note(BuildDecision::LeafNoSeparatingPlane,
+         "leaves made because all their triangles' centroids are equal (no plane separates them)");
+    note(BuildDecision::SplitMedianFallback,
+         "nodes split at the median: the middle of their centroid bounds rounded onto one end (bounds a few floats wide)");
+    note(BuildDecision::SplitForcedBySize, "nodes split although a leaf was cheaper by the SAH: a leaf may hold at most " +
+                                               std::to_string(config.max_leaf_size) + " triangles");
+    note(BuildDecision::SplitInHalfDepthBudget,
+         "nodes split in half by index: the builder's split could have made the tree deeper than " +
+             std::to_string(kBvhMaxDepth) + " levels");
+    note(BuildDecision::LeafDepthLimit,
+         "leaves made because a split would have made the tree deeper than " + std::to_string(kBvhMaxDepth) + " levels");
+    if (stats.leaves_over_limit)
+        stats.notes.push_back(std::to_string(stats.leaves_over_limit) + " leaves larger than the limit of " +
+                              std::to_string(config.max_leaf_size));
+}
+
+BvhConfig clamped(BvhConfig config) {
+    config.bins = std::clamp(config.bins, 2, 64);
+    config.max_leaf_size = std::clamp(config.max_leaf_size, 1, 255);
+    if (!(config.cost_trav >= 0.0f)) config.cost_trav = 0.0f;
+    if (!(config.cost_isect > 0.0f)) config.cost_isect = 1.0f;
+    return config;
+}
+
+}  // namespace
+
+Bvh build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecorder* recorder) {
+    const auto start = std::chrono::steady_clock::now();
+    Bvh bvh;
+    bvh.build_config = clamped(requested);
+    const BvhConfig& config = bvh.build_config;
+    const SahCostModel model{config.cost_trav, config.cost_isect};
+    BvhBuildStats& stats = bvh.build_stats;
+    const auto n = uint32_t(mesh.triangle_count());
+    stats.triangles = n;
+
+    if (n > 0) {
+        std::vector<PrimRef> refs(n);
+        for (uint32_t i = 0; i < n; ++i) refs[i] = {mesh.triangle_bounds(i), i};
+        const std::unique_ptr<Splitter> splitter = make_splitter(config, std::move(refs));
+
+        bvh.nodes.reserve(2 * size_t(n) - 1);  // a binary tree with at most n leaves
+        bvh.nodes.emplace_back();
+        struct Task { uint32_t node, begin, end, depth; };
+        std::vector<Task> work = {{0, 0, n, 0}};
+        while (!work.empty()) {
+            const Task task = work.back();
+            work.pop_back();
+            const Range range{task.begin, task.end};
+            Aabb bounds, centroid_bounds;
+            splitter->measure(range, bounds, centroid_bounds);
+            bvh.nodes[task.node].bounds = bounds;
+
+            BuildStep step_data;
+            BuildStep* step = recorder ? &step_data : nullptr;
+            SplitChoice choice;
+            const BuildDecision decision =
+                decide(*splitter, range, task.depth, bounds, centroid_bounds, config, model, choice, step);
+            ++stats.decisions[size_t(decision)];
+
+            if (is_leaf(decision)) {
+                bvh.nodes[task.node].first = range.begin;
+                bvh.nodes[task.node].count = range.count();
+            } else {
+                const uint32_t mid = splits_in_half(decision) ? splitter->partition_in_half(range)
+                                                              : splitter->partition(range, choice);
+                const auto left = uint32_t(bvh.nodes.size());
+                bvh.nodes.emplace_back();
+                bvh.nodes.emplace_back();
+                bvh.nodes[task.node].first = left;
+                bvh.nodes[task.node].count = 0;
+                // Right pushed first so the left subtree is built (and laid out) first: depth-first order.
+                work.push_back({left + 1, mid, range.end, task.depth + 1});
+                work.push_back({left, range.begin, mid, task.depth + 1});
+                if (step) {
+                    Aabb left_box, right_box, unused;
+                    splitter->measure({range.begin, mid}, left_box, unused);
+                    splitter->measure({mid, range.end}, right_box, unused);
+                    step->split_cost = model.split_cost(bounds.area(), left_box.area(), mid - range.begin,
+                                                        right_box.area(), range.end - mid);
+                    step->left_count = mid - range.begin;
+                    if (!splits_in_half(decision)) {
+                        step->axis = choice.axis;
+                        step->split_position = choice.position;
+                    }
+                }
+            }
+            if (step) {
+                step->node = task.node;
+                step->depth = task.depth;
+                step->first = range.begin;
+                step->count = range.count();
+                step->bounds = bounds;
+                step->centroid_bounds = centroid_bounds;
+                step->decision = decision;
+                step->leaf_cost = model.leaf_cost(range.count());
+                recorder->steps.push_back(std::move(step_data));
+            }
+        }
+
+        bvh.prim_ids.resize(n);
+        bvh.triangles.resize(n);
+        for (uint32_t k = 0; k < n; ++k) {
+            bvh.prim_ids[k] = splitter->prim_id(k);
+            bvh.triangles[k] = mesh.triangle(bvh.prim_ids[k]);  // exactly as make_triangles builds it
+        }
+    }
+
+    compute_tree_stats(bvh, model, stats);
+    write_notes(config, stats);
+    stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return bvh;
+}
+
+}  // namespace accelviz

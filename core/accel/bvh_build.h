@@ -1,0 +1,52 @@
+#pragma once
+/// Building a BVH (lecture: 层次包围盒的构建): a free function of (mesh, config)
+/// returning plain data and its stats. Four builders choose the splits:
+/// midpoint and median (the lecture's heuristics), full-sweep SAH and binned SAH.
+///
+/// The build is top-down over an explicit work stack (no recursion, so no input
+/// can overflow the call stack). Each node gets exactly one BuildDecision; an
+/// optional BuildRecorder receives every decision as data (node, axis, candidate
+/// costs, chosen split, leaf cost) so the construction can be stepped split by split.
+
+#include <array>
+#include <vector>
+
+#include "core/accel/bvh.h"
+#include "core/geometry/mesh.h"
+
+namespace accelviz {
+
+/// One decision of the builder, for the construction stepper. Node ranges are
+/// final: the triangles of node `node` are bvh.prim_ids[first .. first+count).
+struct BuildStep {
+    uint32_t node = 0;
+    uint32_t depth = 0;
+    uint32_t first = 0, count = 0;
+    Aabb bounds;              ///< the node's box (union of its triangles' boxes)
+    Aabb centroid_bounds;     ///< box of its triangles' centroids (what the splits divide)
+    BuildDecision decision = BuildDecision::LeafFits;
+    int axis = -1;            ///< split axis (0 x, 1 y, 2 z); -1 for a leaf or a split by index
+    float split_position = 0; ///< where the plane cuts the axis (centroid coordinate); 0 if axis == -1
+    uint32_t left_count = 0;  ///< triangles that went to the left child (0 for a leaf)
+    float leaf_cost = 0;      ///< N · C_isect
+    /// SAH cost of the split actually made (children's real boxes), +inf for a leaf.
+    float split_cost = kInfinity;
+    /// SAH builders: every candidate plane per axis, in increasing position, with its
+    /// cost (+inf where one side would be empty or no plane fits between equal centroids).
+    /// sah-binned: bins - 1 planes per axis; sah-sweep: count - 1 per axis. Empty for
+    /// midpoint and median, and for an axis whose centroid extent is zero.
+    std::array<std::vector<float>, 3> candidate_positions;
+    std::array<std::vector<float>, 3> candidate_costs;
+};
+
+/// Receives the build's decisions in the order they are made (parents before
+/// children, depth first, left before right).
+struct BuildRecorder {
+    std::vector<BuildStep> steps;
+};
+
+/// Builds a BVH over `mesh`. `config` must pass validate() (out-of-range values are
+/// clamped). With a recorder, every node's decision is appended to recorder->steps.
+Bvh build_bvh(const Mesh& mesh, const BvhConfig& config, BuildRecorder* recorder = nullptr);
+
+}  // namespace accelviz

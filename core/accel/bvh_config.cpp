@@ -1,0 +1,100 @@
+#include "core/accel/bvh_config.h"
+
+#include <cmath>
+
+namespace accelviz {
+
+std::string_view to_string(BvhBuilder builder) {
+    switch (builder) {
+        case BvhBuilder::Midpoint: return "midpoint";
+        case BvhBuilder::Median: return "median";
+        case BvhBuilder::SahSweep: return "sah-sweep";
+        case BvhBuilder::SahBinned: return "sah-binned";
+    }
+    return "unknown";
+}
+
+std::string_view to_string(BvhTraversal traversal) {
+    switch (traversal) {
+        case BvhTraversal::Ordered: return "ordered";
+        case BvhTraversal::Unordered: return "unordered";
+    }
+    return "unknown";
+}
+
+std::string_view to_string(BuildDecision decision) {
+    switch (decision) {
+        case BuildDecision::LeafFits: return "leaf_fits";
+        case BuildDecision::LeafCheaper: return "leaf_cheaper";
+        case BuildDecision::LeafNoSeparatingPlane: return "leaf_no_separating_plane";
+        case BuildDecision::LeafDepthLimit: return "leaf_depth_limit";
+        case BuildDecision::Split: return "split";
+        case BuildDecision::SplitForcedBySize: return "split_forced_by_size";
+        case BuildDecision::SplitMedianFallback: return "split_median_fallback";
+        case BuildDecision::SplitInHalfCentroidsEqual: return "split_in_half_centroids_equal";
+        case BuildDecision::SplitInHalfDepthBudget: return "split_in_half_depth_budget";
+    }
+    return "unknown";
+}
+
+const std::vector<std::string>& bvh_builder_names() {
+    static const std::vector<std::string> names = {"midpoint", "median", "sah-sweep", "sah-binned"};
+    return names;
+}
+
+const std::vector<std::string>& bvh_traversal_names() {
+    static const std::vector<std::string> names = {"ordered", "unordered"};
+    return names;
+}
+
+std::optional<BvhBuilder> parse_bvh_builder(std::string_view name) {
+    for (BvhBuilder b : {BvhBuilder::Midpoint, BvhBuilder::Median, BvhBuilder::SahSweep, BvhBuilder::SahBinned})
+        if (to_string(b) == name) return b;
+    return std::nullopt;
+}
+
+std::optional<BvhTraversal> parse_bvh_traversal(std::string_view name) {
+    for (BvhTraversal t : {BvhTraversal::Ordered, BvhTraversal::Unordered})
+        if (to_string(t) == name) return t;
+    return std::nullopt;
+}
+
+std::optional<Error> validate(const BvhConfig& config) {
+    if (config.bins < 2 || config.bins > 64)
+        return Error{"--bins must be between 2 and 64 (got " + std::to_string(config.bins) + ")"};
+    if (config.max_leaf_size < 1 || config.max_leaf_size > 255)
+        return Error{"--leaf-size must be between 1 and 255 (got " + std::to_string(config.max_leaf_size) + ")"};
+    if (!std::isfinite(config.cost_trav) || config.cost_trav < 0.0f)
+        return Error{"--cost-trav must be a finite number >= 0 (got " + std::to_string(config.cost_trav) + ")"};
+    if (!std::isfinite(config.cost_isect) || config.cost_isect <= 0.0f)
+        return Error{"--cost-isect must be a finite number > 0 (got " + std::to_string(config.cost_isect) + ")"};
+    return std::nullopt;
+}
+
+nlohmann::json to_json(const BvhConfig& config) {
+    return {{"builder", to_string(config.builder)},
+            {"bins", config.bins},
+            {"max_leaf_size", config.max_leaf_size},
+            {"cost_trav", config.cost_trav},
+            {"cost_isect", config.cost_isect}};
+}
+
+nlohmann::json to_json(const BvhBuildStats& stats) {
+    nlohmann::json decisions = nlohmann::json::object();
+    for (int d = 0; d < kBuildDecisionCount; ++d)
+        decisions[std::string(to_string(BuildDecision(d)))] = stats.decisions[size_t(d)];
+    return {{"triangles", stats.triangles},
+            {"nodes", stats.nodes},
+            {"leaves", stats.leaves},
+            {"max_depth", stats.max_depth},
+            {"avg_leaf_depth", stats.avg_leaf_depth},
+            {"leaf_size_histogram", stats.leaf_size_histogram},
+            {"sah_cost", stats.sah_cost},
+            {"memory_bytes", stats.memory_bytes},
+            {"build_ms", stats.build_ms},
+            {"decisions", decisions},
+            {"leaves_over_limit", stats.leaves_over_limit},
+            {"notes", stats.notes}};
+}
+
+}  // namespace accelviz

@@ -1,0 +1,35 @@
+#pragma once
+/// The surface area heuristic (SAH), the lecture's cost model for a BVH
+/// (如何衡量划分的质量？). A leaf holding N triangles costs
+///     C_leaf = N · C_isect
+/// and splitting a node N into children A and B is expected to cost
+///     C_split = C_trav + S_A/S_N · N_A · C_isect + S_B/S_N · N_B · C_isect
+/// where S is a box's surface area: S_A/S_N is the probability that a random
+/// ray that hits N's box also hits A's box (convex A inside convex N).
+/// Costs are in units of the caller's choosing; only their ratios matter.
+
+#include <cstdint>
+
+namespace accelviz {
+
+struct SahCostModel {
+    float cost_trav = 1.0f;   ///< C_trav: one interior-node step (its box tests), > 0 not required
+    float cost_isect = 1.0f;  ///< C_isect: one ray–triangle test, > 0
+
+    /// S_child / S_parent. A parent of zero area (all its triangles are points
+    /// or lie on one line) is hit only by rays that hit every child, so 0/0 is 1.
+    static float hit_probability(float area_child, float area_parent) {
+        return area_parent > 0.0f ? area_child / area_parent : 1.0f;
+    }
+
+    /// C_leaf = N · C_isect.
+    float leaf_cost(uint32_t count) const { return float(count) * cost_isect; }
+
+    /// C_split = C_trav + S_A/S_N · N_A · C_isect + S_B/S_N · N_B · C_isect.
+    float split_cost(float area_parent, float area_a, uint32_t count_a, float area_b, uint32_t count_b) const {
+        return cost_trav + (hit_probability(area_a, area_parent) * float(count_a) +
+                            hit_probability(area_b, area_parent) * float(count_b)) * cost_isect;
+    }
+};
+
+}  // namespace accelviz
