@@ -1,0 +1,124 @@
+#pragma once
+/// What the space-partitioning structures (uniform grid, KD tree, octree) share
+/// at traversal time: the lecture's rule for a triangle that lies in several
+/// cells (slide "KD 树划分的挑战": 要求交点必须在相同区域内; 已经访问过的图像基元
+/// 可以缓存下来), and the mailbox that caches the triangles already tested.
+///
+/// The walk visits cells front to back. In each cell it tests the cell's
+/// triangles; a hit counts only if its t lies inside the current cell's
+/// [t_in, t_out]. A hit beyond t_out is remembered (HitOutsideCell) and accepted
+/// (NewClosest) when the walk enters the cell that contains its t; the walk
+/// stops after the first cell whose t_out is strictly beyond the closest hit
+/// (so an equal-t hit with a smaller id in the next cell is still found).
+///
+/// Exactness: the remembered hit is the closest (by is_closer) over every
+/// triangle tested so far, and triangles are tested with t_max = that hit's t
+/// (inclusive), exactly as BruteForce does, so the answer is brute force's as
+/// soon as every triangle that could beat it has been tested; the stopping
+/// rule and the references' safety margin (reference_padding) make sure of that.
+
+#include <cstdint>
+
+#include "core/traversal/observers.h"
+
+namespace accelviz {
+
+/// A per-ray mailbox: a direct-mapped cache of the last triangle ids this ray
+/// tested. It lives on the ray's stack, so a built structure stays immutable
+/// and any number of threads can trace through it (no per-triangle "last ray"
+/// field in shared memory). A collision evicts the older id; that triangle may
+/// then be tested twice, which only costs time: a test's result never changes.
+class Mailbox {
+public:
+    static constexpr uint32_t kSlots = 128;  ///< power of two; 512 bytes per ray
+
+    Mailbox() {
+        for (uint32_t& id : ids_) id = Hit::kNoHit;
+    }
+    /// True if `tri` is in the cache (already tested: skip it); otherwise adds it.
+    bool seen(uint32_t tri) {
+        uint32_t& slot = ids_[(tri * 2654435761u) >> 25];  // Knuth's multiplicative hash, top 7 bits
+        if (slot == tri) return true;
+        slot = tri;
+        return false;
+    }
+
+private:
+    static_assert(kSlots == 128, "the hash keeps the top 7 bits");
+    uint32_t ids_[kSlots];
+};
+
+/// The closest-hit bookkeeping of one ray's walk through cells.
+class CellHits {
+public:
+    /// `strict_cell` false is the naive rule (teaching switch): any hit found in a
+    /// cell is accepted at once and ends the walk after that cell, which gives
+    /// wrong answers when a triangle's hit lies beyond the cell it was tested in.
+    CellHits(const Ray& ray, bool use_mailbox, bool strict_cell)
+        : test_ray_(ray), use_mailbox_(use_mailbox), strict_(strict_cell) {}
+
+    /// The walk enters a cell spanning [t_in, t_out] along the ray. A hit
+    /// remembered from an earlier cell whose t lies in this cell is accepted now.
+    template <class Observer>
+    void enter(float t_out, Observer& obs) {
+        t_out_ = t_out;
+        if (pending_ && !(best_.t > t_out)) {
+            pending_ = false;
+            obs.on({.kind = EventKind::NewClosest, .tri = best_.tri, .t = best_.t, .u = best_.u, .v = best_.v});
+        }
+    }
+
+    /// Tests one triangle referenced by the current cell.
+    template <class Observer>
+    void test(const Triangle& triangle, uint32_t id, Observer& obs) {
+        if (use_mailbox_ && mailbox_.seen(id)) {
+            obs.on({.kind = EventKind::MailboxSkip, .tri = id});
+            return;
+        }
+        const TriangleTest test = intersect_triangle(triangle, test_ray_);
+        obs.on({.kind = EventKind::TriangleTest, .hit = test.hit, .tri = id, .t = test.t, .u = test.u, .v = test.v});
+        if (!test.hit || !is_closer(test.t, id, best_)) return;
+        best_ = {id, test.t, test.u, test.v};
+        test_ray_.t_max = test.t;  // later triangles must be at least this close (inclusive, as BruteForce)
+        if (strict_ && test.t > t_out_) {
+            pending_ = true;
+            obs.on({.kind = EventKind::HitOutsideCell, .tri = id, .t_exit = t_out_, .t = test.t, .u = test.u,
+                    .v = test.v});
+        } else {
+            pending_ = false;
+            obs.on({.kind = EventKind::NewClosest, .tri = id, .t = test.t, .u = test.u, .v = test.v});
+        }
+    }
+
+    /// After the current cell: may the walk stop? Strict: yes once the closest
+    /// hit lies strictly before the cell's end (every later cell starts at or
+    /// after t_out). Naive: as soon as any hit was found.
+    bool can_stop() const {
+        if (!best_.found()) return false;
+        return strict_ ? best_.t < t_out_ : true;
+    }
+
+    /// The closest hit so far (accepted or still pending).
+    const Hit& best() const { return best_; }
+
+    /// The final answer. A hit still pending here (the walk ran out of cells
+    /// first, which only rounding at the structure's boundary can cause) is
+    /// still the closest over all triangles tested, so it is the answer.
+    template <class Observer>
+    Hit done(Observer& obs) const {
+        obs.on({.kind = EventKind::Done, .hit = best_.found(), .tri = best_.tri, .t = best_.t, .u = best_.u,
+                .v = best_.v});
+        return best_;
+    }
+
+private:
+    Ray test_ray_;  ///< the ray with t_max = closest hit so far
+    Hit best_;
+    float t_out_ = kInfinity;
+    bool pending_ = false;  ///< best_ lies beyond the cells walked so far
+    bool use_mailbox_;
+    bool strict_;
+    Mailbox mailbox_;
+};
+
+}  // namespace accelviz

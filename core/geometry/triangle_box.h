@@ -1,0 +1,50 @@
+#pragma once
+/// Triangle against axis-aligned box, the two questions a space-partitioning
+/// build asks (lecture: 均匀网格 "每个格子保存重叠的图像基元", KD 树 straddling
+/// triangles):
+///   - does the closed triangle touch the closed box?   (separating axes)
+///   - what is the box of the part of the triangle inside the box? (polygon clipping)
+/// Both work in double precision and err on the side of "yes, it overlaps":
+/// callers add a safety margin (see reference_padding) on top anyway.
+
+#include "core/math/aabb.h"
+
+namespace accelviz {
+
+/// Separating axis test (Akenine-Möller 2001, "Fast 3D triangle-box overlap
+/// testing"): the triangle and the box are disjoint iff one of 13 axes separates
+/// their projections: the 3 box normals, the triangle normal and the 9 cross
+/// products of a box normal with a triangle edge. Touching counts as overlap.
+/// A degenerate triangle (a segment or a point) is tested as such: its zero
+/// normal separates nothing, the remaining axes still do.
+bool triangle_overlaps_box(Vec3 p0, Vec3 p1, Vec3 p2, const Aabb& box);
+
+/// Bounds of triangle ∩ box: the triangle polygon is clipped against the six
+/// planes of the box (Sutherland–Hodgman) and the remaining polygon's bounds are
+/// rounded outwards to float. Empty Aabb if the triangle misses the box. For a
+/// triangle straddling a KD split plane this is the tight box of its part on one
+/// side ("perfect splits", Wald & Havran 2006), much smaller than box ∩ box.
+Aabb clip_triangle_to_box(Vec3 p0, Vec3 p1, Vec3 p2, const Aabb& box);
+
+/// The safety margin of every space-partitioning structure (grid, KD tree,
+/// octree). A triangle is referenced by every cell it comes within `padding` of,
+/// not only by the cells it touches. Why: a traversal computes cell boundaries
+/// t = (plane - origin) / dir and Möller–Trumbore computes the hit's t, each with
+/// rounding error; the cell the walk is in when it reaches a hit's t may then be a
+/// neighbour of the cell that holds the hit point. With the margin, that
+/// neighbour references the triangle too, so the walk still finds it, and the
+/// answer equals brute force's. The margin is 2^-14 of the scene's largest
+/// coordinate magnitude: about 500 float ulps of the coordinates, far above
+/// the rounding error of rays whose origin lies within ~100 scene sizes, and far
+/// below a cell's size for any scene that needs a structure.
+float reference_padding(const Aabb& scene_bounds);
+
+/// `box` grown by `pad` on every side.
+inline Aabb padded(const Aabb& box, float pad) {
+    return {box.lo - Vec3{pad, pad, pad}, box.hi + Vec3{pad, pad, pad}};
+}
+
+/// Intersection of two boxes (empty if disjoint).
+inline Aabb intersection(const Aabb& a, const Aabb& b) { return {max(a.lo, b.lo), min(a.hi, b.hi)}; }
+
+}  // namespace accelviz
