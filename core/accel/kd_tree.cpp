@@ -1,0 +1,288 @@
+#include "core/accel/kd_tree.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "core/geometry/triangle_box.h"
+
+namespace accelviz {
+
+std::string_view to_string(KdBuilder builder) { return builder == KdBuilder::Median ? "median" : "sah"; }
+
+std::optional<KdBuilder> parse_kd_builder(std::string_view name) {
+    if (name == "median") return KdBuilder::Median;
+    if (name == "sah") return KdBuilder::Sah;
+    return std::nullopt;
+}
+
+const std::vector<std::string>& kd_builder_names() {
+    static const std::vector<std::string> names = {"median", "sah"};
+    return names;
+}
+
+std::optional<Error> validate(const KdConfig& c) {
+    if (c.max_depth < 0 || c.max_depth > kKdMaxDepth)
+        return Error{"--kd-max-depth must be in 0..62 (0 = automatic, 8 + 1.3·log2(N))"};
+    if (c.leaf_size < 1) return Error{"--leaf-size must be at least 1"};
+    if (!(c.cost_trav >= 0.0f) || !std::isfinite(c.cost_trav)) return Error{"--cost-trav must be >= 0"};
+    if (!(c.cost_isect > 0.0f) || !std::isfinite(c.cost_isect)) return Error{"--cost-isect must be > 0"};
+    if (!(c.empty_bonus >= 0.0f && c.empty_bonus < 1.0f)) return Error{"--kd-empty-bonus must be in [0, 1)"};
+    if (!(c.max_duplication >= 1.0)) return Error{"KD max_duplication must be >= 1"};
+    return std::nullopt;
+}
+
+int kd_max_depth(const KdConfig& config, size_t triangles) {
+    if (config.max_depth > 0) return config.max_depth;
+    const double automatic = 8.0 + 1.3 * std::log2(double(std::max<size_t>(triangles, 1)));
+    return std::clamp(int(std::lround(automatic)), 1, kKdMaxDepth);
+}
+
+namespace {
+
+double area(const Aabb& b) {
+    const double x = double(b.hi.x) - b.lo.x, y = double(b.hi.y) - b.lo.y, z = double(b.hi.z) - b.lo.z;
+    return 2.0 * (x * y + y * z + z * x);
+}
+
+struct Plane {
+    int axis = -1;
+    float position = 0;
+    double cost = 0;
+};
+
+/// References going below / above plane s on `axis` (see SpatialRef: below iff
+/// box.lo < s, above iff box.hi > s; a box with neither — a point exactly on the
+/// plane — goes below).
+bool goes_below(const SpatialRef& r, int axis, float s) { return r.box.lo[axis] < s || !(r.box.hi[axis] > s); }
+bool goes_above(const SpatialRef& r, int axis, float s) { return r.box.hi[axis] > s; }
+
+/// The SAH over every reference-box boundary strictly inside the node, on all
+/// three axes: cost(s) = C_trav + C_isect · (A_below·N_below + A_above·N_above) / A,
+/// times (1 - empty_bonus) when one side is empty. Sorting the lower and upper
+/// bounds per axis makes the node O(n log n), the tree O(N log² N).
+Plane best_sah_plane(const std::vector<SpatialRef>& refs, const Aabb& box, const KdConfig& c,
+                     std::vector<float>& los, std::vector<float>& his) {
+    Plane best;
+    best.cost = kInfinity;
+    const size_t n = refs.size();
+    const double node_area = area(box);
+    for (int a = 0; a < 3; ++a) {
+        los.resize(n);
+        his.resize(n);
+        for (size_t i = 0; i < n; ++i) {
+            los[i] = refs[i].box.lo[a];
+            his[i] = refs[i].box.hi[a];
+        }
+        std::sort(los.begin(), los.end());
+        std::sort(his.begin(), his.end());
+        // Sweep the candidates (the merged, sorted lo and hi values) upwards.
+        // below = #{lo < s}, above = n - #{hi <= s}.
+        size_t i_lo = 0, i_hi = 0;
+        while (i_lo < n || i_hi < n) {
+            const float s = i_hi >= n || (i_lo < n && los[i_lo] < his[i_hi]) ? los[i_lo] : his[i_hi];
+            // Counts for this s: all lo < s were passed already; then consume values == s.
+            const size_t below = i_lo;
+            while (i_lo < n && los[i_lo] == s) ++i_lo;
+            while (i_hi < n && his[i_hi] == s) ++i_hi;
+            const size_t above = n - i_hi;
+            if (!(s > box.lo[a] && s < box.hi[a])) continue;  // a plane on the boundary cuts nothing off
+            Aabb lower = box, upper = box;
+            lower.hi[a] = s;
+            upper.lo[a] = s;
+            double cost = c.cost_trav + c.cost_isect * (area(lower) * double(below) + area(upper) * double(above)) /
+                                            node_area;
+            if (below == 0 || above == 0) cost *= 1.0 - c.empty_bonus;
+            if (cost < best.cost) best = {a, s, cost};
+        }
+    }
+    return best;
+}
+
+struct WorkItem {
+    uint32_t node;
+    uint32_t depth;
+    Aabb box;
+    std::vector<SpatialRef> refs;
+};
+
+}  // namespace
+
+Expected<KdTree> build_kd_tree(const Mesh& mesh, const KdConfig& config) {
+    const auto start = std::chrono::steady_clock::now();
+    if (auto err = validate(config)) return *err;
+    KdTree tree;
+    tree.build_config = config;
+    KdBuildStats& st = tree.build_stats;
+    st.triangles = uint32_t(mesh.triangle_count());
+    const int depth_limit = kd_max_depth(config, st.triangles);
+    st.depth_limit = uint32_t(depth_limit);
+    auto finish = [&]() {
+        st.nodes = uint32_t(tree.nodes.size());
+        st.references = tree.prim_ids.size();
+        st.duplication = st.triangles ? double(st.references) / st.triangles : 0.0;
+        st.memory_bytes = tree.nodes.size() * sizeof(KdNode) + tree.prim_ids.size() * sizeof(uint32_t) +
+                          tree.triangles.size() * sizeof(Triangle);
+        st.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    };
+    if (st.triangles == 0) {
+        st.notes.push_back("empty scene: no nodes");
+        finish();
+        return tree;
+    }
+
+    const Aabb scene = mesh.bounds();
+    const float pad = reference_padding(scene);
+    st.padding = pad;
+    tree.bounds = padded(scene, pad);
+    const double root_area = area(tree.bounds);
+    const double budget = config.max_duplication * st.triangles;
+    uint64_t live_refs = st.triangles;  // references in leaves + in pending work
+    bool budget_hit = false;
+    uint32_t no_progress = 0;
+
+    std::vector<WorkItem> work;
+    work.push_back({0, 0, tree.bounds, root_references(mesh, pad)});
+    tree.nodes.emplace_back();
+    std::vector<float> los, his;  // scratch for the SAH sweep
+    std::vector<SpatialRef> below, above;
+    while (!work.empty()) {
+        WorkItem item = std::move(work.back());
+        work.pop_back();
+        const size_t n = item.refs.size();
+        const double p = area(item.box) / root_area;  // hit probability, for the tree's SAH cost
+
+        // Choose a plane, or decide on a leaf.
+        Plane plane;
+        bool split = n > size_t(config.leaf_size) && int(item.depth) < depth_limit;
+        if (split && config.builder == KdBuilder::Sah) {
+            plane = best_sah_plane(item.refs, item.box, config, los, his);
+            split = plane.axis >= 0 && plane.cost < config.cost_isect * double(n);
+        }
+        below.clear();
+        above.clear();
+        if (split) {
+            // Median: longest axis first, then the others in turn until one separates something.
+            const Vec3 e = item.box.extent();
+            const int longest = max_axis(e);
+            for (int attempt = 0; attempt < 3; ++attempt) {
+                const int a = config.builder == KdBuilder::Sah ? plane.axis : (longest + attempt) % 3;
+                const float s = config.builder == KdBuilder::Sah ? plane.position : item.box.center()[a];
+                Aabb lower = item.box, upper = item.box;
+                lower.hi[a] = s;
+                upper.lo[a] = s;
+                below.clear();
+                above.clear();
+                for (const SpatialRef& r : item.refs) {
+                    if (goes_below(r, a, s))
+                        if (auto c = clip_reference(r, mesh, lower, pad, config.clip)) below.push_back(*c);
+                    if (goes_above(r, a, s))
+                        if (auto c = clip_reference(r, mesh, upper, pad, config.clip)) above.push_back(*c);
+                }
+                plane.axis = a;
+                plane.position = s;
+                const bool progress = (below.size() < n || above.size() < n) && s > item.box.lo[a] && s < item.box.hi[a];
+                if (progress || config.builder == KdBuilder::Sah) {
+                    split = progress;
+                    break;
+                }
+                split = false;
+            }
+            if (!split) ++no_progress;
+        }
+        if (split && double(live_refs) + double(below.size() + above.size()) - double(n) > budget) {
+            split = false;
+            budget_hit = true;
+        }
+
+        if (!split) {
+            KdNode& leaf = tree.nodes[item.node];
+            leaf = KdNode{0, uint32_t(tree.prim_ids.size()), uint32_t(n), KdNode::kLeaf};
+            for (const SpatialRef& r : item.refs) tree.prim_ids.push_back(r.tri);
+            ++st.leaves;
+            if (n == 0) ++st.empty_leaves;
+            if (item.depth >= uint32_t(depth_limit) && n > size_t(config.leaf_size)) ++st.leaves_at_depth_limit;
+            st.max_depth = std::max(st.max_depth, item.depth);
+            st.max_leaf_size = std::max(st.max_leaf_size, uint32_t(n));
+            st.sah_cost += p * double(n) * config.cost_isect;
+            continue;
+        }
+        live_refs = uint64_t(int64_t(live_refs) + int64_t(below.size() + above.size()) - int64_t(n));
+        const uint32_t first = uint32_t(tree.nodes.size());
+        tree.nodes[item.node] = KdNode{plane.position, first, 0, uint8_t(plane.axis)};
+        tree.nodes.emplace_back();
+        tree.nodes.emplace_back();
+        st.sah_cost += p * config.cost_trav;
+        Aabb lower = item.box, upper = item.box;
+        lower.hi[plane.axis] = plane.position;
+        upper.lo[plane.axis] = plane.position;
+        // Upper pushed first so the lower child is built first: depth-first order.
+        work.push_back({first + 1, item.depth + 1, upper, std::move(above)});
+        work.push_back({first, item.depth + 1, lower, std::move(below)});
+        above = {};
+        below = {};
+        item.refs = {};
+    }
+
+    tree.triangles.reserve(tree.prim_ids.size());
+    for (uint32_t id : tree.prim_ids) tree.triangles.push_back(mesh.triangle(id));
+    if (st.leaves_at_depth_limit > 0) {
+        std::ostringstream s;
+        s << st.leaves_at_depth_limit << " leaves stopped at the depth limit " << depth_limit
+          << " with more than leaf_size = " << config.leaf_size << " references";
+        st.notes.push_back(s.str());
+    }
+    if (no_progress > 0 && config.builder == KdBuilder::Median) {
+        std::ostringstream s;
+        s << no_progress << " nodes made leaves: no axis' middle plane separates their triangles";
+        st.notes.push_back(s.str());
+    }
+    if (budget_hit) {
+        std::ostringstream s;
+        s << "reference budget reached (" << config.max_duplication
+          << " x triangles): later nodes were made leaves instead of being split";
+        st.notes.push_back(s.str());
+    }
+    finish();
+    return tree;
+}
+
+bool KdTree::intersect_any(const Ray& ray) const {
+    // Any hit is a hit: the closest-hit walk answers it.
+    NoObserver none;
+    return intersect_closest(ray, none).found();
+}
+
+nlohmann::json KdTree::config() const {
+    const KdConfig& c = build_config;
+    return {{"builder", std::string(to_string(c.builder))},
+            {"max_depth", c.max_depth},
+            {"leaf_size", c.leaf_size},
+            {"cost_trav", c.cost_trav},
+            {"cost_isect", c.cost_isect},
+            {"empty_bonus", c.empty_bonus},
+            {"clip", std::string(to_string(c.clip))},
+            {"strict_cell", c.strict_cell},
+            {"mailbox", c.mailbox}};
+}
+
+nlohmann::json KdTree::stats() const {
+    const KdBuildStats& s = build_stats;
+    return {{"triangles", s.triangles},
+            {"nodes", s.nodes},
+            {"leaves", s.leaves},
+            {"empty_leaves", s.empty_leaves},
+            {"max_depth", s.max_depth},
+            {"depth_limit", s.depth_limit},
+            {"references", s.references},
+            {"duplication", s.duplication},
+            {"max_leaf_size", s.max_leaf_size},
+            {"sah_cost", s.sah_cost},
+            {"padding", s.padding},
+            {"memory_bytes", s.memory_bytes},
+            {"build_ms", s.build_ms},
+            {"notes", s.notes}};
+}
+
+}  // namespace accelviz

@@ -1,0 +1,205 @@
+#pragma once
+/// The KD tree (lecture: KD 树划分): space cut recursively by axis-aligned
+/// planes; a triangle that straddles a plane is stored on both sides. Traversal
+/// walks the leaves the ray passes through, front to back (内部节点，选择先与光线
+/// 相交的分支), with a stack of (node, t_min, t_max).
+///
+/// The lecture's pitfall (slide "KD 树划分的挑战"): a straddling triangle tested in
+/// an early leaf may report a hit that lies in a later leaf, behind a closer
+/// triangle there. So a hit counts only inside the current leaf's
+/// [t_min, t_max] (CellHits); `strict_cell = false` shows the wrong answers the
+/// naive rule gives. Built by build_kd_tree(): median or SAH (Wald & Havran 2006,
+/// "On building fast kd-trees for ray tracing, and on doing that in O(N log N)").
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/accel/cell_hits.h"
+#include "core/accel/spatial_refs.h"
+#include "core/geometry/mesh.h"
+#include "core/util/expected.h"
+
+namespace accelviz {
+
+/// How the builder chooses a node's plane.
+enum class KdBuilder : uint8_t {
+    Median,  ///< the spatial median (middle) of the node's longest axis; the next axis if that separates nothing
+    Sah,     ///< the cheapest plane by the SAH among every reference-box boundary on all three axes
+};
+std::string_view to_string(KdBuilder builder);
+std::optional<KdBuilder> parse_kd_builder(std::string_view name);
+const std::vector<std::string>& kd_builder_names();  ///< "median", "sah"
+
+/// The deepest a KD tree may get (root = depth 0); traversal's stack has
+/// kKdStackSize entries and pushes at most one per level.
+inline constexpr int kKdMaxDepth = 62;
+inline constexpr int kKdStackSize = 64;
+
+/// Build and traversal parameters of the KD tree.
+struct KdConfig {
+    KdBuilder builder = KdBuilder::Sah;  ///< how planes are chosen
+    int max_depth = 0;        ///< 0 = automatic, 8 + 1.3·log2(N) (Wald & Havran); else 1..kKdMaxDepth
+    int leaf_size = 2;        ///< a node with at most this many references is a leaf (median: the only rule), >= 1
+    float cost_trav = 1.0f;   ///< SAH: C_trav, one interior-node step, >= 0
+    float cost_isect = 1.5f;  ///< SAH: C_isect, one ray–triangle test, > 0 (ratio 1 : 1.5 ≈ Wald & Havran's 15 : 20)
+    float empty_bonus = 0.2f; ///< SAH: a plane that cuts off empty space costs (1 - bonus)·cost, in [0, 1)
+    ClipMode clip = ClipMode::Exact;  ///< how a straddling triangle's box is cut to each side
+    bool strict_cell = true;  ///< a hit counts only inside the current leaf (false: the lecture's naive, wrong rule)
+    bool mailbox = true;      ///< skip triangles this ray already tested in an earlier leaf
+    double max_duplication = 64.0;  ///< stop splitting once references exceed this · N (reported in notes), >= 1
+
+    bool operator==(const KdConfig&) const = default;
+};
+
+/// A one-line error if a field is out of range (names the CLI flag).
+std::optional<Error> validate(const KdConfig& config);
+
+/// The max depth a config gives for N triangles.
+int kd_max_depth(const KdConfig& config, size_t triangles);
+
+/// One node, 16 bytes.
+/// Invariant: a leaf iff axis == kLeaf; its triangles are prim_ids[first .. first+count)
+/// (count may be 0: an empty leaf). Otherwise the plane is x_axis = split, the
+/// lower child (x <= split) is nodes[first], the upper nodes[first + 1].
+struct KdNode {
+    static constexpr uint8_t kLeaf = 3;
+    float split = 0;
+    uint32_t first = 0;
+    uint32_t count = 0;
+    uint8_t axis = kLeaf;
+
+    bool is_leaf() const { return axis == kLeaf; }
+};
+static_assert(sizeof(KdNode) == 16, "a KD node is 16 bytes");
+
+struct KdBuildStats {
+    uint32_t triangles = 0;
+    uint32_t nodes = 0;
+    uint32_t leaves = 0;
+    uint32_t empty_leaves = 0;
+    uint32_t max_depth = 0;         ///< deepest leaf (root = 0)
+    uint32_t depth_limit = 0;       ///< the max depth the build used
+    uint32_t leaves_at_depth_limit = 0;
+    uint64_t references = 0;        ///< Σ leaf sizes
+    double duplication = 0;         ///< references / triangles
+    uint32_t max_leaf_size = 0;
+    double sah_cost = 0;            ///< Σ interior P·C_trav + Σ leaf P·n·C_isect (P = area / root area)
+    float padding = 0;              ///< the references' safety margin (reference_padding)
+    uint64_t memory_bytes = 0;      ///< nodes + prim_ids + leaf-ordered triangles
+    double build_ms = 0;
+    std::vector<std::string> notes;
+};
+
+/// A KD tree over a mesh's triangles.
+/// Invariants: nodes[0] is the root, `bounds` its box (the scene's box grown by
+/// the padding); nodes is empty iff the mesh has no triangles. A leaf holds every
+/// triangle that comes within `padding` of its box (box or exact test, per
+/// config.clip). triangles[k] is triangle prim_ids[k] (leaf order, a copy so a
+/// leaf's triangles are contiguous).
+struct KdTree {
+    Aabb bounds;
+    std::vector<KdNode> nodes;
+    std::vector<uint32_t> prim_ids;
+    std::vector<Triangle> triangles;
+    KdConfig build_config;
+    KdBuildStats build_stats;
+
+    std::string name() const { return "kd"; }
+    nlohmann::json config() const;
+    nlohmann::json stats() const;
+
+    /// Closest hit in [ray.t_min, ray.t_max]. Events: BoxTest (root), VisitNode,
+    /// SplitPlane, Push, Pop, Cull, Leaf (t_enter/t_exit = the leaf's t_min/t_max),
+    /// TriangleTest, MailboxSkip, HitOutsideCell, NewClosest, Done.
+    template <class Observer>
+    Hit intersect_closest(const Ray& ray, Observer& obs) const;
+    bool intersect_any(const Ray& ray) const;
+};
+
+/// Builds the tree (explicit work stack: no recursion; deterministic output).
+Expected<KdTree> build_kd_tree(const Mesh& mesh, const KdConfig& config);
+
+// ---------------------------------------------------------------------------
+// Front-to-back traversal.
+// ---------------------------------------------------------------------------
+
+template <class Observer>
+Hit KdTree::intersect_closest(const Ray& ray, Observer& obs) const {
+    CellHits hits(ray, build_config.mailbox, build_config.strict_cell);
+    if (nodes.empty()) return hits.done(obs);
+    const RayPrecomp pre(ray);
+    const SlabResult root = slab_test(bounds, pre, ray.t_min, ray.t_max);
+    obs.on({.kind = EventKind::BoxTest, .hit = root.hit(), .node = 0, .t_enter = root.t_enter, .t_exit = root.t_exit});
+    if (!(root.t_enter <= root.t_exit)) {
+        obs.on({.kind = EventKind::Cull, .reason = CullReason::MissedBox, .node = 0, .t_enter = root.t_enter,
+                .t_exit = root.t_exit});
+        return hits.done(obs);
+    }
+    struct Entry {
+        uint32_t node;
+        float t_min, t_max;
+    };
+    Entry stack[kKdStackSize];
+    int stack_size = 0;
+    Entry cur{0, root.t_enter, root.t_exit};
+    while (true) {
+        // Down to the leaf holding the start of [t_min, t_max], deferring far children.
+        obs.on({.kind = EventKind::VisitNode, .node = cur.node, .t_enter = cur.t_min, .t_exit = cur.t_max});
+        const KdNode* n = &nodes[cur.node];
+        while (!n->is_leaf()) {
+            const int a = n->axis;
+            const float t_split = (n->split - ray.origin[a]) * pre.dir_inv[a];
+            // Moving up the axis (or along it, +0) the lower child comes first.
+            const bool lower_first = !pre.dir_negative[a];
+            const uint32_t near = n->first + (lower_first ? 0 : 1), far = n->first + (lower_first ? 1 : 0);
+            obs.on({.kind = EventKind::SplitPlane, .axis = uint8_t(a), .near_first = lower_first, .node = cur.node,
+                    .t = t_split, .split = n->split});
+            if (!(t_split < cur.t_max)) {
+                // Crosses after the interval, never (±0 direction), or lies in the plane (NaN:
+                // either side holds every triangle near the plane, thanks to the padding).
+                cur.node = near;
+            } else if (t_split <= cur.t_min) {
+                cur.node = far;  // crossed before the interval
+            } else {
+                const KdNode& f = nodes[far];
+                if (!(f.is_leaf() && f.count == 0)) {  // an empty far leaf holds nothing to come back for
+                    stack[stack_size++] = {far, t_split, cur.t_max};
+                    obs.on({.kind = EventKind::Push, .node = far, .t_enter = t_split, .t_exit = cur.t_max});
+                }
+                cur.node = near;
+                cur.t_max = t_split;
+            }
+            obs.on({.kind = EventKind::VisitNode, .node = cur.node, .t_enter = cur.t_min, .t_exit = cur.t_max});
+            n = &nodes[cur.node];
+        }
+        // A leaf: its triangles, with the in-cell rule.
+        obs.on({.kind = EventKind::Leaf, .node = cur.node, .first = n->first, .count = n->count,
+                .t_enter = cur.t_min, .t_exit = cur.t_max});
+        hits.enter(cur.t_max, obs);
+        for (uint32_t k = n->first; k < n->first + n->count; ++k) hits.test(triangles[k], prim_ids[k], obs);
+        if (hits.can_stop()) break;
+        // The next deferred subtree that may still hold a hit as close as the best.
+        bool found = false;
+        while (stack_size > 0) {
+            const Entry e = stack[--stack_size];
+            obs.on({.kind = EventKind::Pop, .node = e.node, .t_enter = e.t_min, .t_exit = e.t_max});
+            if (e.t_min > hits.best().t) {
+                obs.on({.kind = EventKind::Cull, .reason = CullReason::BeyondClosestHit, .node = e.node,
+                        .t_enter = e.t_min, .t_exit = e.t_max});
+                continue;
+            }
+            cur = e;
+            found = true;
+            break;
+        }
+        if (!found) break;
+    }
+    return hits.done(obs);
+}
+
+}  // namespace accelviz

@@ -1,0 +1,205 @@
+#pragma once
+/// The octree (lecture: 其他空间划分方法, Oct-Tree): a cell is cut at its centre
+/// into eight octants until it holds at most `leaf_size` triangles or reaches
+/// `max_depth`. A triangle goes into every octant it comes near, like the KD
+/// tree's straddling triangles, and the traversal is the KD tree's with three
+/// planes per node: the ray's interval in a node is cut at its crossings of the
+/// three centre planes, which orders the (at most four) octants it passes
+/// through front to back. Same events and the same in-cell rule (CellHits).
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/accel/cell_hits.h"
+#include "core/accel/spatial_refs.h"
+#include "core/geometry/mesh.h"
+#include "core/util/expected.h"
+
+namespace accelviz {
+
+/// The deepest an octree may get (root = 0). Traversal pushes at most three
+/// octants per level, so its stack holds 3 · kOctreeMaxDepth + 1 entries.
+inline constexpr int kOctreeMaxDepth = 20;
+inline constexpr int kOctreeStackSize = 3 * kOctreeMaxDepth + 4;
+
+struct OctreeConfig {
+    int max_depth = 10;       ///< 1..kOctreeMaxDepth; cells at depth d are 2^-d of the root per axis
+    int leaf_size = 8;        ///< a cell with at most this many references is not split, >= 1
+    ClipMode clip = ClipMode::Exact;  ///< how a straddling triangle's box is cut to each octant
+    bool mailbox = true;      ///< skip triangles this ray already tested in an earlier cell
+    double max_duplication = 64.0;  ///< stop splitting once references exceed this · N (reported), >= 1
+
+    bool operator==(const OctreeConfig&) const = default;
+};
+
+std::optional<Error> validate(const OctreeConfig& config);
+
+/// One node, 24 bytes. Invariant: a leaf iff leaf; its triangles are
+/// prim_ids[first .. first+count). Otherwise its eight children are
+/// nodes[first + o] for octant o = x_high | y_high << 1 | z_high << 2 of the
+/// cell cut at `centre` (the centre of its box).
+struct OctreeNode {
+    Vec3 centre;
+    uint32_t first = 0;
+    uint32_t count = 0;
+    bool leaf = true;
+
+    bool is_leaf() const { return leaf; }
+};
+
+struct OctreeBuildStats {
+    uint32_t triangles = 0;
+    uint32_t nodes = 0;
+    uint32_t leaves = 0;
+    uint32_t empty_leaves = 0;
+    uint32_t max_depth = 0;
+    uint32_t leaves_at_depth_limit = 0;  ///< leaves over leaf_size because of max_depth
+    uint64_t references = 0;
+    double duplication = 0;
+    uint32_t max_leaf_size = 0;
+    float padding = 0;
+    uint64_t memory_bytes = 0;
+    double build_ms = 0;
+    std::vector<std::string> notes;
+};
+
+/// Invariants as KdTree's: nodes[0] is the root with box `bounds` (scene box
+/// grown by the padding), empty iff no triangles; triangles[k] is triangle prim_ids[k].
+struct Octree {
+    Aabb bounds;
+    std::vector<OctreeNode> nodes;
+    std::vector<uint32_t> prim_ids;
+    std::vector<Triangle> triangles;
+    OctreeConfig build_config;
+    OctreeBuildStats build_stats;
+
+    std::string name() const { return "octree"; }
+    nlohmann::json config() const;
+    nlohmann::json stats() const;
+
+    /// Closest hit in [ray.t_min, ray.t_max]. Events: BoxTest (root), VisitNode,
+    /// SplitPlane (three per interior node), Push, Pop, Cull, Leaf, TriangleTest,
+    /// MailboxSkip, HitOutsideCell, NewClosest, Done.
+    template <class Observer>
+    Hit intersect_closest(const Ray& ray, Observer& obs) const;
+    bool intersect_any(const Ray& ray) const;
+};
+
+/// The box of octant `o` of `box` cut at `centre`.
+inline Aabb octant_box(const Aabb& box, Vec3 centre, int o) {
+    Aabb b = box;
+    for (int a = 0; a < 3; ++a) {
+        if (o >> a & 1) b.lo[a] = centre[a];
+        else b.hi[a] = centre[a];
+    }
+    return b;
+}
+
+Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config);
+
+// ---------------------------------------------------------------------------
+// Front-to-back traversal.
+// ---------------------------------------------------------------------------
+
+template <class Observer>
+Hit Octree::intersect_closest(const Ray& ray, Observer& obs) const {
+    CellHits hits(ray, build_config.mailbox, /*strict_cell=*/true);
+    if (nodes.empty()) return hits.done(obs);
+    const RayPrecomp pre(ray);
+    const SlabResult root = slab_test(bounds, pre, ray.t_min, ray.t_max);
+    obs.on({.kind = EventKind::BoxTest, .hit = root.hit(), .node = 0, .t_enter = root.t_enter, .t_exit = root.t_exit});
+    if (!(root.t_enter <= root.t_exit)) {
+        obs.on({.kind = EventKind::Cull, .reason = CullReason::MissedBox, .node = 0, .t_enter = root.t_enter,
+                .t_exit = root.t_exit});
+        return hits.done(obs);
+    }
+    struct Entry {
+        uint32_t node;
+        float t_min, t_max;
+    };
+    Entry stack[kOctreeStackSize];
+    int stack_size = 0;
+    Entry cur{0, root.t_enter, root.t_exit};
+    while (true) {
+        obs.on({.kind = EventKind::VisitNode, .node = cur.node, .t_enter = cur.t_min, .t_exit = cur.t_max});
+        const OctreeNode* n = &nodes[cur.node];
+        while (!n->is_leaf()) {
+            // Where the ray crosses each centre plane, and which side it starts on.
+            float t_cross[3];
+            int octant = 0;
+            for (int a = 0; a < 3; ++a) {
+                const float d = ray.dir[a];
+                bool high;
+                if (d == 0.0f) {
+                    t_cross[a] = kInfinity;  // never crosses; on the plane either side is right (padding)
+                    high = ray.origin[a] >= n->centre[a];
+                } else {
+                    t_cross[a] = (n->centre[a] - ray.origin[a]) * pre.dir_inv[a];
+                    // Moving up it is high once it has crossed; moving down, until it crosses.
+                    high = d > 0.0f ? t_cross[a] <= cur.t_min : t_cross[a] > cur.t_min;
+                }
+                if (high) octant |= 1 << a;
+                obs.on({.kind = EventKind::SplitPlane, .axis = uint8_t(a), .near_first = !high, .node = cur.node,
+                        .t = t_cross[a], .split = n->centre[a]});
+            }
+            // The crossings inside the interval, in order; each flips one octant bit.
+            int order[3] = {0, 1, 2};
+            if (t_cross[order[1]] < t_cross[order[0]]) std::swap(order[0], order[1]);
+            if (t_cross[order[2]] < t_cross[order[1]]) std::swap(order[1], order[2]);
+            if (t_cross[order[1]] < t_cross[order[0]]) std::swap(order[0], order[1]);
+            Entry segments[4];
+            int count = 0;
+            float t = cur.t_min;
+            for (int i = 0; i < 3; ++i) {
+                const int a = order[i];
+                if (!(t_cross[a] > cur.t_min && t_cross[a] < cur.t_max)) continue;  // also drops NaN
+                segments[count++] = {n->first + uint32_t(octant), t, t_cross[a]};
+                t = t_cross[a];
+                octant ^= 1 << a;
+            }
+            segments[count++] = {n->first + uint32_t(octant), t, cur.t_max};
+            // Farthest first onto the stack, skipping empty cells; go on with the nearest non-empty one.
+            bool have_next = false;
+            for (int i = count - 1; i >= 0; --i) {
+                const OctreeNode& child = nodes[segments[i].node];
+                if (child.is_leaf() && child.count == 0) continue;
+                if (have_next) {
+                    stack[stack_size++] = cur;
+                    obs.on({.kind = EventKind::Push, .node = cur.node, .t_enter = cur.t_min, .t_exit = cur.t_max});
+                }
+                cur = segments[i];
+                have_next = true;
+            }
+            if (!have_next) break;  // every octant on the ray's path is empty
+            obs.on({.kind = EventKind::VisitNode, .node = cur.node, .t_enter = cur.t_min, .t_exit = cur.t_max});
+            n = &nodes[cur.node];
+        }
+        if (n->is_leaf()) {
+            obs.on({.kind = EventKind::Leaf, .node = cur.node, .first = n->first, .count = n->count,
+                    .t_enter = cur.t_min, .t_exit = cur.t_max});
+            hits.enter(cur.t_max, obs);
+            for (uint32_t k = n->first; k < n->first + n->count; ++k) hits.test(triangles[k], prim_ids[k], obs);
+            if (hits.can_stop()) break;
+        }
+        bool found = false;
+        while (stack_size > 0) {
+            const Entry e = stack[--stack_size];
+            obs.on({.kind = EventKind::Pop, .node = e.node, .t_enter = e.t_min, .t_exit = e.t_max});
+            if (e.t_min > hits.best().t) {
+                obs.on({.kind = EventKind::Cull, .reason = CullReason::BeyondClosestHit, .node = e.node,
+                        .t_enter = e.t_min, .t_exit = e.t_max});
+                continue;
+            }
+            cur = e;
+            found = true;
+            break;
+        }
+        if (!found) break;
+    }
+    return hits.done(obs);
+}
+
+}  // namespace accelviz
