@@ -6,6 +6,55 @@ void add_accel_flags(CLI::App& command, AccelConfig& config) {
     command.add_option("--accel", config.type, "Acceleration structure")
         ->check(CLI::IsMember(accel_types()))
         ->capture_default_str();
+
+    // Shared by several structures (unset: each structure's default).
+    command.add_option("--leaf-size", config.leaf_size, "Leaf size limit (bvh, kd, octree); default: each structure's own")
+        ->check(CLI::Range(1, 1 << 20));
+    command.add_option("--cost-trav", config.cost_trav, "SAH cost of one interior-node step, C_trav (bvh, kd)")
+        ->check(CLI::Range(0.0, 1e6));
+    command.add_option("--cost-isect", config.cost_isect, "SAH cost of one ray-triangle test, C_isect (bvh, kd)")
+        ->check(CLI::Range(1e-6, 1e6));
+
+    // Space partitioning: grid, kd, octree (issue 4).
+    auto on_off = [](bool& a) { return [&a](const std::string& v) { a = v == "on"; }; };
+    command.add_option_function<std::string>(
+               "--mailbox",
+               [&config](const std::string& v) {
+                   config.grid.mailbox = config.kd.mailbox = config.octree.mailbox = v == "on";
+               },
+               "grid/kd/octree: skip triangles a ray already tested in an earlier cell (on|off, default on)")
+        ->check(CLI::IsMember({"on", "off"}));
+    command.add_option("--grid-density", config.grid.density, "grid: C in #cells = C * #triangles (lecture: 27)")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    command.add_option_function<std::string>(
+               "--grid-insert", [&config](const std::string& v) { config.grid.insert = *parse_grid_insert(v); },
+               "grid: cells a triangle goes into: those its box overlaps, or those it overlaps (box|exact, default box)")
+        ->check(CLI::IsMember(grid_insert_names()));
+    command.add_option("--grid-max-cells-per-axis", config.grid.max_cells_per_axis, "grid: resolution cap per axis (reported when it applies)")
+        ->check(CLI::Range(1, 4096))
+        ->capture_default_str();
+    command.add_option_function<std::string>(
+               "--kd-build", [&config](const std::string& v) { config.kd.builder = *parse_kd_builder(v); },
+               "kd: plane choice, spatial median or SAH (median|sah, default sah)")
+        ->check(CLI::IsMember(kd_builder_names()));
+    command.add_option_function<std::string>("--kd-strict-cell", on_off(config.kd.strict_cell),
+                                             "kd: a hit counts only inside the current leaf (on|off, default on; "
+                                             "off shows the lecture's wrong answers)")
+        ->check(CLI::IsMember({"on", "off"}));
+    command.add_option("--kd-max-depth", config.kd.max_depth, "kd: max depth, 0 = 8 + 1.3*log2(N)")
+        ->check(CLI::Range(0, kKdMaxDepth))
+        ->capture_default_str();
+    command.add_option("--kd-empty-bonus", config.kd.empty_bonus, "kd SAH: cost discount for cutting off empty space, in [0, 1)")
+        ->check(CLI::Range(0.0, 0.999))
+        ->capture_default_str();
+    command.add_option_function<std::string>(
+               "--kd-clip", [&config](const std::string& v) { config.kd.clip = config.octree.clip = *parse_clip_mode(v); },
+               "kd/octree: a straddling triangle's box per side: box intersection or exact polygon clipping (box|exact, default exact)")
+        ->check(CLI::IsMember(clip_mode_names()));
+    command.add_option("--octree-max-depth", config.octree.max_depth, "octree: max depth")
+        ->check(CLI::Range(1, kOctreeMaxDepth))
+        ->capture_default_str();
 }
 
 }  // namespace accelviz::cli

@@ -2,9 +2,13 @@
 /// Builds the structure the user picked (`--accel`), with its configuration.
 
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "core/accel/accelerator.h"
+#include "core/accel/kd_tree.h"
+#include "core/accel/octree.h"
+#include "core/accel/uniform_grid.h"
 #include "core/accel/bvh_config.h"
 #include "core/util/expected.h"
 
@@ -13,7 +17,17 @@ namespace accelviz {
 /// Every structure's build parameters in one place (the CLI flags and the
 /// Structure panel both write here).
 struct AccelConfig {
-    std::string type = "naive";  ///< naive | bvh (later: grid | kd | octree)
+    std::string type = "naive";  ///< naive | bvh | grid | kd | octree
+
+    // Space partitioning (issue 4). Each structure's own parameters; --mailbox sets all three.
+    GridConfig grid;      ///< --grid-*
+    KdConfig kd;          ///< --kd-*
+    OctreeConfig octree;  ///< --octree-*
+    /// Flags several structures share; unset = each structure's own default.
+    /// (bvh, kd and octree read them here; a structure without such a parameter ignores them.)
+    std::optional<int> leaf_size;     ///< --leaf-size
+    std::optional<float> cost_trav;   ///< --cost-trav  (SAH C_trav)
+    std::optional<float> cost_isect;  ///< --cost-isect (SAH C_isect)
     BvhConfig bvh;               ///< bvh: --bvh-build --bins --leaf-size --cost-trav --cost-isect
     BvhTraversal bvh_traversal = BvhTraversal::Ordered;  ///< bvh: --bvh-traversal
 };
