@@ -1,0 +1,265 @@
+#include "app/gl/renderer.h"
+
+#include <algorithm>
+#include <cstddef>
+
+#include "app/gl/imgui_renderer.h"
+
+namespace accelviz {
+
+namespace {
+
+static_assert(sizeof(Vec3) == 12, "Mesh positions are uploaded as tightly packed vec3");
+static_assert(sizeof(BoxInstance) == 28);
+static_assert(sizeof(ColouredVertex) == 16);
+
+/// Depth bias of edges and quads, in NDC z (see Renderer::draw_boxes).
+constexpr float kEdgeDepthBias = 2e-5f;
+
+/// GL's bottom-up row of a top-down rectangle.
+GLint gl_row(const ViewRect& rect, int frame_height) { return frame_height - rect.y - rect.height; }
+
+/// A float attribute fed from the bound GL_ARRAY_BUFFER.
+void float_attribute(GLuint index, GLint size, GLenum type, GLboolean normalised, size_t stride, size_t offset,
+                     GLuint divisor = 0) {
+    gl.EnableVertexAttribArray(index);
+    gl.VertexAttribPointer(index, size, type, normalised, GLsizei(stride), reinterpret_cast<const void*>(offset));
+    if (divisor) gl.VertexAttribDivisor(index, divisor);
+}
+
+}  // namespace
+
+// [SECTION] GPU buffers
+
+MeshBuffer::MeshBuffer() {
+    gl.BindVertexArray(vertex_array_.id());
+    gl.BindBuffer(GL_ARRAY_BUFFER, positions_.id());
+    float_attribute(0, 3, GL_FLOAT, GL_FALSE, sizeof(Vec3), 0);
+    gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, indices_.id());  // recorded in the vertex array
+    gl.BindVertexArray(0);
+}
+
+void MeshBuffer::upload(const Mesh& mesh) {
+    gl.BindVertexArray(vertex_array_.id());
+    gl.BindBuffer(GL_ARRAY_BUFFER, positions_.id());
+    gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(mesh.positions.size() * sizeof(Vec3)), mesh.positions.data(),
+                  GL_STATIC_DRAW);
+    gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(mesh.indices.size() * sizeof(mesh.indices[0])),
+                  mesh.indices.data(), GL_STATIC_DRAW);
+    gl.BindVertexArray(0);
+    triangle_count_ = mesh.indices.size();
+}
+
+BoxBuffer::BoxBuffer() {
+    gl.BindVertexArray(vertex_array_.id());
+    gl.BindBuffer(GL_ARRAY_BUFFER, instances_.id());
+    float_attribute(0, 3, GL_FLOAT, GL_FALSE, sizeof(BoxInstance), offsetof(BoxInstance, lo), 1);
+    float_attribute(1, 3, GL_FLOAT, GL_FALSE, sizeof(BoxInstance), offsetof(BoxInstance, hi), 1);
+    float_attribute(2, 4, GL_UNSIGNED_BYTE, GL_TRUE, sizeof(BoxInstance), offsetof(BoxInstance, colour), 1);
+    gl.BindVertexArray(0);
+}
+
+void BoxBuffer::upload(const std::vector<BoxInstance>& boxes) {
+    gl.BindBuffer(GL_ARRAY_BUFFER, instances_.id());
+    gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(boxes.size() * sizeof(BoxInstance)), boxes.data(), GL_STATIC_DRAW);
+    count_ = boxes.size();
+}
+
+ColouredBuffer::ColouredBuffer() {
+    gl.BindVertexArray(vertex_array_.id());
+    gl.BindBuffer(GL_ARRAY_BUFFER, vertices_.id());
+    float_attribute(0, 3, GL_FLOAT, GL_FALSE, sizeof(ColouredVertex), offsetof(ColouredVertex, position));
+    float_attribute(1, 4, GL_UNSIGNED_BYTE, GL_TRUE, sizeof(ColouredVertex), offsetof(ColouredVertex, colour));
+    gl.BindVertexArray(0);
+}
+
+void ColouredBuffer::upload(const std::vector<ColouredVertex>& vertices) {
+    gl.BindBuffer(GL_ARRAY_BUFFER, vertices_.id());
+    gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertices.size() * sizeof(ColouredVertex)), vertices.data(),
+                  GL_STATIC_DRAW);
+    count_ = vertices.size();
+}
+
+void ColouredBuffer::upload_segments(const std::vector<ColouredVertex>& ends) { upload(ends); }
+
+void ColouredBuffer::upload_quads(const std::vector<ColouredQuad>& quads) {
+    std::vector<ColouredVertex> triangles;
+    triangles.reserve(quads.size() * 6);
+    for (const ColouredQuad& q : quads)
+        for (int corner : {0, 1, 2, 0, 2, 3}) triangles.push_back({q.corners[corner], q.colour});
+    upload(triangles);
+}
+
+// [SECTION] Renderer
+
+Expected<std::unique_ptr<Renderer>> Renderer::create() {
+    std::unique_ptr<Renderer> r(new Renderer());
+    struct Program { ShaderProgram* out; const char* vertex; const char* fragment; };
+    for (const Program& p : {Program{&r->mesh_program_, "mesh.vert", "mesh.frag"},
+                             Program{&r->boxes_program_, "boxes.vert", "coloured.frag"},
+                             Program{&r->coloured_program_, "coloured.vert", "coloured.frag"},
+                             Program{&r->image_program_, "image.vert", "image.frag"}}) {
+        auto program = ShaderProgram::from_embedded(p.vertex, p.fragment);
+        if (!program) return Error{program.error()};
+        *p.out = std::move(*program);
+    }
+    auto imgui = ImGuiRenderer::create();
+    if (!imgui) return Error{imgui.error()};
+    r->imgui_ = std::move(*imgui);
+    return r;
+}
+
+Renderer::~Renderer() = default;
+
+void Renderer::begin_frame(int fb_width, int fb_height, Rgb background) {
+    frame_width_ = fb_width;
+    frame_height_ = fb_height;
+    gl.Disable(GL_SCISSOR_TEST);
+    gl.Viewport(0, 0, fb_width, fb_height);
+    gl.ClearColor(background.r / 255.0f, background.g / 255.0f, background.b / 255.0f, 1.0f);
+    gl.ClearDepth(1.0);
+    gl.DepthMask(GL_TRUE);
+    gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+}
+
+void Renderer::set_gl_viewport(const ViewRect& rect) {
+    const GLint row = gl_row(rect, frame_height_);
+    gl.Viewport(rect.x, row, rect.width, rect.height);
+    gl.Enable(GL_SCISSOR_TEST);
+    gl.Scissor(rect.x, row, rect.width, rect.height);
+}
+
+void Renderer::begin_view(const View3D& view) {
+    view_ = view;
+    set_gl_viewport(view.rect);
+    gl.DepthMask(GL_TRUE);
+    gl.Clear(GL_DEPTH_BUFFER_BIT);
+}
+
+void Renderer::use_view_program(const ShaderProgram& program) {
+    program.use();
+    gl.UniformMatrix4fv(program.uniform("view_projection"), 1, GL_FALSE, view_.view_projection.data());
+}
+
+void Renderer::draw_mesh(const MeshBuffer& mesh, const MeshStyle& style) {
+    if (mesh.triangle_count() == 0) return;
+    use_view_program(mesh_program_);
+    const Vec3 eye = to_float(view_.camera.eye);
+    gl.Uniform3f(mesh_program_.uniform("eye"), eye.x, eye.y, eye.z);
+    gl.Uniform3f(mesh_program_.uniform("base_colour"), style.base_colour.r / 255.0f, style.base_colour.g / 255.0f,
+                 style.base_colour.b / 255.0f);
+    gl.Uniform1f(mesh_program_.uniform("opacity"), style.opacity);
+    const bool translucent = style.opacity < 1.0f;
+    gl.Enable(GL_DEPTH_TEST);
+    gl.DepthFunc(GL_LESS);
+    gl.DepthMask(translucent ? GL_FALSE : GL_TRUE);
+    if (translucent) {
+        gl.Enable(GL_BLEND);
+        gl.BlendEquation(GL_FUNC_ADD);
+        gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    } else {
+        gl.Disable(GL_BLEND);
+    }
+    gl.BindVertexArray(mesh.vertex_array_.id());
+    gl.DrawElements(GL_TRIANGLES, GLsizei(mesh.triangle_count() * 3), GL_UNSIGNED_INT, nullptr);
+    gl.BindVertexArray(0);
+    gl.DepthMask(GL_TRUE);
+}
+
+void Renderer::draw_boxes(const BoxBuffer& boxes) {
+    if (boxes.size() == 0) return;
+    use_view_program(boxes_program_);
+    gl.Uniform1f(boxes_program_.uniform("depth_bias"), kEdgeDepthBias);
+    gl.Enable(GL_DEPTH_TEST);
+    gl.DepthFunc(GL_LEQUAL);
+    gl.DepthMask(GL_FALSE);  // the depth buffer keeps the mesh alone (read back as the raster depth)
+    gl.Enable(GL_BLEND);
+    gl.BlendEquation(GL_FUNC_ADD);
+    gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    gl.BindVertexArray(boxes.vertex_array_.id());
+    gl.DrawArraysInstanced(GL_LINES, 0, 24, GLsizei(boxes.size()));  // 12 edges per box, every box at once
+    gl.BindVertexArray(0);
+    gl.DepthMask(GL_TRUE);
+}
+
+void Renderer::draw_segments(const ColouredBuffer& segments) {
+    if (segments.vertex_count() < 2) return;
+    use_view_program(coloured_program_);
+    gl.Uniform1f(coloured_program_.uniform("depth_bias"), kEdgeDepthBias);
+    gl.Enable(GL_DEPTH_TEST);
+    gl.DepthFunc(GL_LEQUAL);
+    gl.DepthMask(GL_FALSE);  // as for boxes
+    gl.Enable(GL_BLEND);
+    gl.BlendEquation(GL_FUNC_ADD);
+    gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    gl.BindVertexArray(segments.vertex_array_.id());
+    gl.DrawArrays(GL_LINES, 0, GLsizei(segments.vertex_count()));
+    gl.BindVertexArray(0);
+    gl.DepthMask(GL_TRUE);
+}
+
+void Renderer::draw_quads(const ColouredBuffer& quads) {
+    if (quads.vertex_count() < 3) return;
+    use_view_program(coloured_program_);
+    gl.Uniform1f(coloured_program_.uniform("depth_bias"), kEdgeDepthBias);
+    gl.Enable(GL_DEPTH_TEST);
+    gl.DepthFunc(GL_LEQUAL);
+    gl.DepthMask(GL_FALSE);  // translucent: what lies behind stays visible
+    gl.Enable(GL_BLEND);
+    gl.BlendEquation(GL_FUNC_ADD);
+    gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    gl.BindVertexArray(quads.vertex_array_.id());
+    gl.DrawArrays(GL_TRIANGLES, 0, GLsizei(quads.vertex_count()));
+    gl.BindVertexArray(0);
+    gl.DepthMask(GL_TRUE);
+}
+
+void Renderer::draw_image(const Texture& texture, const ViewRect& rect) {
+    if (texture.empty() || rect.empty()) return;
+    gl.Disable(GL_SCISSOR_TEST);
+    gl.Viewport(0, 0, frame_width_, frame_height_);
+    gl.Disable(GL_DEPTH_TEST);
+    gl.Disable(GL_BLEND);
+    image_program_.use();
+    // Rectangle in NDC: x right, y up.
+    const float left = 2.0f * rect.x / frame_width_ - 1.0f;
+    const float right = 2.0f * (rect.x + rect.width) / frame_width_ - 1.0f;
+    const float top = 1.0f - 2.0f * rect.y / frame_height_;
+    const float bottom = 1.0f - 2.0f * (rect.y + rect.height) / frame_height_;
+    gl.Uniform4f(image_program_.uniform("rect"), left, top, right, bottom);
+    gl.Uniform1i(image_program_.uniform("image"), 0);
+    gl.ActiveTexture(GL_TEXTURE0);
+    gl.BindTexture(GL_TEXTURE_2D, texture.id());
+    gl.BindVertexArray(empty_vertex_array_.id());
+    gl.DrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    gl.BindVertexArray(0);
+}
+
+void Renderer::draw_imgui(const ImDrawData* data) { imgui_->render(data, frame_width_, frame_height_); }
+
+Image Renderer::read_colour(const ViewRect& rect) const {
+    std::vector<uint8_t> rgb(size_t(rect.width) * rect.height * 3);
+    gl.PixelStorei(GL_PACK_ALIGNMENT, 1);  // tight RGB rows
+    gl.ReadPixels(rect.x, gl_row(rect, frame_height_), rect.width, rect.height, GL_RGB, GL_UNSIGNED_BYTE,
+                  rgb.data());
+    Image image(rect.width, rect.height);
+    for (int y = 0; y < rect.height; ++y) {  // GL rows are bottom-up
+        const uint8_t* row = rgb.data() + size_t(rect.height - 1 - y) * rect.width * 3;
+        for (int x = 0; x < rect.width; ++x) image.at(x, y) = {row[3 * x], row[3 * x + 1], row[3 * x + 2]};
+    }
+    return image;
+}
+
+std::vector<float> Renderer::read_depth(const ViewRect& rect) const {
+    std::vector<float> bottom_up(size_t(rect.width) * rect.height);
+    gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
+    gl.ReadPixels(rect.x, gl_row(rect, frame_height_), rect.width, rect.height, GL_DEPTH_COMPONENT, GL_FLOAT,
+                  bottom_up.data());
+    std::vector<float> depth(bottom_up.size());
+    for (int y = 0; y < rect.height; ++y)
+        std::copy_n(bottom_up.begin() + ptrdiff_t(rect.height - 1 - y) * rect.width, rect.width,
+                    depth.begin() + ptrdiff_t(y) * rect.width);
+    return depth;
+}
+
+}  // namespace accelviz

@@ -1,0 +1,152 @@
+#pragma once
+/// The GL 3.3 core renderer shared by the window and headless rendering: the
+/// scene mesh with headlight shading, wireframe boxes (instanced: one draw call
+/// for any number), line segments, translucent quads, textured image rectangles,
+/// and Dear ImGui's draw lists. It knows nothing about panels or AppState;
+/// draw_frame() (app/gui) decides what to draw.
+///
+/// GPU data lives in the *Buffer classes below, owned by whoever produces it
+/// (upload once, draw every frame). All calls need the context current.
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "app/gl/gl_objects.h"
+#include "app/gl/shader.h"
+#include "app/gl/texture.h"
+#include "app/gl/view3d.h"
+#include "core/geometry/mesh.h"
+#include "core/render/image.h"
+
+struct ImDrawData;
+
+namespace accelviz {
+
+/// 8-bit colour with opacity (a = 255: opaque).
+struct Rgba8 {
+    uint8_t r = 0, g = 0, b = 0, a = 255;
+};
+
+/// One wireframe box: its corners and colour.
+struct BoxInstance {
+    Vec3 lo, hi;
+    Rgba8 colour;
+};
+
+/// A vertex of a line segment or translucent quad.
+struct ColouredVertex {
+    Vec3 position;
+    Rgba8 colour;
+};
+
+/// A flat quad with corners in order around its edge.
+struct ColouredQuad {
+    Vec3 corners[4];
+    Rgba8 colour;
+};
+
+/// The scene mesh on the GPU: positions and triangle indices as in Mesh.
+class MeshBuffer {
+public:
+    MeshBuffer();
+    void upload(const Mesh& mesh);
+    size_t triangle_count() const { return triangle_count_; }
+
+private:
+    friend class Renderer;
+    GlVertexArray vertex_array_;
+    GlBuffer positions_, indices_;
+    size_t triangle_count_ = 0;
+};
+
+/// Wireframe boxes on the GPU, one instance each.
+class BoxBuffer {
+public:
+    BoxBuffer();
+    void upload(const std::vector<BoxInstance>& boxes);
+    size_t size() const { return count_; }
+
+private:
+    friend class Renderer;
+    GlVertexArray vertex_array_;
+    GlBuffer instances_;
+    size_t count_ = 0;
+};
+
+/// Line segments (GL_LINES: vertices 2i and 2i+1 form segment i) or triangles
+/// (translucent quads, split in two), position + colour per vertex.
+class ColouredBuffer {
+public:
+    ColouredBuffer();
+    /// Segments: an even number of vertices.
+    void upload_segments(const std::vector<ColouredVertex>& ends);
+    /// Quads, each drawn as two triangles.
+    void upload_quads(const std::vector<ColouredQuad>& quads);
+    size_t vertex_count() const { return count_; }
+
+private:
+    friend class Renderer;
+    void upload(const std::vector<ColouredVertex>& vertices);
+    GlVertexArray vertex_array_;
+    GlBuffer vertices_;
+    size_t count_ = 0;
+};
+
+/// How to draw the mesh.
+struct MeshStyle {
+    Rgb base_colour{225, 205, 170};  ///< what the CPU renderers use (core/render/shading.h)
+    float opacity = 1.0f;            ///< < 1: blended, does not hide what is drawn after it
+};
+
+class ImGuiRenderer;
+
+class Renderer {
+public:
+    /// Compiles the shaders (the context must be current). Errors carry the
+    /// shader file and the driver's log.
+    static Expected<std::unique_ptr<Renderer>> create();
+    ~Renderer();
+
+    /// Starts a frame of fb_width x fb_height pixels, cleared to `background`.
+    void begin_frame(int fb_width, int fb_height, Rgb background);
+    int frame_width() const { return frame_width_; }
+    int frame_height() const { return frame_height_; }
+
+    /// Restricts drawing to view.rect, clears its depth, and uses its camera for
+    /// the 3D draws below.
+    void begin_view(const View3D& view);
+    void draw_mesh(const MeshBuffer& mesh, const MeshStyle& style);
+    /// Boxes, segments and quads are depth-tested but write no depth: the depth
+    /// buffer holds the mesh alone (the window's raster depth, read back and
+    /// compared with the ray caster). They are drawn slightly towards the eye (a
+    /// constant NDC depth bias), so edges lying on a surface are not hidden by it.
+    void draw_boxes(const BoxBuffer& boxes);
+    void draw_segments(const ColouredBuffer& segments);
+    /// Translucent: blended, tested against depth but not writing it.
+    void draw_quads(const ColouredBuffer& quads);
+
+    /// A texture stretched over a rectangle of the frame (screen space).
+    void draw_image(const Texture& texture, const ViewRect& rect);
+    /// Dear ImGui's draw lists for this frame (over everything else).
+    void draw_imgui(const ImDrawData* data);
+    ImGuiRenderer& imgui() { return *imgui_; }
+
+    /// Reads back colour (top row first) or depth in [0, 1] (top row first) of a
+    /// rectangle of the current frame.
+    Image read_colour(const ViewRect& rect) const;
+    std::vector<float> read_depth(const ViewRect& rect) const;
+
+private:
+    Renderer() = default;
+    void set_gl_viewport(const ViewRect& rect);
+    void use_view_program(const ShaderProgram& program);
+
+    ShaderProgram mesh_program_, boxes_program_, coloured_program_, image_program_;
+    GlVertexArray empty_vertex_array_;  ///< for draws that compute vertices from gl_VertexID
+    std::unique_ptr<ImGuiRenderer> imgui_;
+    View3D view_;
+    int frame_width_ = 0, frame_height_ = 0;
+};
+
+}  // namespace accelviz

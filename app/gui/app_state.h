@@ -1,0 +1,48 @@
+#pragma once
+/// Everything the window shows, as plain data: which scene, which structure and
+/// its parameters, the camera, and the view settings. It serializes to JSON (a
+/// preset is a saved AppState), and the window and headless renders draw from
+/// it alone, so the same AppState gives the same picture in both.
+/// Runtime things (the loaded mesh, GPU buffers, error messages) live in Session.
+
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "core/accel/factory.h"
+#include "core/render/camera.h"
+#include "core/render/frame.h"
+#include "core/util/expected.h"
+
+namespace accelviz {
+
+/// How the window looks; the lecture-hall settings.
+struct ViewSettings {
+    float ui_scale = 1.0f;          ///< panels and text; 1 = 16 px text, 1.5 to 2.5 for a projector
+    bool light_theme = false;       ///< dark text on light panels (washed-out projectors)
+    Rgb background = kBackground;   ///< 3D view background (the CPU views' background by default)
+    bool show_ui = true;            ///< panels and status bar (Tab hides them)
+    bool show_help = false;         ///< the keyboard shortcuts window (F1)
+    bool show_bounds = true;        ///< the scene's bounding box as a wireframe
+};
+
+/// The font size in pixels for a UI scale (16 px at scale 1, 8 to 64 px).
+int font_pixels(float ui_scale);
+
+struct AppState {
+    std::string scene = "builtin:cube";  ///< "builtin:NAME?k=v" or an OBJ path
+    AccelConfig accel;                   ///< the structure and its build parameters
+    /// The camera; empty means "the scene's default view": the direction of
+    /// default_camera() (core/render/camera.h), at the distance that fits the
+    /// scene in the 3D view (frame_bounds), filled in when the scene has loaded.
+    std::optional<CameraParams> camera;
+    ViewSettings view;
+};
+
+/// JSON form (every field optional when reading: missing ones keep their defaults).
+nlohmann::json to_json(const AppState& state);
+/// Reads a state; errors are one line naming the field.
+Expected<AppState> app_state_from_json(const nlohmann::json& json);
+
+}  // namespace accelviz

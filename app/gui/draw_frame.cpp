@@ -1,0 +1,206 @@
+#include "app/gui/draw_frame.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>  // key codes only: ImGui 1.86 indexes io.KeysDown by the GLFW backend's codes
+#include <imgui.h>
+
+#include "app/gui/camera_control.h"
+
+namespace accelviz {
+
+namespace {
+
+// [SECTION] Layout
+
+/// Sidebar on the left, status bar at the bottom, the 3D view in the rest.
+struct Layout {
+    float sidebar_width = 0;
+    float status_height = 0;
+    ViewRect view;
+};
+
+Layout compute_layout(int width, int height, bool ui) {
+    Layout layout;
+    if (ui) {
+        const float font = ImGui::GetFontSize();
+        layout.sidebar_width = std::floor(std::min(19.0f * font, 0.45f * float(width)));
+        layout.status_height = std::floor(ImGui::GetTextLineHeight() + 2.0f * ImGui::GetStyle().FramePadding.y + 4.0f);
+    }
+    const int left = int(layout.sidebar_width);
+    layout.view = {left, 0, std::max(0, width - left), std::max(0, height - int(layout.status_height))};
+    return layout;
+}
+
+constexpr ImGuiWindowFlags kFixedPanel = ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoResize |
+                                         ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoCollapse |
+                                         ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoBringToFrontOnFocus;
+
+// [SECTION] Input for the 3D view
+
+/// Mouse and keys move the camera, unless ImGui wants them (a panel is hovered
+/// or a text field is being typed in).
+void handle_view_input(AppState& state, Session& session, const ViewRect& rect) {
+    const ImGuiIO& io = ImGui::GetIO();
+
+    if (!io.WantCaptureKeyboard) {
+        if (ImGui::IsKeyPressed(GLFW_KEY_F1, false)) state.view.show_help = !state.view.show_help;
+        if (ImGui::IsKeyPressed(GLFW_KEY_TAB, false)) state.view.show_ui = !state.view.show_ui;
+        if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE, false)) state.view.show_help = false;
+    }
+    if (!state.camera || rect.empty()) return;
+    CameraParams& camera = *state.camera;
+    const double aspect = double(rect.width) / rect.height;
+
+    if (!io.WantCaptureKeyboard) {
+        const double step = std::min(double(io.DeltaTime), 0.1);  // seconds; a stall must not spin the view
+        const double turn = 1.5 * step;                            // radians per second held
+        const double slide = 0.6 * step;                           // view heights per second held
+        const bool shift = io.KeyShift;
+        const double left = ImGui::IsKeyDown(GLFW_KEY_LEFT), right = ImGui::IsKeyDown(GLFW_KEY_RIGHT);
+        const double up = ImGui::IsKeyDown(GLFW_KEY_UP), down = ImGui::IsKeyDown(GLFW_KEY_DOWN);
+        if (shift)
+            pan(camera, (right - left) * slide, (up - down) * slide);
+        else
+            orbit(camera, (left - right) * turn, (down - up) * turn);
+        if (ImGui::IsKeyDown(GLFW_KEY_EQUAL) || ImGui::IsKeyDown(GLFW_KEY_KP_ADD)) dolly(camera, std::pow(0.3, step));
+        if (ImGui::IsKeyDown(GLFW_KEY_MINUS) || ImGui::IsKeyDown(GLFW_KEY_KP_SUBTRACT))
+            dolly(camera, std::pow(1.0 / 0.3, step));
+        if (session.scene && ImGui::IsKeyPressed(GLFW_KEY_F, false)) frame_bounds(camera, session.scene->bounds, aspect);
+        if (session.scene && ImGui::IsKeyPressed(GLFW_KEY_R, false)) {
+            camera = default_camera(session.scene->bounds);
+            frame_bounds(camera, session.scene->bounds, aspect);
+        }
+    }
+
+    // A drag belongs to the view if it started there (it may then cross a panel).
+    const bool hovered = !io.WantCaptureMouse && rect.contains(io.MousePos.x, io.MousePos.y);
+    const bool any_down = ImGui::IsMouseDown(0) || ImGui::IsMouseDown(1) || ImGui::IsMouseDown(2);
+    if (hovered && (ImGui::IsMouseClicked(0) || ImGui::IsMouseClicked(1) || ImGui::IsMouseClicked(2)))
+        session.dragging_view = true;
+    if (!any_down) session.dragging_view = false;
+    if (session.dragging_view && (io.MouseDelta.x != 0 || io.MouseDelta.y != 0)) {
+        const double dx = io.MouseDelta.x, dy = io.MouseDelta.y;
+        const bool panning = ImGui::IsMouseDown(1) || ImGui::IsMouseDown(2) || io.KeyShift;
+        if (panning)
+            pan(camera, dx / rect.height, -dy / rect.height);  // the scene follows the mouse
+        else
+            orbit(camera, -dx * 0.008, dy * 0.008);  // drag right: the eye goes left around the target
+    }
+    if (hovered && io.MouseWheel != 0) dolly(camera, std::pow(0.85, double(io.MouseWheel)));
+}
+
+// [SECTION] Overlays in the 3D view
+
+/// "Loading bunny.obj ... 1.2 s" at the top of the view while the worker runs,
+/// and the last error message (with a close button).
+void draw_view_messages(Session& session, const ViewRect& rect, bool deterministic) {
+    const float margin = ImGui::GetFontSize();
+    float y = float(rect.y) + margin;
+    const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
+                                   ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoMove |
+                                   ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav;
+    const ImVec2 centre_top(float(rect.x) + 0.5f * float(rect.width), y);
+    if (session.loader.busy()) {
+        ImGui::SetNextWindowPos(centre_top, ImGuiCond_Always, ImVec2(0.5f, 0.0f));
+        ImGui::SetNextWindowBgAlpha(0.85f);
+        if (ImGui::Begin("##loading", nullptr, flags)) {
+            if (deterministic) {
+                ImGui::Text("%s ...", session.loader.activity().c_str());
+            } else {
+                // A spinner: three dots, one lit, moving with time.
+                static constexpr const char* kFrames[] = {"   ", ".  ", ".. ", "..."};
+                const int phase = int(ImGui::GetTime() * 4.0) % 4;
+                ImGui::Text("%s%s  %.1f s", session.loader.activity().c_str(), kFrames[phase],
+                            session.loader.busy_seconds());
+            }
+        }
+        y += ImGui::GetWindowHeight() + 0.5f * margin;
+        ImGui::End();
+    }
+    if (!session.message.empty()) {
+        ImGui::SetNextWindowPos(ImVec2(centre_top.x, y), ImGuiCond_Always, ImVec2(0.5f, 0.0f));
+        ImGui::SetNextWindowSizeConstraints(ImVec2(0, 0), ImVec2(0.9f * float(rect.width), FLT_MAX));
+        ImGui::PushStyleColor(ImGuiCol_WindowBg, ImVec4(0.55f, 0.10f, 0.08f, 0.95f));
+        ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 1.0f, 1.0f, 1.0f));
+        if (ImGui::Begin("##message", nullptr, flags)) {
+            ImGui::PushTextWrapPos(0.85f * float(rect.width));
+            ImGui::TextUnformatted(session.message.c_str());
+            ImGui::PopTextWrapPos();
+            if (ImGui::Button("OK")) session.message.clear();
+        }
+        ImGui::End();
+        ImGui::PopStyleColor(2);
+    }
+}
+
+}  // namespace
+
+// [SECTION] The frame
+
+FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, const FrameInput& input) {
+    // 1. Work finished on the loader thread, and files dropped on the window.
+    session.take_finished_load(state);
+    for (const std::string& path : input.dropped_paths) session.open_scene(state, path);
+
+    // 2. Fonts and colours (a changed UI scale rebuilds the font atlas), then ImGui's frame.
+    session.style.apply(state.view, renderer);
+    ImGui::NewFrame();
+
+    // 3. Layout, then the 3D view's input (ImGui's capture flags are from this NewFrame).
+    const bool ui = input.draw_ui && state.view.show_ui;
+    const Layout layout = compute_layout(input.width, input.height, ui);
+    if (session.frame_pending && session.scene && state.camera && !layout.view.empty()) {
+        frame_bounds(*state.camera, session.scene->bounds, double(layout.view.width) / layout.view.height);
+        session.frame_pending = false;
+    }
+    if (input.draw_ui) handle_view_input(state, session, layout.view);
+
+    // 4. Panels.
+    if (ui) {
+        ImGui::SetNextWindowPos(ImVec2(0, 0), ImGuiCond_Always);
+        ImGui::SetNextWindowSize(ImVec2(layout.sidebar_width, float(input.height) - layout.status_height),
+                                 ImGuiCond_Always);
+        if (ImGui::Begin("##sidebar", nullptr, kFixedPanel)) {
+            ImGui::TextDisabled("accelviz");
+            session.scene_panel.draw(state, session);
+            session.view_panel.draw(state, session,
+                                    layout.view.height > 0 ? double(layout.view.width) / layout.view.height : 1.0);
+        }
+        ImGui::End();
+
+        ImGui::SetNextWindowPos(ImVec2(0, float(input.height) - layout.status_height), ImGuiCond_Always);
+        ImGui::SetNextWindowSize(ImVec2(float(input.width), layout.status_height), ImGuiCond_Always);
+        ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding,
+                            ImVec2(ImGui::GetStyle().WindowPadding.x, ImGui::GetStyle().FramePadding.y + 2.0f));
+        if (ImGui::Begin("##status", nullptr, kFixedPanel | ImGuiWindowFlags_NoScrollbar))
+            session.stats_bar.draw(state, session, input.frame_ms, input.deterministic);
+        ImGui::End();
+        ImGui::PopStyleVar();
+
+        draw_view_messages(session, layout.view, input.deterministic);
+        session.help_window.draw(state);
+    }
+    ImGui::Render();
+
+    // 5. GL: background, 3D view, panels on top.
+    FrameLayout out;
+    out.view_rect = layout.view;
+    renderer.begin_frame(input.width, input.height, state.view.background);
+    if (session.scene && state.camera && !layout.view.empty()) {
+        session.upload_to_gpu();
+        out.view = make_view3d(*state.camera, layout.view, session.scene->bounds);
+        renderer.begin_view(out.view);
+        renderer.draw_mesh(*session.mesh_buffer, MeshStyle{});
+        if (state.view.show_bounds) renderer.draw_boxes(*session.bounds_buffer);
+        out.scene_drawn = true;
+    }
+    if (ui) renderer.draw_imgui(ImGui::GetDrawData());
+    return out;
+}
+
+}  // namespace accelviz

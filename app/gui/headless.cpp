@@ -1,0 +1,110 @@
+#include "app/gui/headless.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include <imgui.h>
+
+#include "app/gl/renderer.h"
+#include "app/gui/session.h"
+#include "app/platform/osmesa_context.h"
+
+namespace accelviz {
+
+const std::vector<std::string>& headless_gui_views() {
+    static const std::vector<std::string> views = {"structure", "gui"};
+    return views;
+}
+
+// [SECTION] HeadlessApp
+
+Expected<std::unique_ptr<HeadlessApp>> HeadlessApp::create(int width, int height) {
+    if (width < 16 || height < 16 || width > 8192 || height > 8192)
+        return Error{"image size must be between 16 and 8192 pixels"};
+    std::unique_ptr<HeadlessApp> app(new HeadlessApp());
+    app->width_ = width;
+    app->height_ = height;
+    app->saved_gl_ = gl;
+    app->saved_imgui_ = ImGui::GetCurrentContext();
+    app->imgui_ = ImGui::CreateContext();
+    ImGui::SetCurrentContext(app->imgui_);
+    ImGuiIO& io = ImGui::GetIO();
+    io.IniFilename = nullptr;  // PLATFORM.md: headless sets these by hand
+    io.DisplaySize = ImVec2(float(width), float(height));
+    io.DeltaTime = 1.0f / 60.0f;
+
+    auto context = OsMesaContext::create(width, height);
+    if (!context) return Error{context.error()};
+    app->context_ = std::move(*context);
+    auto renderer = Renderer::create();
+    if (!renderer) return Error{renderer.error()};
+    app->renderer_ = std::move(*renderer);
+    app->session_ = std::make_unique<Session>();
+    return app;
+}
+
+HeadlessApp::~HeadlessApp() {
+    // GL objects (session, renderer) before their context; then the caller's state back.
+    session_.reset();
+    renderer_.reset();
+    context_.reset();
+    if (imgui_) ImGui::DestroyContext(imgui_);
+    ImGui::SetCurrentContext(saved_imgui_);
+    gl = saved_gl_;
+}
+
+FrameLayout HeadlessApp::draw(AppState& state, FrameInput input) {
+    input.width = width_;
+    input.height = height_;
+    input.deterministic = true;
+    ImGui::GetIO().DisplaySize = ImVec2(float(width_), float(height_));
+    FrameLayout layout = draw_frame(state, *renderer_, *session_, input);
+    gl.Finish();  // llvmpipe renders here: the frame is done when this returns
+    return layout;
+}
+
+Image HeadlessApp::read_colour() { return renderer_->read_colour({0, 0, width_, height_}); }
+
+std::string HeadlessApp::gl_description() const { return context_->description(); }
+
+// [SECTION] One-shot renders
+
+Expected<HeadlessRender> render_headless(const AppState& state, const std::string& view, int width, int height,
+                                         int frames) {
+    const auto& views = headless_gui_views();
+    if (std::find(views.begin(), views.end(), view) == views.end())
+        return Error{"unknown view '" + view + "' (the window's views are: structure, gui)"};
+
+    LoadResult loaded = load_and_build(state.scene, state.accel);
+    if (!loaded) return Error{loaded.error()};
+    auto app = HeadlessApp::create(width, height);
+    if (!app) return Error{app.error()};
+
+    HeadlessRender out;
+    out.gl_description = (*app)->gl_description();
+    AppState frame_state = state;
+    (*app)->session().set_scene(frame_state, std::move(*loaded), state.camera.has_value());
+    FrameInput input;
+    input.draw_ui = view == "gui";
+    const int count = std::max(frames, input.draw_ui ? 2 : 1);
+    FrameLayout layout;
+    for (int i = 0; i < count; ++i) {
+        const auto start = std::chrono::steady_clock::now();
+        layout = (*app)->draw(frame_state, input);
+        const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        if (i == 0) out.first_frame_ms = ms;
+        out.frame_ms = ms;
+    }
+    out.colour = (*app)->read_colour();
+    if (layout.scene_drawn) out.view_depth = (*app)->renderer().read_depth(layout.view_rect);
+    out.view = layout.view;
+    return out;
+}
+
+Expected<Image> render_gui_view_headless(const AppState& state, const std::string& view, int width, int height) {
+    auto render = render_headless(state, view, width, height);
+    if (!render) return Error{render.error()};
+    return std::move(render->colour);
+}
+
+}  // namespace accelviz

@@ -1,0 +1,201 @@
+#include "app/gui/panels.h"
+
+#include <cstdio>
+
+#include <imgui.h>
+#include <imgui_stdlib.h>
+
+#include "app/gui/camera_control.h"
+#include "app/gui/session.h"
+#include "core/geometry/scene.h"
+
+namespace accelviz {
+
+namespace {
+
+/// The built-in scene names (what builtin_scenes() lists; "cube" at least).
+std::vector<BuiltinInfo> builtin_choices() {
+    std::vector<BuiltinInfo> choices = builtin_scenes();
+    if (choices.empty()) choices.push_back({"cube", "a cube"});
+    return choices;
+}
+
+/// Grey explanatory text that wraps at the panel's edge.
+void hint(const char* text) {
+    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+    ImGui::TextWrapped("%s", text);
+    ImGui::PopStyleColor();
+}
+
+}  // namespace
+
+// [SECTION] Scene
+
+void ScenePanel::draw(AppState& state, Session& session) {
+    if (!ImGui::CollapsingHeader("Scene", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    if (shown_source != state.scene) {  // the scene changed elsewhere (drop, preset): follow it
+        source_text = state.scene;
+        shown_source = state.scene;
+    }
+
+    // Built-in scenes: picking one loads it at once.
+    const std::vector<BuiltinInfo> choices = builtin_choices();
+    const bool is_builtin = state.scene.rfind("builtin:", 0) == 0;
+    const std::string current = is_builtin ? state.scene.substr(8) : std::string();
+    ImGui::SetNextItemWidth(-FLT_MIN);
+    const std::string preview = is_builtin ? "Built-in: " + current : std::string("Built-in scenes");
+    if (ImGui::BeginCombo("##builtin", preview.c_str())) {
+        for (const BuiltinInfo& choice : choices) {
+            const bool selected = is_builtin && current.rfind(choice.name, 0) == 0;
+            if (ImGui::Selectable(choice.name.c_str(), selected)) session.open_scene(state, "builtin:" + choice.name);
+            if (!choice.description.empty() && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", choice.description.c_str());
+        }
+        ImGui::EndCombo();
+    }
+
+    // Any source by text: an OBJ path or "builtin:NAME?k=v".
+    const float button_width = ImGui::CalcTextSize("Open").x + 2 * ImGui::GetStyle().FramePadding.x;
+    ImGui::SetNextItemWidth(-(button_width + ImGui::GetStyle().ItemSpacing.x));
+    const bool entered = ImGui::InputTextWithHint("##source", "OBJ path or builtin:NAME", &source_text,
+                                                  ImGuiInputTextFlags_EnterReturnsTrue);
+    ImGui::SameLine();
+    if ((ImGui::Button("Open") || entered) && !source_text.empty()) session.open_scene(state, source_text);
+    hint("Or drop an .obj file on the window.");
+
+    if (session.loader.busy()) {
+        ImGui::TextUnformatted((session.loader.activity() + " ...").c_str());
+    }
+}
+
+// [SECTION] View
+
+void ViewPanel::draw(AppState& state, Session& session, double view_aspect) {
+    if (!ImGui::CollapsingHeader("View", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    ViewSettings& view = state.view;
+
+    // UI scale: the font is rebuilt at the new size, so apply it on release only.
+    if (!editing_scale) ui_scale_edit = view.ui_scale;
+    ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);
+    char label[32];
+    std::snprintf(label, sizeof label, "%.2f (%d px)", ui_scale_edit, font_pixels(ui_scale_edit));
+    ImGui::SliderFloat("UI scale", &ui_scale_edit, 0.75f, 3.0f, label);
+    editing_scale = ImGui::IsItemActive();
+    if (ImGui::IsItemDeactivatedAfterEdit()) view.ui_scale = ui_scale_edit;
+    if (ImGui::Button("Desk 1x")) view.ui_scale = 1.0f;
+    ImGui::SameLine();
+    if (ImGui::Button("Projector 2x")) view.ui_scale = 2.0f;
+
+    if (ImGui::Checkbox("Light theme", &view.light_theme)) {
+        // Follow the theme with the background while it is still one of the defaults.
+        const Rgb light_background{236, 236, 232};
+        if (view.light_theme && view.background == kBackground) view.background = light_background;
+        if (!view.light_theme && view.background == light_background) view.background = kBackground;
+    }
+    // Background: a few swatches that read well on a projector, and a picker.
+    ImGui::TextUnformatted("Background");
+    static constexpr Rgb kSwatches[] = {kBackground, {0, 0, 0}, {128, 128, 128}, {236, 236, 232}, {255, 255, 255}};
+    const float swatch = ImGui::GetFrameHeight();
+    ImGui::PushStyleVar(ImGuiStyleVar_FrameBorderSize, 1.0f);  // a dark swatch on a dark panel stays visible
+    for (const Rgb& colour : kSwatches) {
+        if (&colour != &kSwatches[0]) ImGui::SameLine();
+        ImGui::PushID(&colour);
+        const ImVec4 c(colour.r / 255.0f, colour.g / 255.0f, colour.b / 255.0f, 1.0f);
+        if (ImGui::ColorButton("##swatch", c, ImGuiColorEditFlags_NoTooltip, ImVec2(swatch, swatch)))
+            view.background = colour;
+        ImGui::PopID();
+    }
+    ImGui::SameLine();
+    float background[3] = {view.background.r / 255.0f, view.background.g / 255.0f, view.background.b / 255.0f};
+    if (ImGui::ColorEdit3("##background", background, ImGuiColorEditFlags_NoInputs))
+        view.background = {uint8_t(background[0] * 255.0f + 0.5f), uint8_t(background[1] * 255.0f + 0.5f),
+                           uint8_t(background[2] * 255.0f + 0.5f)};
+    ImGui::PopStyleVar();
+    ImGui::Checkbox("Scene bounds", &view.show_bounds);
+
+    ImGui::Separator();
+    if (state.camera) {
+        float fov = float(state.camera->fov_deg);
+        ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);
+        if (ImGui::SliderFloat("Field of view", &fov, 10.0f, 120.0f, "%.0f deg")) state.camera->fov_deg = fov;
+    }
+    const bool have_scene = session.scene != nullptr;
+    if (ImGui::Button("Frame scene (F)") && have_scene && state.camera)
+        frame_bounds(*state.camera, session.scene->bounds, view_aspect);
+    ImGui::SameLine();
+    if (ImGui::Button("Reset view (R)") && have_scene) {
+        state.camera = default_camera(session.scene->bounds);
+        frame_bounds(*state.camera, session.scene->bounds, view_aspect);
+    }
+    if (ImGui::Button(copied ? "Copied to clipboard" : "Copy camera as CLI flags") && state.camera) {
+        ImGui::SetClipboardText(camera_cli_flags(*state.camera).c_str());
+        copied = true;
+    }
+    if (copied && !ImGui::IsItemHovered()) copied = false;
+}
+
+// [SECTION] Stats
+
+void StatsBar::draw(const AppState& state, const Session& session, double frame_ms, bool deterministic) {
+    std::string line;
+    if (const LoadedScene* scene = session.scene.get()) {
+        char text[256];
+        std::snprintf(text, sizeof text, "%s  |  %zu triangles  |  structure: %s", state.scene.c_str(),
+                      scene->mesh.triangle_count(), scene->accel_config.type.c_str());
+        line = text;
+        if (!deterministic) {
+            std::snprintf(text, sizeof text, " (load %.0f ms, build %.0f ms)", scene->load_seconds * 1e3,
+                          scene->build_seconds * 1e3);
+            line += text;
+        }
+    } else {
+        line = "no scene";
+    }
+    if (!deterministic && frame_ms > 0) {
+        char text[64];
+        std::snprintf(text, sizeof text, "  |  %.1f ms/frame", frame_ms);
+        line += text;
+    }
+    if (session.loader.busy()) line += "  |  " + session.loader.activity() + " ...";
+    ImGui::TextUnformatted(line.c_str());
+    ImGui::SameLine(ImGui::GetWindowContentRegionMax().x - ImGui::CalcTextSize("F1: help").x);
+    ImGui::TextDisabled("F1: help");
+}
+
+// [SECTION] Help
+
+void HelpWindow::draw(AppState& state) {
+    if (!state.view.show_help) return;
+    const ImGuiViewport* viewport = ImGui::GetMainViewport();
+    ImGui::SetNextWindowPos(viewport->GetCenter(), ImGuiCond_Always, ImVec2(0.5f, 0.5f));
+    const ImGuiWindowFlags flags = ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
+                                   ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings |
+                                   ImGuiWindowFlags_NoMove;
+    if (ImGui::Begin("Keyboard and mouse (F1)", &state.view.show_help, flags)) {
+        static constexpr const char* kShortcuts[][2] = {
+            {"Left drag", "orbit around the target"},
+            {"Right or middle drag, Shift + left drag", "pan"},
+            {"Mouse wheel", "zoom (move towards the target)"},
+            {"Arrow keys", "orbit"},
+            {"Shift + arrow keys", "pan"},
+            {"+ / -", "zoom in / out"},
+            {"F", "frame the scene"},
+            {"R", "reset to the default view"},
+            {"Tab", "hide / show the panels"},
+            {"F1", "this help"},
+            {"Drop an .obj file", "open it"},
+        };
+        if (ImGui::BeginTable("shortcuts", 2, ImGuiTableFlags_RowBg | ImGuiTableFlags_SizingFixedFit)) {
+            for (const auto& row : kShortcuts) {
+                ImGui::TableNextRow();
+                ImGui::TableNextColumn();
+                ImGui::TextUnformatted(row[0]);
+                ImGui::TableNextColumn();
+                ImGui::TextUnformatted(row[1]);
+            }
+            ImGui::EndTable();
+        }
+    }
+    ImGui::End();
+}
+
+}  // namespace accelviz

@@ -1,0 +1,40 @@
+#pragma once
+/// The panels: each a struct that owns its UI state and draws itself into the
+/// sidebar with draw(). They change AppState (what to show) and ask Session for
+/// work (loading); they never load or build on the UI thread themselves.
+
+#include <string>
+
+#include "app/gui/app_state.h"
+
+namespace accelviz {
+
+struct Session;
+
+/// Pick a built-in scene, open an OBJ by path (or drop a file on the window).
+struct ScenePanel {
+    std::string source_text;   ///< the text field; follows AppState::scene until edited
+    std::string shown_source;  ///< AppState::scene when source_text was last synced
+    void draw(AppState& state, Session& session);
+};
+
+/// Camera and the lecture-hall settings: UI scale, theme, background.
+struct ViewPanel {
+    float ui_scale_edit = 0;   ///< the slider's value; applied when released (font rebuild)
+    bool editing_scale = false;
+    bool copied = false;       ///< "copied" feedback after the copy button
+    void draw(AppState& state, Session& session, double view_aspect);
+};
+
+/// One line at the bottom: scene, triangles, structure, build and frame times.
+struct StatsBar {
+    /// `frame_ms` <= 0 or `deterministic`: times are left out (golden images).
+    void draw(const AppState& state, const Session& session, double frame_ms, bool deterministic);
+};
+
+/// The keyboard and mouse shortcuts (F1).
+struct HelpWindow {
+    void draw(AppState& state);
+};
+
+}  // namespace accelviz

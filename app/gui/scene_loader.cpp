@@ -1,0 +1,123 @@
+#include "app/gui/scene_loader.h"
+
+#include "core/geometry/scene.h"
+
+namespace accelviz {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// "bunny.obj" for "/work/shared/assets/bunny.obj"; builtins unchanged.
+std::string short_name(const std::string& source) {
+    const size_t slash = source.find_last_of('/');
+    return source.rfind("builtin:", 0) == 0 || slash == std::string::npos ? source : source.substr(slash + 1);
+}
+
+}  // namespace
+
+LoadResult load_and_build(const std::string& source, const AccelConfig& config,
+                          const std::function<void(const std::string&)>& on_stage) {
+    auto stage = [&](const std::string& what) {
+        if (on_stage) on_stage(what);
+    };
+    auto scene = std::make_shared<LoadedScene>();
+    scene->source = source;
+    scene->accel_config = config;
+
+    stage("Loading " + short_name(source));
+    auto start = std::chrono::steady_clock::now();
+    auto mesh = load_scene(source);
+    if (!mesh) return Error{mesh.error()};
+    scene->mesh = std::move(*mesh);
+    scene->bounds = scene->mesh.bounds();
+    scene->load_seconds = seconds_since(start);
+
+    // Built from the mesh in its final place: a structure may keep references into it.
+    stage("Building " + config.type);
+    start = std::chrono::steady_clock::now();
+    auto accel = build_accelerator(scene->mesh, config);
+    if (!accel) return Error{accel.error()};
+    scene->accel = std::move(*accel);
+    scene->build_seconds = seconds_since(start);
+    return std::shared_ptr<const LoadedScene>(std::move(scene));
+}
+
+SceneLoader::SceneLoader() : worker_([this] { run(); }) {}
+
+SceneLoader::~SceneLoader() {
+    {
+        std::lock_guard lock(mutex_);
+        quit_ = true;
+        pending_.reset();
+    }
+    wake_.notify_all();
+    worker_.join();
+}
+
+void SceneLoader::request(const std::string& source, const AccelConfig& config) {
+    {
+        std::lock_guard lock(mutex_);
+        pending_ = Request{++newest_id_, source, config};
+        finished_.reset();  // an older result is no longer wanted
+        requested_at_ = std::chrono::steady_clock::now();
+        activity_ = "Waiting";
+    }
+    wake_.notify_all();
+}
+
+std::optional<LoadResult> SceneLoader::take_result() {
+    std::lock_guard lock(mutex_);
+    std::optional<LoadResult> result = std::move(finished_);
+    finished_.reset();
+    return result;
+}
+
+bool SceneLoader::has_result() const {
+    std::lock_guard lock(mutex_);
+    return finished_.has_value();
+}
+
+bool SceneLoader::busy() const {
+    std::lock_guard lock(mutex_);
+    return pending_.has_value() || running_;
+}
+
+std::string SceneLoader::activity() const {
+    std::lock_guard lock(mutex_);
+    return activity_;
+}
+
+double SceneLoader::busy_seconds() const {
+    std::lock_guard lock(mutex_);
+    return pending_ || running_ ? seconds_since(requested_at_) : 0.0;
+}
+
+void SceneLoader::run() {
+    std::unique_lock lock(mutex_);
+    for (;;) {
+        wake_.wait(lock, [this] { return quit_ || pending_.has_value(); });
+        if (quit_) return;
+        Request request = std::move(*pending_);
+        pending_.reset();
+        running_ = true;
+        lock.unlock();
+
+        LoadResult result = load_and_build(request.source, request.config, [this](const std::string& what) {
+            std::lock_guard stage_lock(mutex_);
+            activity_ = what;
+        });
+
+        lock.lock();
+        running_ = false;
+        if (request.id == newest_id_) {  // otherwise a newer request superseded it
+            finished_ = std::move(result);
+            activity_.clear();
+            if (on_finished) on_finished();
+        }
+    }
+}
+
+}  // namespace accelviz

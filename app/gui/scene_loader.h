@@ -1,0 +1,87 @@
+#pragma once
+/// Loading a scene and building its structure, off the UI thread.
+///
+/// The UI thread never loads or builds (DESIGN.md, "State and threads"): it hands
+/// a request to the worker, keeps drawing (with a "loading..." indicator), and
+/// swaps in the immutable result when it is ready. A newer request supersedes an
+/// older one: the older one finishes (a file read cannot be interrupted) but its
+/// result is dropped.
+
+#include <chrono>
+#include <condition_variable>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+
+#include "core/accel/factory.h"
+#include "core/geometry/mesh.h"
+#include "core/util/expected.h"
+
+namespace accelviz {
+
+/// A scene and its structure, immutable once published (shared with the UI).
+struct LoadedScene {
+    std::string source;       ///< what was asked for: "builtin:cube" or a path
+    Mesh mesh;
+    Aabb bounds;              ///< mesh.bounds()
+    AccelConfig accel_config;
+    std::shared_ptr<const Accelerator> accel;  ///< built over `mesh` (which it may reference)
+    double load_seconds = 0;
+    double build_seconds = 0;
+};
+
+using LoadResult = Expected<std::shared_ptr<const LoadedScene>>;
+
+/// Loads `source` (load_scene) and builds `config` over it, on the calling
+/// thread. `on_stage` (if set) hears "Loading ..." / "Building ..." as work starts.
+LoadResult load_and_build(const std::string& source, const AccelConfig& config,
+                          const std::function<void(const std::string&)>& on_stage = {});
+
+class SceneLoader {
+public:
+    SceneLoader();
+    /// Waits for the running job (if any) to finish.
+    ~SceneLoader();
+    SceneLoader(const SceneLoader&) = delete;
+    SceneLoader& operator=(const SceneLoader&) = delete;
+
+    /// Asks for `source` built with `config`; replaces a request not started yet.
+    void request(const std::string& source, const AccelConfig& config);
+    /// The result of the newest request, once, when it has finished.
+    std::optional<LoadResult> take_result();
+    /// True when a result waits for take_result().
+    bool has_result() const;
+    /// True while a request is waiting or running.
+    bool busy() const;
+    /// What the worker is doing ("Loading bunny.obj"), for the status line.
+    std::string activity() const;
+    /// Seconds since the newest request was made (0 when idle).
+    double busy_seconds() const;
+    /// Called on the worker thread when a result is ready (e.g. to wake up a
+    /// window waiting for events). Set before the first request.
+    std::function<void()> on_finished;
+
+private:
+    struct Request {
+        uint64_t id;
+        std::string source;
+        AccelConfig config;
+    };
+    void run();
+
+    mutable std::mutex mutex_;
+    std::condition_variable wake_;
+    std::optional<Request> pending_;
+    std::optional<LoadResult> finished_;
+    uint64_t newest_id_ = 0;
+    bool running_ = false;
+    bool quit_ = false;
+    std::string activity_;
+    std::chrono::steady_clock::time_point requested_at_;
+    std::thread worker_;  ///< last member: starts after the others exist
+};
+
+}  // namespace accelviz

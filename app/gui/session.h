@@ -1,0 +1,62 @@
+#pragma once
+/// What the window holds beside AppState while it runs: the loaded scene (or
+/// the one being loaded), its GPU copies, the last message for the user, and the
+/// panels' own state. AppState says what to show; Session has the things it is
+/// shown from. Both the window and headless renders keep one and hand it to
+/// draw_frame(). Destroy it while its GL context is still alive.
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "app/gl/renderer.h"
+#include "app/gui/app_state.h"
+#include "app/gui/panels.h"
+#include "app/gui/scene_loader.h"
+#include "app/gui/ui_style.h"
+
+namespace accelviz {
+
+struct Session {
+    /// The scene on screen (null until the first load finishes). Immutable:
+    /// a new load replaces the pointer, never the contents.
+    std::shared_ptr<const LoadedScene> scene;
+    SceneLoader loader;
+    /// When the load under way finishes: keep AppState's camera (a preset or
+    /// the command line set it) instead of the new scene's default view.
+    bool keep_camera_on_load = false;
+
+    /// The camera was just reset to the scene's default view: the next frame
+    /// frames the scene for the view's actual aspect ratio (frame_bounds).
+    bool frame_pending = false;
+
+    /// The last thing the user should know: a load error ("keeping the previous
+    /// scene"). Empty: nothing to say.
+    std::string message;
+
+    // GPU copies of `scene` (made on the UI thread, which owns the context).
+    std::unique_ptr<MeshBuffer> mesh_buffer;
+    std::unique_ptr<BoxBuffer> bounds_buffer;
+    uint64_t scene_generation = 0;     ///< counts set_scene() calls
+    uint64_t uploaded_generation = 0;  ///< the generation the buffers hold
+
+    UiStyle style;
+    bool dragging_view = false;  ///< a mouse drag that started in the 3D view
+
+    ScenePanel scene_panel;
+    ViewPanel view_panel;
+    StatsBar stats_bar;
+    HelpWindow help_window;
+
+    /// Starts loading `source` with the state's structure (on the worker).
+    void open_scene(const AppState& state, const std::string& source, bool keep_camera = false);
+    /// Takes a finished load, if any: swaps the scene in and updates the state's
+    /// scene and camera; on failure sets `message` and keeps everything as it was.
+    void take_finished_load(AppState& state);
+    /// Swaps in a loaded scene (what take_finished_load does on success).
+    void set_scene(AppState& state, std::shared_ptr<const LoadedScene> loaded, bool keep_camera);
+    /// Makes the GPU copies match `scene` (call on the GL thread).
+    void upload_to_gpu();
+};
+
+}  // namespace accelviz

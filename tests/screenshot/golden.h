@@ -1,0 +1,40 @@
+#pragma once
+/// Golden-image comparison for the screenshot tests.
+///
+/// Tolerance (stated once, used by every golden test): a pixel matches when each
+/// of its R, G, B channels is within kChannelTolerance of the golden image; an
+/// image matches when at most kMaxMismatchFraction of its pixels do not (room for
+/// a different Mesa/LLVM rounding an edge or a glyph differently; llvmpipe itself
+/// is deterministic, so on one machine the difference is 0).
+///
+/// On a mismatch the test writes, under the build's screenshot-out/ directory,
+/// NAME.png (what was rendered) and NAME.diff.png (the golden dimmed to grey with
+/// mismatching pixels in red), and says where they are.
+///
+/// To regenerate the goldens after an intended change: run the tests with the
+/// environment variable ACCELVIZ_UPDATE_GOLDEN=1 (or pass --update-golden to
+/// screenshot_tests); they then write golden/NAME.png and pass. Look at the new
+/// images before committing them.
+
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "core/render/image.h"
+
+namespace accelviz::testing {
+
+inline constexpr int kChannelTolerance = 3;
+inline constexpr double kMaxMismatchFraction = 0.001;
+
+/// True when goldens are to be rewritten (ACCELVIZ_UPDATE_GOLDEN=1 or --update-golden).
+bool update_golden_mode();
+void set_update_golden_mode(bool on);
+
+/// Compares `actual` with golden/NAME.png (see the tolerance above).
+::testing::AssertionResult matches_golden(const Image& actual, const std::string& name);
+
+/// Where the tests write what they rendered (created on demand).
+std::string screenshot_out_dir();
+
+}  // namespace accelviz::testing

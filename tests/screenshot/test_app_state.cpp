@@ -1,0 +1,84 @@
+// AppState <-> JSON and the camera controls: plain functions, no GL.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "app/gui/app_state.h"
+#include "app/gui/camera_control.h"
+
+namespace accelviz {
+namespace {
+
+double distance(Vec3d a, Vec3d b) { return std::sqrt(dot(a - b, a - b)); }
+
+TEST(AppStateJson, RoundTripKeepsEveryField) {
+    AppState s;
+    s.scene = "builtin:teapot?n=4";
+    s.accel.type = "naive";
+    s.camera = CameraParams{{1, 2, 3}, {0, 0.5, 0}, {0, 1, 0}, 35};
+    s.view.ui_scale = 2.0f;
+    s.view.light_theme = true;
+    s.view.background = {10, 20, 30};
+    s.view.show_ui = false;
+    s.view.show_bounds = false;
+    auto back = app_state_from_json(to_json(s));
+    ASSERT_TRUE(back) << back.error();
+    EXPECT_EQ(to_json(*back), to_json(s));
+}
+
+TEST(AppStateJson, MissingFieldsKeepDefaultsAndNullCameraMeansSceneDefault) {
+    auto s = app_state_from_json(nlohmann::json::parse(R"({"scene": "builtin:cube", "camera": null})"));
+    ASSERT_TRUE(s) << s.error();
+    EXPECT_EQ(s->scene, "builtin:cube");
+    EXPECT_FALSE(s->camera.has_value());
+    EXPECT_EQ(s->view.ui_scale, 1.0f);
+}
+
+TEST(AppStateJson, BadValuesAreOneLineErrorsNamingTheField) {
+    auto bad_eye = app_state_from_json(nlohmann::json::parse(R"({"camera": {"eye": [1, 2]}})"));
+    ASSERT_FALSE(bad_eye);
+    EXPECT_NE(bad_eye.error().find("camera.eye"), std::string::npos) << bad_eye.error();
+    auto same = app_state_from_json(nlohmann::json::parse(R"({"camera": {"eye": [0,0,0], "target": [0,0,0]}})"));
+    ASSERT_FALSE(same);
+    auto scale = app_state_from_json(nlohmann::json::parse(R"({"view": {"ui_scale": 9}})"));
+    ASSERT_FALSE(scale);
+    EXPECT_NE(scale.error().find("ui_scale"), std::string::npos);
+}
+
+TEST(CameraControl, OrbitKeepsDistanceToTargetAndStaysOffThePole) {
+    CameraParams c{{0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 45};
+    orbit(c, 0.7, 0.3);
+    EXPECT_NEAR(distance(c.eye, c.target), 5.0, 1e-9);
+    orbit(c, 0.0, 10.0);  // far past straight above: clamped
+    EXPECT_NEAR(distance(c.eye, c.target), 5.0, 1e-9);
+    EXPECT_FALSE(validate(c).has_value()) << "the camera stays valid";
+    EXPECT_LT(c.eye.y / 5.0, 1.0);
+}
+
+TEST(CameraControl, PanMovesEyeAndTargetTogether) {
+    CameraParams c{{0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 45};
+    pan(c, 0.1, 0.0);
+    EXPECT_NEAR(c.eye.z - c.target.z, 5.0, 1e-12);
+    EXPECT_LT(c.target.x, 0.0) << "the scene moves right: the camera moves left";
+}
+
+TEST(CameraControl, FrameBoundsCentresAndFitsTheScene) {
+    CameraParams c{{10, 0, 0}, {3, 3, 3}, {0, 1, 0}, 45};
+    Aabb box;
+    box.grow({-1, -1, -1});
+    box.grow({1, 1, 1});
+    frame_bounds(c, box, 16.0 / 9.0);
+    EXPECT_NEAR(distance(c.target, {0, 0, 0}), 0.0, 1e-12);
+    // The enclosing sphere (radius sqrt 3) fits the vertical half-angle of 22.5 degrees.
+    const double d = distance(c.eye, c.target);
+    EXPECT_GE(std::sqrt(3.0) / d, 0.0);
+    EXPECT_LE(std::sqrt(3.0) / d, std::sin(22.5 * 3.14159265358979 / 180.0) + 1e-9);
+}
+
+TEST(CameraControl, CliFlagsReproduceTheCamera) {
+    CameraParams c{{1.5, 2, -3.25}, {0, 0.5, 0}, {0, 1, 0}, 40};
+    EXPECT_EQ(camera_cli_flags(c), "--eye 1.5,2,-3.25 --target 0,0.5,0 --up 0,1,0 --fov 40");
+}
+
+}  // namespace
+}  // namespace accelviz

@@ -1,0 +1,61 @@
+// The window's behaviour on bad input, driven headless frame by frame: a bad OBJ
+// (dropped on the window) shows a message and keeps the previous scene.
+#include <chrono>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "app/gui/headless.h"
+#include "app/gui/session.h"
+
+namespace accelviz {
+namespace {
+
+/// Draws frames until the loader has nothing left to hand over (at most 10 s).
+void draw_until_loaded(HeadlessApp& app, AppState& state) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while ((app.session().loader.busy() || app.session().loader.has_result()) &&
+           std::chrono::steady_clock::now() < deadline) {
+        app.draw(state, {});
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    app.draw(state, {});
+}
+
+TEST(SceneErrors, BadObjDroppedOnWindowShowsMessageAndKeepsPreviousScene) {
+    auto app = HeadlessApp::create(640, 400);
+    ASSERT_TRUE(app) << app.error();
+    AppState state;
+    state.scene = "builtin:cube";
+    (*app)->session().open_scene(state, state.scene);
+    draw_until_loaded(**app, state);
+    ASSERT_NE((*app)->session().scene, nullptr);
+    const auto cube = (*app)->session().scene;
+    const CameraParams camera_before = *state.camera;
+
+    const std::string bad = "/nonexistent/dropped.obj";
+    FrameInput drop;
+    drop.dropped_paths = {bad};
+    (*app)->draw(state, drop);
+    draw_until_loaded(**app, state);
+
+    EXPECT_EQ((*app)->session().scene, cube) << "the previous scene stays";
+    EXPECT_EQ(state.scene, "builtin:cube");
+    EXPECT_EQ(state.camera->eye.x, camera_before.eye.x);
+    EXPECT_NE((*app)->session().message.find(bad), std::string::npos) << (*app)->session().message;
+    EXPECT_NE((*app)->session().message.find("keeping builtin:cube"), std::string::npos);
+}
+
+TEST(SceneErrors, GoodObjPathLoadsAndResetsCamera) {
+    auto app = HeadlessApp::create(320, 240);
+    ASSERT_TRUE(app) << app.error();
+    AppState state;
+    (*app)->session().open_scene(state, "builtin:cube");
+    draw_until_loaded(**app, state);
+    ASSERT_NE((*app)->session().scene, nullptr);
+    EXPECT_TRUE((*app)->session().message.empty());
+    EXPECT_TRUE(state.camera.has_value()) << "the default view of the scene";
+}
+
+}  // namespace
+}  // namespace accelviz
