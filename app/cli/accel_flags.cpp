@@ -25,7 +25,7 @@ void add_accel_flags(CLI::App& command, AccelConfig& config) {
                "grid/kd/octree: skip triangles a ray already tested in an earlier cell (on|off, default on)")
         ->check(CLI::IsMember({"on", "off"}));
     command.add_option("--grid-density", config.grid.density, "grid: C in #cells = C * #triangles (lecture: 27)")
-        ->check(CLI::PositiveNumber)
+        ->check(CLI::Range(0.001, 10000.0))
         ->capture_default_str();
     command.add_option_function<std::string>(
                "--grid-insert", [&config](const std::string& v) { config.grid.insert = *parse_grid_insert(v); },
