@@ -8,13 +8,17 @@
 ///   Push           node, t_enter                   node put on the stack for later
 ///   Pop            node, t_enter                   node taken off the stack
 ///   Cull           node, reason, t_enter, t_exit   node (and its subtree) skipped
-///   Leaf           node, first, count              a leaf's triangles are about to be tested
+///   Leaf           node, first, count              a leaf's triangles are about to be tested; KD/octree
+///                                                  also t_enter, t_exit: the leaf's [t_min, t_max] on the ray
 ///   TriangleTest   tri, t, u, v, hit               one Möller–Trumbore test
-///   NewClosest     tri, t, u, v                    the closest hit so far improved
-///   EnterCell      cell[3], node (linear id), t_enter, t_exit   grid/octree cell walked into
+///   NewClosest     tri, t, u, v                    the closest hit so far improved (grid/KD/octree: or a
+///                                                  deferred hit accepted on entering the cell holding it)
+///   EnterCell      cell[3], node (linear id), t_enter, t_exit   grid cell walked into (the octree,
+///                                                  a tree, reports VisitNode + Leaf like the KD tree)
 ///   MailboxSkip    tri                             already tested for this ray: not tested again
 ///   HitOutsideCell tri, t, t_exit                  a hit beyond the current cell/leaf: not (yet) accepted
 ///   SplitPlane     node, axis, split, t (t_split), near_first   KD/octree node's plane vs the ray
+///                                                  (octree: three per node, near_first = starts below it)
 ///   Done           tri, t, u, v, hit               the final answer
 
 #include <cstdint>
