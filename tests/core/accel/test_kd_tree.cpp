@@ -1,0 +1,254 @@
+// The KD tree: exact against brute force in every configuration, the lecture's
+// pitfall made visible by --kd-strict-cell off, and the tree's invariants.
+#include <gtest/gtest.h>
+
+#include "accel/space_partition_support.h"
+#include "core/accel/kd_tree.h"
+#include "core/geometry/triangle_box.h"
+
+using namespace accelviz;
+using namespace accelviz::test;
+
+namespace {
+
+KdTree build(const Mesh& mesh, KdConfig config) {
+    auto tree = build_kd_tree(mesh, config);
+    if (!tree.ok()) throw std::runtime_error(tree.error());
+    return std::move(*tree);
+}
+
+std::vector<std::pair<std::string, KdConfig>> configs() {
+    std::vector<std::pair<std::string, KdConfig>> out;
+    for (KdBuilder builder : {KdBuilder::Sah, KdBuilder::Median})
+        for (ClipMode clip : {ClipMode::Exact, ClipMode::Box}) {
+            KdConfig c;
+            c.builder = builder;
+            c.clip = clip;
+            out.push_back({std::string(to_string(builder)) + " clip=" + std::string(to_string(clip)), c});
+        }
+    KdConfig no_mailbox;
+    no_mailbox.mailbox = false;
+    out.push_back({"sah mailbox=off", no_mailbox});
+    KdConfig deep;
+    deep.builder = KdBuilder::Median;
+    deep.leaf_size = 1;
+    deep.max_depth = 40;
+    out.push_back({"median leaf=1 depth=40", deep});
+    return out;
+}
+
+void check_scene(const std::string& source) {
+    const SceneCase& scene = scene_case(source);
+    for (const auto& [label, config] : configs()) {
+        const KdTree tree = build(scene.mesh, config);
+        expect_exact(tree, scene, "kd " + label);
+        expect_trace_agrees(tree, scene, 97, "kd " + label);
+    }
+}
+
+/// Walks the tree with node boxes; calls f(node, box, depth) for every node.
+template <class F>
+void for_each_node(const KdTree& t, F&& f) {
+    struct Item {
+        uint32_t node;
+        Aabb box;
+        uint32_t depth;
+    };
+    std::vector<Item> stack{{0, t.bounds, 0}};
+    while (!stack.empty()) {
+        const Item it = stack.back();
+        stack.pop_back();
+        f(it.node, it.box, it.depth);
+        const KdNode& n = t.nodes[it.node];
+        if (n.is_leaf()) continue;
+        Aabb lo = it.box, hi = it.box;
+        lo.hi[n.axis] = n.split;
+        hi.lo[n.axis] = n.split;
+        stack.push_back({n.first, lo, it.depth + 1});
+        stack.push_back({n.first + 1, hi, it.depth + 1});
+    }
+}
+
+/// The slide's scene: a long slanted triangle A (id 0) crosses the median plane
+/// x = 5; the ray along +x meets it at x = 8, behind a small triangle B (id 1)
+/// standing at x = 6. The first leaf the ray walks (x < 5) holds A.
+Mesh straddle_scene() {
+    Mesh m;
+    m.add_triangle({0, -2, -0.8f}, {0, 2, -0.8f}, {10, 0, 0.2f});
+    m.add_triangle({6, -0.5f, -0.5f}, {6, 0.5f, -0.5f}, {6, 0, 0.5f});
+    return m;
+}
+
+}  // namespace
+
+TEST(KdTree, ExactOnStadium) { check_scene("builtin:stadium"); }
+TEST(KdTree, ExactOnSameBox) { check_scene("builtin:same-box"); }
+TEST(KdTree, ExactOnSameCentroid) { check_scene("builtin:same-centroid"); }
+TEST(KdTree, ExactOnSoup) { check_scene("builtin:soup?n=2000&seed=3"); }
+TEST(KdTree, ExactOnEmptyScene) { check_scene("builtin:empty"); }
+TEST(KdTree, ExactOnSingleTriangle) { check_scene("builtin:single"); }
+TEST(KdTree, ExactOnCornellBox) { check_scene("builtin:cornell"); }
+TEST(KdTree, SlowExactOnBunny) {
+    if (!shared_asset_exists("bunny.obj")) GTEST_SKIP() << "bunny.obj not found";
+    check_scene("bunny");
+}
+
+TEST(KdTree, StrictCellOffGivesTheSlidesWrongAnswer) {
+    const Mesh m = straddle_scene();
+    const Ray ray{{-1, 0, 0}, {1, 0, 0}};
+    NoObserver none;
+    const Hit truth = BruteForce(m).intersect_closest(ray, none);
+    ASSERT_EQ(truth.tri, 1u);  // B, at x = 6
+    KdConfig c;
+    c.builder = KdBuilder::Median;
+    c.leaf_size = 1;
+    const KdTree strict = build(m, c);
+    ASSERT_FALSE(strict.nodes[0].is_leaf());
+    EXPECT_EQ(strict.nodes[0].axis, 0);
+    EXPECT_TRUE(same_hit(strict.intersect_closest(ray, none), truth));
+    // The in-cell rule at work: A's hit is seen in the first leaf and deferred.
+    RecordingObserver rec;
+    strict.intersect_closest(ray, rec);
+    bool deferred = false;
+    for (const auto& e : rec.events) deferred |= e.kind == EventKind::HitOutsideCell && e.tri == 0;
+    EXPECT_TRUE(deferred);
+
+    c.strict_cell = false;
+    const KdTree naive = build(m, c);
+    const Hit wrong = naive.intersect_closest(ray, none);
+    EXPECT_EQ(wrong.tri, 0u) << "the naive rule stops in the first leaf with A's hit at x = 8";
+    EXPECT_GT(wrong.t, truth.t);
+}
+
+TEST(KdTree, StrictCellOffIsWrongOnRandomRaysToo) {
+    // The same mistake shows on an ordinary scene: some rays get a farther triangle.
+    const SceneCase& scene = scene_case("builtin:soup?n=2000&seed=3");
+    KdConfig c;
+    c.strict_cell = false;
+    const KdTree naive = build(scene.mesh, c);
+    size_t wrong = 0;
+    NoObserver none;
+    for (size_t i = 0; i < scene.rays.size(); ++i)
+        if (!same_hit(naive.intersect_closest(scene.rays[i], none), scene.answers[i])) ++wrong;
+    EXPECT_GT(wrong, 0u);
+}
+
+TEST(KdTree, ChildrenPartitionTheirParent) {
+    const SceneCase& scene = scene_case("builtin:stadium", 10);
+    for (KdBuilder b : {KdBuilder::Sah, KdBuilder::Median}) {
+        KdConfig c;
+        c.builder = b;
+        const KdTree t = build(scene.mesh, c);
+        uint32_t leaves = 0, max_depth = 0;
+        uint64_t refs = 0;
+        for_each_node(t, [&](uint32_t node, const Aabb& box, uint32_t depth) {
+            const KdNode& n = t.nodes[node];
+            max_depth = std::max(max_depth, depth);
+            if (n.is_leaf()) {
+                ++leaves;
+                refs += n.count;
+                EXPECT_LE(n.first + n.count, t.prim_ids.size());
+                return;
+            }
+            // The plane lies strictly inside the box: two non-empty halves that tile it.
+            EXPECT_GT(n.split, box.lo[n.axis]);
+            EXPECT_LT(n.split, box.hi[n.axis]);
+            EXPECT_EQ(n.first % 2, 1u) << "children are allocated in pairs after the root";
+        });
+        EXPECT_EQ(leaves, t.build_stats.leaves);
+        EXPECT_EQ(refs, t.prim_ids.size());
+        EXPECT_EQ(max_depth, t.build_stats.max_depth);
+        EXPECT_LE(max_depth, t.build_stats.depth_limit);
+        EXPECT_EQ(t.nodes.size(), 2 * size_t(leaves) - 1);
+        for (size_t k = 0; k < t.prim_ids.size(); ++k) {
+            const Triangle expected = scene.mesh.triangle(t.prim_ids[k]);
+            EXPECT_EQ(t.triangles[k].p0, expected.p0);
+        }
+    }
+}
+
+TEST(KdTree, EveryTriangleIsInEveryLeafItComesNear) {
+    // A triangle within (half) the padding of a leaf's box must be referenced there.
+    const SceneCase& scene = scene_case("builtin:soup?n=500&seed=9", 10);
+    for (ClipMode clip : {ClipMode::Exact, ClipMode::Box}) {
+        KdConfig c;
+        c.clip = clip;
+        const KdTree t = build(scene.mesh, c);
+        const float margin = 0.5f * t.build_stats.padding;
+        size_t missing = 0;
+        for_each_node(t, [&](uint32_t node, const Aabb& box, uint32_t) {
+            const KdNode& n = t.nodes[node];
+            if (!n.is_leaf()) return;
+            std::vector<char> here(scene.mesh.triangle_count(), 0);
+            for (uint32_t k = n.first; k < n.first + n.count; ++k) here[t.prim_ids[k]] = 1;
+            for (uint32_t tri = 0; tri < scene.mesh.triangle_count(); ++tri)
+                if (!here[tri] && triangle_overlaps_box(scene.mesh.vertex(tri, 0), scene.mesh.vertex(tri, 1),
+                                                        scene.mesh.vertex(tri, 2), padded(box, margin)))
+                    ++missing;
+        });
+        EXPECT_EQ(missing, 0u) << to_string(clip);
+    }
+}
+
+TEST(KdTree, ExactClippingStoresFewerReferences) {
+    const SceneCase& scene = scene_case("builtin:soup?n=2000&seed=3", 10);
+    KdConfig exact, box;
+    box.clip = ClipMode::Box;
+    EXPECT_LT(build(scene.mesh, exact).build_stats.references, build(scene.mesh, box).build_stats.references);
+}
+
+TEST(KdTree, MaxDepthDefaultsToWaldHavran) {
+    KdConfig c;
+    EXPECT_EQ(kd_max_depth(c, 1024), 8 + 13);
+    c.max_depth = 5;
+    EXPECT_EQ(kd_max_depth(c, 1024), 5);
+}
+
+TEST(KdTree, BuildIsDeterministic) {
+    const SceneCase& scene = scene_case("builtin:soup?n=2000&seed=3", 10);
+    const KdTree a = build(scene.mesh, KdConfig{}), b = build(scene.mesh, KdConfig{});
+    ASSERT_EQ(a.nodes.size(), b.nodes.size());
+    for (size_t i = 0; i < a.nodes.size(); ++i) {
+        EXPECT_EQ(a.nodes[i].split, b.nodes[i].split);
+        EXPECT_EQ(a.nodes[i].first, b.nodes[i].first);
+    }
+    EXPECT_EQ(a.prim_ids, b.prim_ids);
+}
+
+TEST(KdTree, MailboxSavesTestsWithoutChangingAnswers) {
+    const SceneCase& scene = scene_case("builtin:soup?n=2000&seed=3", 2000);
+    KdConfig on, off;
+    off.mailbox = false;
+    const KdTree t_on = build(scene.mesh, on), t_off = build(scene.mesh, off);
+    Counters c_on, c_off;
+    for (const Ray& r : scene.rays) {
+        CountingObserver a, b;
+        EXPECT_TRUE(same_hit(t_on.intersect_closest(r, a), t_off.intersect_closest(r, b)));
+        c_on += a.counters;
+        c_off += b.counters;
+    }
+    EXPECT_GT(c_on.mailbox_skips, 0u);
+    EXPECT_EQ(c_on.triangle_tests + c_on.mailbox_skips, c_off.triangle_tests);
+}
+
+TEST(KdTree, DegenerateRaysAreAnsweredLikeBruteForce) {
+    for (const char* source : {"builtin:soup?n=2000&seed=3", "builtin:single", "builtin:empty", "builtin:cornell"}) {
+        const SceneCase& scene = scene_case(source, 10);
+        for (const auto& [label, config] : configs())
+            expect_degenerate_rays_answered(build(scene.mesh, config), scene.mesh, std::string("kd ") + label + " on " + source);
+    }
+}
+
+TEST(KdTree, OriginsOnSplitPlanes) {
+    for (const char* source : {"builtin:soup?n=2000&seed=3", "builtin:cornell", "builtin:stadium"}) {
+        const SceneCase& scene = scene_case(source, 10);
+        for (const auto& [label, config] : configs()) {
+            const KdTree t = build(scene.mesh, config);
+            std::array<std::vector<float>, 3> planes;
+            for (const KdNode& n : t.nodes)
+                if (!n.is_leaf()) planes[n.axis].push_back(n.split);
+            const SceneCase on_planes = rays_on_planes(scene.mesh, planes, 20000, 12);
+            expect_exact(t, on_planes, "kd " + label + " origins on split planes");
+        }
+    }
+}

@@ -1,0 +1,143 @@
+// The octree: exact against brute force, front-to-back order, and its invariants.
+#include <gtest/gtest.h>
+
+#include "accel/space_partition_support.h"
+#include "core/accel/octree.h"
+#include "core/geometry/triangle_box.h"
+
+using namespace accelviz;
+using namespace accelviz::test;
+
+namespace {
+
+Octree build(const Mesh& mesh, OctreeConfig config) {
+    auto tree = build_octree(mesh, config);
+    if (!tree.ok()) throw std::runtime_error(tree.error());
+    return std::move(*tree);
+}
+
+std::vector<std::pair<std::string, OctreeConfig>> configs() {
+    std::vector<std::pair<std::string, OctreeConfig>> out;
+    out.push_back({"default", OctreeConfig{}});
+    OctreeConfig box;
+    box.clip = ClipMode::Box;
+    box.mailbox = false;
+    out.push_back({"clip=box mailbox=off", box});
+    OctreeConfig fine;
+    fine.leaf_size = 1;
+    fine.max_depth = 14;
+    out.push_back({"leaf=1 depth=14", fine});
+    return out;
+}
+
+void check_scene(const std::string& source) {
+    const SceneCase& scene = scene_case(source);
+    for (const auto& [label, config] : configs()) {
+        const Octree tree = build(scene.mesh, config);
+        expect_exact(tree, scene, "octree " + label);
+        expect_trace_agrees(tree, scene, 97, "octree " + label);
+    }
+}
+
+template <class F>
+void for_each_node(const Octree& t, F&& f) {
+    struct Item {
+        uint32_t node;
+        Aabb box;
+        uint32_t depth;
+    };
+    std::vector<Item> stack{{0, t.bounds, 0}};
+    while (!stack.empty()) {
+        const Item it = stack.back();
+        stack.pop_back();
+        f(it.node, it.box, it.depth);
+        const OctreeNode& n = t.nodes[it.node];
+        if (n.is_leaf()) continue;
+        for (int o = 0; o < 8; ++o) stack.push_back({n.first + uint32_t(o), octant_box(it.box, n.centre, o), it.depth + 1});
+    }
+}
+
+}  // namespace
+
+TEST(Octree, ExactOnStadium) { check_scene("builtin:stadium"); }
+TEST(Octree, ExactOnSameBox) { check_scene("builtin:same-box"); }
+TEST(Octree, ExactOnSameCentroid) { check_scene("builtin:same-centroid"); }
+TEST(Octree, ExactOnSoup) { check_scene("builtin:soup?n=2000&seed=3"); }
+TEST(Octree, ExactOnEmptyScene) { check_scene("builtin:empty"); }
+TEST(Octree, ExactOnSingleTriangle) { check_scene("builtin:single"); }
+TEST(Octree, ExactOnCornellBox) { check_scene("builtin:cornell"); }
+TEST(Octree, SlowExactOnBunny) {
+    if (!shared_asset_exists("bunny.obj")) GTEST_SKIP() << "bunny.obj not found";
+    check_scene("bunny");
+}
+
+TEST(Octree, LeavesAreVisitedFrontToBack) {
+    const SceneCase& scene = scene_case("builtin:soup?n=2000&seed=3", 1000);
+    const Octree t = build(scene.mesh, OctreeConfig{});
+    for (const Ray& r : scene.rays) {
+        RecordingObserver rec;
+        t.intersect_closest(r, rec);
+        float last = -kInfinity;
+        for (const auto& e : rec.events)
+            if (e.kind == EventKind::Leaf) {
+                EXPECT_GE(e.t_enter, last);
+                EXPECT_LE(e.t_enter, e.t_exit);
+                last = e.t_exit;
+            }
+    }
+}
+
+TEST(Octree, StructureInvariants) {
+    const SceneCase& scene = scene_case("builtin:soup?n=500&seed=9", 10);
+    const Octree t = build(scene.mesh, OctreeConfig{});
+    const float margin = 0.5f * t.build_stats.padding;
+    uint32_t leaves = 0;
+    size_t missing = 0;
+    for_each_node(t, [&](uint32_t node, const Aabb& box, uint32_t depth) {
+        const OctreeNode& n = t.nodes[node];
+        EXPECT_LE(depth, uint32_t(t.build_config.max_depth));
+        if (!n.is_leaf()) {
+            EXPECT_EQ(n.centre, box.center());
+            return;
+        }
+        ++leaves;
+        std::vector<char> here(scene.mesh.triangle_count(), 0);
+        for (uint32_t k = n.first; k < n.first + n.count; ++k) here[t.prim_ids[k]] = 1;
+        for (uint32_t tri = 0; tri < scene.mesh.triangle_count(); ++tri)
+            if (!here[tri] && triangle_overlaps_box(scene.mesh.vertex(tri, 0), scene.mesh.vertex(tri, 1),
+                                                    scene.mesh.vertex(tri, 2), padded(box, margin)))
+                ++missing;
+    });
+    EXPECT_EQ(missing, 0u);
+    EXPECT_EQ(leaves, t.build_stats.leaves);
+    EXPECT_EQ(t.nodes.size(), 1 + 8 * size_t(t.nodes.size() - leaves));
+}
+
+TEST(Octree, SameBoxTrianglesStopSplittingInsteadOfExploding) {
+    const SceneCase& scene = scene_case("builtin:same-box", 10);
+    const Octree t = build(scene.mesh, OctreeConfig{});
+    EXPECT_LE(t.build_stats.references, uint64_t(64.0 * double(scene.mesh.triangle_count())) + 1);
+}
+
+TEST(Octree, DegenerateRaysAreAnsweredLikeBruteForce) {
+    for (const char* source : {"builtin:soup?n=2000&seed=3", "builtin:single", "builtin:empty", "builtin:cornell"}) {
+        const SceneCase& scene = scene_case(source, 10);
+        for (const auto& [label, config] : configs())
+            expect_degenerate_rays_answered(build(scene.mesh, config), scene.mesh, std::string("octree ") + label + " on " + source);
+    }
+}
+
+TEST(Octree, OriginsOnCellPlanes) {
+    for (const char* source : {"builtin:soup?n=2000&seed=3", "builtin:cornell", "builtin:stadium"}) {
+        const SceneCase& scene = scene_case(source, 10);
+        for (const auto& [label, config] : configs()) {
+            const Octree t = build(scene.mesh, config);
+            std::array<std::vector<float>, 3> planes;
+            for (const OctreeNode& n : t.nodes)
+                if (!n.is_leaf())
+                    for (int a = 0; a < 3; ++a) planes[a].push_back(n.centre[a]);
+            const SceneCase on_planes = rays_on_planes(scene.mesh, planes, 20000, 13);
+            expect_exact(t, on_planes, "octree " + label + " origins on cell planes");
+        }
+    }
+}
