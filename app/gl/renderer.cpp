@@ -56,6 +56,12 @@ BoxBuffer::BoxBuffer() {
     float_attribute(0, 3, GL_FLOAT, GL_FALSE, sizeof(BoxInstance), offsetof(BoxInstance, lo), 1);
     float_attribute(1, 3, GL_FLOAT, GL_FALSE, sizeof(BoxInstance), offsetof(BoxInstance, hi), 1);
     float_attribute(2, 4, GL_UNSIGNED_BYTE, GL_TRUE, sizeof(BoxInstance), offsetof(BoxInstance, colour), 1);
+    // Corner c has bit 0: x, bit 1: y, bit 2: z at the box's hi side.
+    static constexpr uint8_t kEdges[24] = {0, 1, 2, 3, 4, 5, 6, 7,   // edges along x
+                                           0, 2, 1, 3, 4, 6, 5, 7,   // along y
+                                           0, 4, 1, 5, 2, 6, 3, 7};  // along z
+    gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, edge_indices_.id());  // recorded in the vertex array
+    gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, sizeof kEdges, kEdges, GL_STATIC_DRAW);
     gl.BindVertexArray(0);
 }
 
@@ -149,19 +155,30 @@ void Renderer::draw_mesh(const MeshBuffer& mesh, const MeshStyle& style) {
     gl.Uniform3f(mesh_program_.uniform("base_colour"), style.base_colour.r / 255.0f, style.base_colour.g / 255.0f,
                  style.base_colour.b / 255.0f);
     gl.Uniform1f(mesh_program_.uniform("opacity"), style.opacity);
-    const bool translucent = style.opacity < 1.0f;
     gl.Enable(GL_DEPTH_TEST);
-    gl.DepthFunc(GL_LESS);
-    gl.DepthMask(translucent ? GL_FALSE : GL_TRUE);
-    if (translucent) {
+    gl.BindVertexArray(mesh.vertex_array_.id());
+    const GLsizei count = GLsizei(mesh.triangle_count() * 3);
+    if (style.opacity >= 1.0f) {
+        gl.Disable(GL_BLEND);
+        gl.DepthFunc(GL_LESS);
+        gl.DepthMask(GL_TRUE);
+        gl.DrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, nullptr);
+    } else {
+        // Translucent: depth first (colour off), then colour where the depth is
+        // the nearest surface's, blended. So only the nearest surface tints what
+        // lies behind it, however the triangles are ordered.
+        gl.ColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        gl.DepthFunc(GL_LESS);
+        gl.DepthMask(GL_TRUE);
+        gl.DrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, nullptr);
+        gl.ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        gl.DepthFunc(GL_LEQUAL);
+        gl.DepthMask(GL_FALSE);
         gl.Enable(GL_BLEND);
         gl.BlendEquation(GL_FUNC_ADD);
         gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-    } else {
-        gl.Disable(GL_BLEND);
+        gl.DrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, nullptr);
     }
-    gl.BindVertexArray(mesh.vertex_array_.id());
-    gl.DrawElements(GL_TRIANGLES, GLsizei(mesh.triangle_count() * 3), GL_UNSIGNED_INT, nullptr);
     gl.BindVertexArray(0);
     gl.DepthMask(GL_TRUE);
 }
@@ -177,7 +194,8 @@ void Renderer::draw_boxes(const BoxBuffer& boxes) {
     gl.BlendEquation(GL_FUNC_ADD);
     gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
     gl.BindVertexArray(boxes.vertex_array_.id());
-    gl.DrawArraysInstanced(GL_LINES, 0, 24, GLsizei(boxes.size()));  // 12 edges per box, every box at once
+    // 12 edges per box, every box at once.
+    gl.DrawElementsInstanced(GL_LINES, 24, GL_UNSIGNED_BYTE, nullptr, GLsizei(boxes.size()));
     gl.BindVertexArray(0);
     gl.DepthMask(GL_TRUE);
 }

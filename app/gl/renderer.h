@@ -71,6 +71,7 @@ private:
     friend class Renderer;
     GlVertexArray vertex_array_;
     GlBuffer instances_;
+    GlBuffer edge_indices_;  ///< the 24 corner indices of the 12 edges, shared by every instance
     size_t count_ = 0;
 };
 
@@ -96,7 +97,9 @@ private:
 /// How to draw the mesh.
 struct MeshStyle {
     Rgb base_colour{225, 205, 170};  ///< what the CPU renderers use (core/render/shading.h)
-    float opacity = 1.0f;            ///< < 1: blended, does not hide what is drawn after it
+    /// < 1: the nearest surface is blended over what was drawn before it (it
+    /// still writes depth, so what is drawn after it and behind it stays hidden).
+    float opacity = 1.0f;
 };
 
 class ImGuiRenderer;

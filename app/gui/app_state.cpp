@@ -29,12 +29,100 @@ Rgb read_rgb(const nlohmann::json& j, const char* field) {
     return {channel(0), channel(1), channel(2)};
 }
 
+/// A named enum value: `parse` it or fail naming the field.
+template <class Parse>
+auto read_enum(const nlohmann::json& j, const char* field, Parse parse) {
+    const std::string name = j.get<std::string>();
+    auto value = parse(name);
+    if (!value) throw std::runtime_error(std::string(field) + ": unknown value '" + name + "'");
+    return *value;
+}
+
+nlohmann::json accel_json(const AccelConfig& a) {
+    nlohmann::json j;
+    j["type"] = a.type;
+    j["bvh"] = {{"builder", std::string(to_string(a.bvh.builder))},
+                {"bins", a.bvh.bins},
+                {"max_leaf_size", a.bvh.max_leaf_size},
+                {"cost_trav", a.bvh.cost_trav},
+                {"cost_isect", a.bvh.cost_isect},
+                {"traversal", std::string(to_string(a.bvh_traversal))}};
+    j["grid"] = {{"density", a.grid.density},
+                 {"insert", std::string(to_string(a.grid.insert))},
+                 {"mailbox", a.grid.mailbox}};
+    j["kd"] = {{"builder", std::string(to_string(a.kd.builder))},
+               {"max_depth", a.kd.max_depth},
+               {"leaf_size", a.kd.leaf_size},
+               {"cost_trav", a.kd.cost_trav},
+               {"cost_isect", a.kd.cost_isect},
+               {"empty_bonus", a.kd.empty_bonus},
+               {"clip", std::string(to_string(a.kd.clip))},
+               {"strict_cell", a.kd.strict_cell},
+               {"mailbox", a.kd.mailbox}};
+    j["octree"] = {{"max_depth", a.octree.max_depth},
+                   {"leaf_size", a.octree.leaf_size},
+                   {"clip", std::string(to_string(a.octree.clip))},
+                   {"mailbox", a.octree.mailbox}};
+    // The CLI's shared overrides, only when set.
+    if (a.leaf_size) j["leaf_size"] = *a.leaf_size;
+    if (a.cost_trav) j["cost_trav"] = *a.cost_trav;
+    if (a.cost_isect) j["cost_isect"] = *a.cost_isect;
+    return j;
+}
+
+void read_accel(const nlohmann::json& j, AccelConfig& a) {
+    a.type = j.value("type", a.type);
+    if (j.contains("bvh")) {
+        const auto& b = j["bvh"];
+        if (b.contains("builder")) a.bvh.builder = read_enum(b["builder"], "structure.bvh.builder", parse_bvh_builder);
+        a.bvh.bins = b.value("bins", a.bvh.bins);
+        a.bvh.max_leaf_size = b.value("max_leaf_size", a.bvh.max_leaf_size);
+        a.bvh.cost_trav = b.value("cost_trav", a.bvh.cost_trav);
+        a.bvh.cost_isect = b.value("cost_isect", a.bvh.cost_isect);
+        if (b.contains("traversal"))
+            a.bvh_traversal = read_enum(b["traversal"], "structure.bvh.traversal", parse_bvh_traversal);
+    }
+    if (j.contains("grid")) {
+        const auto& g = j["grid"];
+        a.grid.density = g.value("density", a.grid.density);
+        if (g.contains("insert")) a.grid.insert = read_enum(g["insert"], "structure.grid.insert", parse_grid_insert);
+        a.grid.mailbox = g.value("mailbox", a.grid.mailbox);
+    }
+    if (j.contains("kd")) {
+        const auto& k = j["kd"];
+        if (k.contains("builder")) a.kd.builder = read_enum(k["builder"], "structure.kd.builder", parse_kd_builder);
+        a.kd.max_depth = k.value("max_depth", a.kd.max_depth);
+        a.kd.leaf_size = k.value("leaf_size", a.kd.leaf_size);
+        a.kd.cost_trav = k.value("cost_trav", a.kd.cost_trav);
+        a.kd.cost_isect = k.value("cost_isect", a.kd.cost_isect);
+        a.kd.empty_bonus = k.value("empty_bonus", a.kd.empty_bonus);
+        if (k.contains("clip")) a.kd.clip = read_enum(k["clip"], "structure.kd.clip", parse_clip_mode);
+        a.kd.strict_cell = k.value("strict_cell", a.kd.strict_cell);
+        a.kd.mailbox = k.value("mailbox", a.kd.mailbox);
+    }
+    if (j.contains("octree")) {
+        const auto& o = j["octree"];
+        a.octree.max_depth = o.value("max_depth", a.octree.max_depth);
+        a.octree.leaf_size = o.value("leaf_size", a.octree.leaf_size);
+        if (o.contains("clip")) a.octree.clip = read_enum(o["clip"], "structure.octree.clip", parse_clip_mode);
+        a.octree.mailbox = o.value("mailbox", a.octree.mailbox);
+    }
+    if (j.contains("leaf_size")) a.leaf_size = j["leaf_size"].get<int>();
+    if (j.contains("cost_trav")) a.cost_trav = j["cost_trav"].get<float>();
+    if (j.contains("cost_isect")) a.cost_isect = j["cost_isect"].get<float>();
+}
+
 }  // namespace
 
 nlohmann::json to_json(const AppState& s) {
     nlohmann::json j;
     j["scene"] = s.scene;
-    j["structure"] = {{"type", s.accel.type}};
+    j["structure"] = accel_json(s.accel);
+    j["overlay"] = {{"show_structure", s.overlay.show_structure},
+                    {"level_min", s.overlay.level_min},
+                    {"level_max", s.overlay.level_max},
+                    {"leaves_only", s.overlay.leaves_only},
+                    {"mesh_opacity", s.overlay.mesh_opacity}};
     if (s.camera)
         j["camera"] = {{"eye", vec3_json(s.camera->eye)},
                        {"target", vec3_json(s.camera->target)},
@@ -53,7 +141,17 @@ Expected<AppState> app_state_from_json(const nlohmann::json& j) {
     try {
         if (!j.is_object()) return Error{"state: expected a JSON object"};
         s.scene = j.value("scene", s.scene);
-        if (j.contains("structure")) s.accel.type = j["structure"].value("type", s.accel.type);
+        if (j.contains("structure")) read_accel(j["structure"], s.accel);
+        if (j.contains("overlay")) {
+            const auto& o = j["overlay"];
+            s.overlay.show_structure = o.value("show_structure", s.overlay.show_structure);
+            s.overlay.level_min = o.value("level_min", s.overlay.level_min);
+            s.overlay.level_max = o.value("level_max", s.overlay.level_max);
+            s.overlay.leaves_only = o.value("leaves_only", s.overlay.leaves_only);
+            s.overlay.mesh_opacity = o.value("mesh_opacity", s.overlay.mesh_opacity);
+            if (!(s.overlay.mesh_opacity >= 0.0f && s.overlay.mesh_opacity <= 1.0f))
+                return Error{"overlay.mesh_opacity: must be between 0 and 1"};
+        }
         if (j.contains("camera") && !j["camera"].is_null()) {
             const auto& c = j["camera"];
             CameraParams p;

@@ -27,12 +27,25 @@ struct ViewSettings {
     bool show_bounds = true;        ///< the scene's bounding box as a wireframe
 };
 
+/// What of the current structure the 3D view draws over the mesh.
+struct OverlaySettings {
+    bool show_structure = true;  ///< BVH/octree boxes, grid cells, KD planes
+    /// Levels shown (root = 0), inclusive; BVH, KD tree and octree. Level k
+    /// alone: level_min = level_max = k.
+    int level_min = 0;
+    int level_max = 64;
+    bool leaves_only = false;    ///< BVH/octree: only the leaves' boxes; KD: non-empty leaves' boxes
+    float mesh_opacity = 1.0f;   ///< < 1: see the structure through the mesh (x-ray)
+    bool operator==(const OverlaySettings&) const = default;
+};
+
 /// The font size in pixels for a UI scale (16 px at scale 1, 8 to 64 px).
 int font_pixels(float ui_scale);
 
 struct AppState {
     std::string scene = "builtin:cube";  ///< "builtin:NAME?k=v" or an OBJ path
     AccelConfig accel;                   ///< the structure and its build parameters
+    OverlaySettings overlay;
     /// The camera; empty means "the scene's default view": the direction of
     /// default_camera() (core/render/camera.h), at the distance that fits the
     /// scene in the 3D view (frame_bounds), filled in when the scene has loaded.

@@ -10,6 +10,7 @@
 #include <imgui.h>
 
 #include "app/gui/camera_control.h"
+#include "core/render/colormap.h"
 
 namespace accelviz {
 
@@ -138,6 +139,38 @@ void draw_view_messages(Session& session, const ViewRect& rect, bool determinist
     }
 }
 
+/// What the overlay's colours mean, at the bottom left of the 3D view.
+void draw_legend(const Session& session, const ViewRect& rect) {
+    if (session.overlay.legend.empty() || rect.empty()) return;
+    const float margin = 0.5f * ImGui::GetFontSize();
+    ImGui::SetNextWindowPos(ImVec2(float(rect.x) + margin, float(rect.y + rect.height) - margin), ImGuiCond_Always,
+                            ImVec2(0.0f, 1.0f));
+    ImGui::SetNextWindowBgAlpha(0.75f);
+    ImGui::SetNextWindowSizeConstraints(ImVec2(0, 0), ImVec2(float(rect.width) - 2 * margin, FLT_MAX));
+    const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
+                                   ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoMove |
+                                   ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav |
+                                   ImGuiWindowFlags_NoInputs;
+    if (ImGui::Begin("##legend", nullptr, flags)) {
+        // The colour ramp the overlay uses (skipping the map's darkest fifth, as it does).
+        const float width = 8.0f * ImGui::GetFontSize(), height = ImGui::GetTextLineHeight();
+        const ImVec2 p = ImGui::GetCursorScreenPos();
+        ImDrawList* draw = ImGui::GetWindowDrawList();
+        constexpr int kSteps = 32;
+        for (int i = 0; i < kSteps; ++i) {
+            const Rgb c = colormap(0.2 + 0.8 * i / double(kSteps - 1));
+            draw->AddRectFilled(ImVec2(p.x + width * i / kSteps, p.y), ImVec2(p.x + width * (i + 1) / kSteps, p.y + height),
+                                IM_COL32(c.r, c.g, c.b, 255));
+        }
+        ImGui::Dummy(ImVec2(width, height));
+        ImGui::SameLine();
+        ImGui::PushTextWrapPos(float(rect.width) - 4 * margin);
+        ImGui::TextUnformatted(session.overlay.legend.c_str());
+        ImGui::PopTextWrapPos();
+    }
+    ImGui::End();
+}
+
 }  // namespace
 
 // [SECTION] The frame
@@ -168,8 +201,10 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
         if (ImGui::Begin("##sidebar", nullptr, kFixedPanel)) {
             ImGui::TextDisabled("accelviz");
             session.scene_panel.draw(state, session);
+            session.structure_panel.draw(state, session);
             session.view_panel.draw(state, session,
                                     layout.view.height > 0 ? double(layout.view.width) / layout.view.height : 1.0);
+            session.stats_panel.draw(state, session);
         }
         ImGui::End();
 
@@ -183,6 +218,7 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
         ImGui::PopStyleVar();
 
         draw_view_messages(session, layout.view, input.deterministic);
+        if (state.overlay.show_structure) draw_legend(session, layout.view);
         session.help_window.draw(state);
     }
     ImGui::Render();
@@ -192,11 +228,26 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
     out.view_rect = layout.view;
     renderer.begin_frame(input.width, input.height, state.view.background);
     if (session.scene && state.camera && !layout.view.empty()) {
-        session.upload_to_gpu();
+        session.upload_to_gpu(state.overlay);
         out.view = make_view3d(*state.camera, layout.view, session.scene->bounds);
         renderer.begin_view(out.view);
-        renderer.draw_mesh(*session.mesh_buffer, MeshStyle{});
-        if (state.view.show_bounds) renderer.draw_boxes(*session.bounds_buffer);
+        const bool overlay = state.overlay.show_structure;
+        auto draw_overlay = [&] {
+            if (state.view.show_bounds) renderer.draw_boxes(*session.bounds_buffer);
+            if (!overlay) return;
+            renderer.draw_quads(*session.overlay_quads);
+            renderer.draw_boxes(*session.overlay_boxes);
+        };
+        MeshStyle mesh_style;
+        mesh_style.opacity = state.overlay.mesh_opacity;
+        if (mesh_style.opacity < 1.0f) {
+            // X-ray: the structure first (all of it), the nearest surface blended
+            // over it, then the structure again where it is in front of the surface.
+            draw_overlay();
+            if (mesh_style.opacity > 0.0f) renderer.draw_mesh(*session.mesh_buffer, mesh_style);
+        }
+        if (mesh_style.opacity >= 1.0f) renderer.draw_mesh(*session.mesh_buffer, mesh_style);
+        draw_overlay();
         out.scene_drawn = true;
     }
     if (ui) renderer.draw_imgui(ImGui::GetDrawData());

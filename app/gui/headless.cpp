@@ -93,6 +93,7 @@ Expected<HeadlessRender> render_headless(const AppState& state, const std::strin
         layout = (*app)->draw(frame_state, input);
         const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
         if (i == 0) out.first_frame_ms = ms;
+        if (i == 1 || (i > 1 && ms < out.min_frame_ms)) out.min_frame_ms = ms;
         out.frame_ms = ms;
     }
     out.colour = (*app)->read_colour();

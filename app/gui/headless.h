@@ -37,6 +37,7 @@ struct HeadlessRender {
     std::vector<float> view_depth;  ///< depth buffer in [0, 1] of the 3D view's rectangle, top row first
     View3D view;                    ///< the 3D view's camera, rectangle and clip planes
     double frame_ms = 0;            ///< the last frame: draw_frame + glFinish
+    double min_frame_ms = 0;        ///< the fastest frame after the first (a loaded machine adds noise)
     double first_frame_ms = 0;      ///< the first (mesh upload, font atlas, lazy shader work)
     std::string gl_description;     ///< GL_VERSION, GL_RENDERER
 };

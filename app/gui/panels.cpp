@@ -1,5 +1,6 @@
 #include "app/gui/panels.h"
 
+#include <algorithm>
 #include <cstdio>
 
 #include <imgui.h>
@@ -7,6 +8,7 @@
 
 #include "app/gui/camera_control.h"
 #include "app/gui/session.h"
+#include "core/accel/factory.h"
 #include "core/geometry/scene.h"
 
 namespace accelviz {
@@ -25,6 +27,40 @@ void hint(const char* text) {
     ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
     ImGui::TextWrapped("%s", text);
     ImGui::PopStyleColor();
+}
+
+/// A combo over `names` editing `value`; true when the user picked another one.
+bool name_combo(const char* label, std::string& value, const std::vector<std::string>& names) {
+    bool changed = false;
+    if (ImGui::BeginCombo(label, value.c_str())) {
+        for (const std::string& name : names)
+            if (ImGui::Selectable(name.c_str(), name == value) && name != value) {
+                value = name;
+                changed = true;
+            }
+        ImGui::EndCombo();
+    }
+    return changed;
+}
+
+/// The same for an enum with to_string / parse functions.
+template <class Enum, class Parse>
+bool enum_combo(const char* label, Enum& value, const std::vector<std::string>& names, Parse parse) {
+    std::string name(to_string(value));
+    if (!name_combo(label, name, names)) return false;
+    if (auto parsed = parse(name)) value = *parsed;
+    return true;
+}
+
+/// Widgets that apply on release (a rebuild per drag step would queue builds).
+bool int_slider(const char* label, int& value, int lo, int hi, const char* format = "%d") {
+    ImGui::SliderInt(label, &value, lo, hi, format, ImGuiSliderFlags_AlwaysClamp);
+    return ImGui::IsItemDeactivatedAfterEdit();
+}
+bool float_slider(const char* label, float& value, float lo, float hi, const char* format = "%.2f",
+                  ImGuiSliderFlags flags = 0) {
+    ImGui::SliderFloat(label, &value, lo, hi, format, flags | ImGuiSliderFlags_AlwaysClamp);
+    return ImGui::IsItemDeactivatedAfterEdit();
 }
 
 }  // namespace
@@ -65,6 +101,105 @@ void ScenePanel::draw(AppState& state, Session& session) {
     if (session.loader.busy()) {
         ImGui::TextUnformatted((session.loader.activity() + " ...").c_str());
     }
+}
+
+// [SECTION] Structure
+
+void StructurePanel::draw(AppState& state, Session& session) {
+    if (!ImGui::CollapsingHeader("Structure", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    AccelConfig& a = state.accel;
+    bool rebuild = false;
+    ImGui::PushItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);
+    rebuild |= name_combo("Structure", a.type, accel_types());
+    if (a.type == "bvh") {
+        rebuild |= enum_combo("Build", a.bvh.builder, bvh_builder_names(), parse_bvh_builder);
+        if (a.bvh.builder == BvhBuilder::SahBinned) rebuild |= int_slider("Bins (B)", a.bvh.bins, 2, 64);
+        rebuild |= int_slider("Max leaf size", a.bvh.max_leaf_size, 1, 32);
+        if (a.bvh.builder == BvhBuilder::SahBinned || a.bvh.builder == BvhBuilder::SahSweep) {
+            rebuild |= float_slider("C_trav", a.bvh.cost_trav, 0.0f, 10.0f);
+            rebuild |= float_slider("C_isect", a.bvh.cost_isect, 0.1f, 10.0f);
+        }
+        rebuild |= enum_combo("Traversal", a.bvh_traversal, bvh_traversal_names(), parse_bvh_traversal);
+    } else if (a.type == "grid") {
+        rebuild |= float_slider("Density C", a.grid.density, 0.5f, 100.0f, "%.1f", ImGuiSliderFlags_Logarithmic);
+        rebuild |= enum_combo("Insert", a.grid.insert, grid_insert_names(), parse_grid_insert);
+        rebuild |= ImGui::Checkbox("Mailbox", &a.grid.mailbox);
+    } else if (a.type == "kd") {
+        rebuild |= enum_combo("Build", a.kd.builder, kd_builder_names(), parse_kd_builder);
+        rebuild |= int_slider("Max depth", a.kd.max_depth, 0, kKdMaxDepth, a.kd.max_depth == 0 ? "auto" : "%d");
+        rebuild |= int_slider("Leaf size", a.kd.leaf_size, 1, 32);
+        if (a.kd.builder == KdBuilder::Sah) {
+            rebuild |= float_slider("C_trav", a.kd.cost_trav, 0.0f, 10.0f);
+            rebuild |= float_slider("C_isect", a.kd.cost_isect, 0.1f, 10.0f);
+            rebuild |= float_slider("Empty bonus", a.kd.empty_bonus, 0.0f, 0.95f);
+        }
+        rebuild |= ImGui::Checkbox("Hit must be in cell", &a.kd.strict_cell);
+        rebuild |= ImGui::Checkbox("Mailbox", &a.kd.mailbox);
+    } else if (a.type == "octree") {
+        rebuild |= int_slider("Max depth", a.octree.max_depth, 1, kOctreeMaxDepth);
+        rebuild |= int_slider("Leaf size", a.octree.leaf_size, 1, 64);
+        rebuild |= ImGui::Checkbox("Mailbox", &a.octree.mailbox);
+    }
+    ImGui::PopItemWidth();
+    if (rebuild) session.rebuild_structure(state);
+
+    // What of it the 3D view shows.
+    OverlaySettings& o = state.overlay;
+    ImGui::Checkbox("Show structure", &o.show_structure);
+    const int deepest = session.overlay.deepest_level;
+    if (deepest > 0) {
+        ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);
+        int lo = std::min(o.level_min, deepest), hi = std::min(o.level_max, deepest);
+        if (ImGui::DragIntRange2("Levels", &lo, &hi, 0.1f, 0, deepest, "%d", "%d", ImGuiSliderFlags_AlwaysClamp)) {
+            o.level_min = lo;
+            o.level_max = hi == deepest ? 64 : hi;  // "to the bottom" stays so for a deeper rebuild
+        }
+        if (ImGui::SmallButton("All levels")) {
+            o.level_min = 0;
+            o.level_max = 64;
+        }
+        ImGui::SameLine();
+        if (ImGui::SmallButton("Level -")) o.level_min = o.level_max = std::max(0, std::min(o.level_min, deepest) - 1);
+        ImGui::SameLine();
+        if (ImGui::SmallButton("Level +")) o.level_min = o.level_max = std::min(deepest, std::min(o.level_min, deepest) + 1);
+    }
+    if (a.type != "grid" && a.type != "naive") ImGui::Checkbox("Leaves only", &o.leaves_only);
+    ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);
+    ImGui::SliderFloat("Mesh opacity", &o.mesh_opacity, 0.0f, 1.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
+}
+
+// [SECTION] Stats
+
+void StatsPanel::draw(const AppState&, const Session& session) {
+    if (!ImGui::CollapsingHeader("Stats")) return;
+    const LoadedScene* scene = session.scene.get();
+    if (!scene) return;
+    if (!session.overlay.legend.empty()) {
+        hint(session.overlay.legend.c_str());
+    }
+    const nlohmann::json stats = scene->accel->stats();
+    if (!ImGui::BeginTable("stats", 2, ImGuiTableFlags_RowBg | ImGuiTableFlags_SizingStretchProp)) return;
+    for (const auto& [key, value] : stats.items()) {
+        if (key == "build_ms") continue;  // not deterministic; the status line has the build time
+        std::string text;
+        if (value.is_number_float()) {
+            char number[32];
+            std::snprintf(number, sizeof number, "%.4g", value.get<double>());
+            text = number;
+        } else if (value.is_string()) {
+            text = value.get<std::string>();
+        } else if (value.is_array() && !value.empty() && value[0].is_string()) {
+            for (const auto& line : value) text += line.get<std::string>() + "\n";
+        } else {
+            text = value.dump();
+        }
+        ImGui::TableNextRow();
+        ImGui::TableNextColumn();
+        ImGui::TextUnformatted(key.c_str());
+        ImGui::TableNextColumn();
+        ImGui::TextWrapped("%s", text.c_str());
+    }
+    ImGui::EndTable();
 }
 
 // [SECTION] View
@@ -133,15 +268,19 @@ void ViewPanel::draw(AppState& state, Session& session, double view_aspect) {
     if (copied && !ImGui::IsItemHovered()) copied = false;
 }
 
-// [SECTION] Stats
+// [SECTION] Status line
 
 void StatsBar::draw(const AppState& state, const Session& session, double frame_ms, bool deterministic) {
     std::string line;
     if (const LoadedScene* scene = session.scene.get()) {
         char text[256];
         std::snprintf(text, sizeof text, "%s  |  %zu triangles  |  structure: %s", state.scene.c_str(),
-                      scene->mesh.triangle_count(), scene->accel_config.type.c_str());
+                      scene->mesh->triangle_count(), scene->accel_config.type.c_str());
         line = text;
+        if (state.overlay.show_structure && !session.overlay.boxes.empty()) {
+            std::snprintf(text, sizeof text, ", %zu boxes shown", session.overlay.boxes.size());
+            line += text;
+        }
         if (!deterministic) {
             std::snprintf(text, sizeof text, " (load %.0f ms, build %.0f ms)", scene->load_seconds * 1e3,
                           scene->build_seconds * 1e3);

@@ -18,6 +18,17 @@ struct ScenePanel {
     void draw(AppState& state, Session& session);
 };
 
+/// The structure and its build parameters (a change rebuilds it on the worker),
+/// and what of it the 3D view shows.
+struct StructurePanel {
+    void draw(AppState& state, Session& session);
+};
+
+/// The current structure's build statistics and what the overlay's colours mean.
+struct StatsPanel {
+    void draw(const AppState& state, const Session& session);
+};
+
 /// Camera and the lecture-hall settings: UI scale, theme, background.
 struct ViewPanel {
     float ui_scale_edit = 0;   ///< the slider's value; applied when released (font rebuild)

@@ -31,14 +31,23 @@ LoadResult load_and_build(const std::string& source, const AccelConfig& config,
     auto start = std::chrono::steady_clock::now();
     auto mesh = load_scene(source);
     if (!mesh) return Error{mesh.error()};
-    scene->mesh = std::move(*mesh);
-    scene->bounds = scene->mesh.bounds();
+    scene->mesh = std::make_shared<const Mesh>(std::move(*mesh));
+    scene->bounds = scene->mesh->bounds();
     scene->load_seconds = seconds_since(start);
+    return rebuild(*scene, config, on_stage);
+}
 
-    // Built from the mesh in its final place: a structure may keep references into it.
-    stage("Building " + config.type);
-    start = std::chrono::steady_clock::now();
-    auto accel = build_accelerator(scene->mesh, config);
+LoadResult rebuild(const LoadedScene& from, const AccelConfig& config,
+                   const std::function<void(const std::string&)>& on_stage) {
+    auto scene = std::make_shared<LoadedScene>();
+    scene->source = from.source;
+    scene->mesh = from.mesh;
+    scene->bounds = from.bounds;
+    scene->load_seconds = from.load_seconds;
+    scene->accel_config = config;
+    if (on_stage) on_stage("Building " + config.type);
+    const auto start = std::chrono::steady_clock::now();
+    auto accel = build_accelerator(*scene->mesh, config);
     if (!accel) return Error{accel.error()};
     scene->accel = std::move(*accel);
     scene->build_seconds = seconds_since(start);
@@ -60,8 +69,20 @@ SceneLoader::~SceneLoader() {
 void SceneLoader::request(const std::string& source, const AccelConfig& config) {
     {
         std::lock_guard lock(mutex_);
-        pending_ = Request{++newest_id_, source, config};
+        pending_ = Request{++newest_id_, source, config, nullptr};
         finished_.reset();  // an older result is no longer wanted
+        requested_at_ = std::chrono::steady_clock::now();
+        activity_ = "Waiting";
+    }
+    wake_.notify_all();
+}
+
+void SceneLoader::request_rebuild(std::shared_ptr<const LoadedScene> scene, const AccelConfig& config) {
+    {
+        std::lock_guard lock(mutex_);
+        const std::string source = scene->source;
+        pending_ = Request{++newest_id_, source, config, std::move(scene)};
+        finished_.reset();
         requested_at_ = std::chrono::steady_clock::now();
         activity_ = "Waiting";
     }
@@ -105,10 +126,13 @@ void SceneLoader::run() {
         running_ = true;
         lock.unlock();
 
-        LoadResult result = load_and_build(request.source, request.config, [this](const std::string& what) {
+        auto on_stage = [this](const std::string& what) {
             std::lock_guard stage_lock(mutex_);
             activity_ = what;
-        });
+        };
+        LoadResult result = request.rebuild_of ? rebuild(*request.rebuild_of, request.config, on_stage)
+                                               : load_and_build(request.source, request.config, on_stage);
+        request.rebuild_of.reset();  // the old scene may go now
 
         lock.lock();
         running_ = false;

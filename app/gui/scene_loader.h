@@ -25,10 +25,11 @@ namespace accelviz {
 /// A scene and its structure, immutable once published (shared with the UI).
 struct LoadedScene {
     std::string source;       ///< what was asked for: "builtin:cube" or a path
-    Mesh mesh;
-    Aabb bounds;              ///< mesh.bounds()
+    /// Shared between the scenes a rebuild makes from it (a new structure, same mesh).
+    std::shared_ptr<const Mesh> mesh;
+    Aabb bounds;              ///< mesh->bounds()
     AccelConfig accel_config;
-    std::shared_ptr<const Accelerator> accel;  ///< built over `mesh` (which it may reference)
+    std::shared_ptr<const Accelerator> accel;  ///< built over *mesh
     double load_seconds = 0;
     double build_seconds = 0;
 };
@@ -40,6 +41,11 @@ using LoadResult = Expected<std::shared_ptr<const LoadedScene>>;
 LoadResult load_and_build(const std::string& source, const AccelConfig& config,
                           const std::function<void(const std::string&)>& on_stage = {});
 
+/// Builds `config` over the mesh of `scene` (no reloading): the new scene shares
+/// the mesh and keeps its source and load time.
+LoadResult rebuild(const LoadedScene& scene, const AccelConfig& config,
+                   const std::function<void(const std::string&)>& on_stage = {});
+
 class SceneLoader {
 public:
     SceneLoader();
@@ -50,6 +56,8 @@ public:
 
     /// Asks for `source` built with `config`; replaces a request not started yet.
     void request(const std::string& source, const AccelConfig& config);
+    /// Asks for a new structure over the mesh of `scene` (a parameter changed).
+    void request_rebuild(std::shared_ptr<const LoadedScene> scene, const AccelConfig& config);
     /// The result of the newest request, once, when it has finished.
     std::optional<LoadResult> take_result();
     /// True when a result waits for take_result().
@@ -69,6 +77,7 @@ private:
         uint64_t id;
         std::string source;
         AccelConfig config;
+        std::shared_ptr<const LoadedScene> rebuild_of;  ///< set: rebuild over this scene's mesh
     };
     void run();
 

@@ -7,13 +7,22 @@ void Session::open_scene(const AppState& state, const std::string& source, bool 
     loader.request(source, state.accel);
 }
 
+void Session::rebuild_structure(const AppState& state) {
+    if (!scene) return;
+    keep_camera_on_load = true;
+    loader.request_rebuild(scene, state.accel);
+}
+
 void Session::take_finished_load(AppState& state) {
     std::optional<LoadResult> result = loader.take_result();
     if (!result) return;
     if (!*result) {
         // DESIGN.md, "Errors": show it, keep the previous scene.
         message = result->error();
-        if (scene) message += "  (keeping " + scene->source + ")";
+        if (scene) {
+            message += "  (keeping " + scene->source + " with " + scene->accel_config.type + ")";
+            state.accel = scene->accel_config;  // the panels show what is built
+        }
         return;
     }
     set_scene(state, std::move(**result), keep_camera_on_load);
@@ -31,11 +40,26 @@ void Session::set_scene(AppState& state, std::shared_ptr<const LoadedScene> load
     }
 }
 
-void Session::upload_to_gpu() {
-    if (!scene || uploaded_generation == scene_generation) return;
+void Session::upload_to_gpu(const OverlaySettings& settings) {
+    if (!scene) return;
+    // The overlay depends on the scene and on the settings that select boxes
+    // (not on show_structure or mesh_opacity, which only change how it is drawn).
+    OverlaySettings key = settings;
+    key.show_structure = overlay_settings.show_structure;
+    key.mesh_opacity = overlay_settings.mesh_opacity;
+    if (overlay_generation != scene_generation || !(key == overlay_settings)) {
+        overlay = make_structure_overlay(*scene->accel, settings);
+        if (!overlay_boxes) overlay_boxes = std::make_unique<BoxBuffer>();
+        if (!overlay_quads) overlay_quads = std::make_unique<ColouredBuffer>();
+        overlay_boxes->upload(overlay.boxes);
+        overlay_quads->upload_quads(overlay.quads);
+        overlay_generation = scene_generation;
+        overlay_settings = settings;
+    }
+    if (uploaded_generation == scene_generation) return;
     if (!mesh_buffer) mesh_buffer = std::make_unique<MeshBuffer>();
     if (!bounds_buffer) bounds_buffer = std::make_unique<BoxBuffer>();
-    mesh_buffer->upload(scene->mesh);
+    mesh_buffer->upload(*scene->mesh);
     std::vector<BoxInstance> bounds;
     if (!scene->bounds.empty()) bounds.push_back({scene->bounds.lo, scene->bounds.hi, Rgba8{120, 170, 255, 200}});
     bounds_buffer->upload(bounds);

@@ -13,6 +13,7 @@
 #include "app/gui/app_state.h"
 #include "app/gui/panels.h"
 #include "app/gui/scene_loader.h"
+#include "app/gui/structure_overlay.h"
 #include "app/gui/ui_style.h"
 
 namespace accelviz {
@@ -40,23 +41,37 @@ struct Session {
     uint64_t scene_generation = 0;     ///< counts set_scene() calls
     uint64_t uploaded_generation = 0;  ///< the generation the buffers hold
 
+    // The structure overlay of `scene` (and its GPU copy), remade when the scene
+    // or the overlay settings change.
+    StructureOverlay overlay;
+    std::unique_ptr<BoxBuffer> overlay_boxes;
+    std::unique_ptr<ColouredBuffer> overlay_quads;
+    uint64_t overlay_generation = 0;   ///< scene generation the overlay is of (0: none)
+    OverlaySettings overlay_settings;  ///< the settings it was made with
+
     UiStyle style;
     bool dragging_view = false;  ///< a mouse drag that started in the 3D view
 
     ScenePanel scene_panel;
+    StructurePanel structure_panel;
+    StatsPanel stats_panel;
     ViewPanel view_panel;
     StatsBar stats_bar;
     HelpWindow help_window;
 
     /// Starts loading `source` with the state's structure (on the worker).
     void open_scene(const AppState& state, const std::string& source, bool keep_camera = false);
+    /// Starts building the state's structure over the current mesh (on the
+    /// worker); the camera stays.
+    void rebuild_structure(const AppState& state);
     /// Takes a finished load, if any: swaps the scene in and updates the state's
     /// scene and camera; on failure sets `message` and keeps everything as it was.
     void take_finished_load(AppState& state);
     /// Swaps in a loaded scene (what take_finished_load does on success).
     void set_scene(AppState& state, std::shared_ptr<const LoadedScene> loaded, bool keep_camera);
-    /// Makes the GPU copies match `scene` (call on the GL thread).
-    void upload_to_gpu();
+    /// Makes the GPU copies match `scene` and the overlay match `settings`
+    /// (call on the GL thread).
+    void upload_to_gpu(const OverlaySettings& settings);
 };
 
 }  // namespace accelviz

@@ -36,6 +36,7 @@ namespace accelviz {
     X(PFNGLBLENDEQUATIONPROC, BlendEquation)                        \
     X(PFNGLDEPTHFUNCPROC, DepthFunc)                                \
     X(PFNGLDEPTHMASKPROC, DepthMask)                                \
+    X(PFNGLCOLORMASKPROC, ColorMask)                                \
     X(PFNGLPOLYGONOFFSETPROC, PolygonOffset)                        \
     X(PFNGLLINEWIDTHPROC, LineWidth)                                \
     X(PFNGLPIXELSTOREIPROC, PixelStorei)                            \
@@ -57,6 +58,7 @@ namespace accelviz {
     X(PFNGLDRAWARRAYSPROC, DrawArrays)                              \
     X(PFNGLDRAWELEMENTSPROC, DrawElements)                          \
     X(PFNGLDRAWARRAYSINSTANCEDPROC, DrawArraysInstanced)            \
+    X(PFNGLDRAWELEMENTSINSTANCEDPROC, DrawElementsInstanced)        \
     X(PFNGLDRAWELEMENTSBASEVERTEXPROC, DrawElementsBaseVertex)      \
     /* textures */                                                  \
     X(PFNGLGENTEXTURESPROC, GenTextures)                            \

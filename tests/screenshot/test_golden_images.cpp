@@ -46,6 +46,58 @@ TEST(GoldenImage, HelpWindowListsTheShortcuts) {
     EXPECT_TRUE(matches_golden(*image, "cube_gui_help"));
 }
 
+// [SECTION] Structure overlays (the teapot, 4x4 segments per patch: small and
+// with a clear shape). Each golden is the "structure" view at 320x240.
+
+AppState teapot_with(const char* structure_json) {
+    AppState state;
+    state.scene = "builtin:teapot?n=4";
+    auto parsed = app_state_from_json(nlohmann::json::parse(structure_json));
+    EXPECT_TRUE(parsed) << parsed.error();
+    if (parsed) {
+        state.accel = parsed->accel;
+        state.overlay = parsed->overlay;
+    }
+    return state;
+}
+
+void expect_structure_golden(const char* structure_json, const char* name) {
+    auto image = render_gui_view_headless(teapot_with(structure_json), "structure", 320, 240);
+    ASSERT_TRUE(image) << image.error();
+    EXPECT_TRUE(matches_golden(*image, name));
+}
+
+TEST(GoldenImage, BvhBoxesColouredByDepth) {
+    expect_structure_golden(R"({"structure": {"type": "bvh"}})", "teapot_bvh_all_levels");
+}
+
+TEST(GoldenImage, BvhOneLevelOnly) {
+    expect_structure_golden(R"({"structure": {"type": "bvh"}, "overlay": {"level_min": 3, "level_max": 3}})",
+                            "teapot_bvh_level3");
+}
+
+TEST(GoldenImage, BvhLeavesThroughTranslucentMesh) {
+    expect_structure_golden(
+        R"({"structure": {"type": "bvh"}, "overlay": {"leaves_only": true, "mesh_opacity": 0.4}})",
+        "teapot_bvh_leaves_xray");
+}
+
+TEST(GoldenImage, GridNonEmptyCellsByTriangleCount) {
+    expect_structure_golden(R"({"structure": {"type": "grid", "grid": {"density": 2}}})", "teapot_grid_cells");
+}
+
+TEST(GoldenImage, KdSplitPlanesClippedToTheirNodes) {
+    expect_structure_golden(R"({"structure": {"type": "kd"}, "overlay": {"level_min": 0, "level_max": 4}})",
+                            "teapot_kd_planes");
+}
+
+TEST(GoldenImage, OctreeCellsByDepth) {
+    expect_structure_golden(R"({"structure": {"type": "octree"}, "overlay": {"level_min": 0, "level_max": 4}})",
+                            "teapot_octree_cells");
+}
+
+// [SECTION] Errors
+
 TEST(HeadlessRender, UnknownViewIsAnErrorNamingTheViews) {
     auto image = render_gui_view_headless(cube_state(), "nosuch", 64, 64);
     ASSERT_FALSE(image);

@@ -1,0 +1,178 @@
+#include "app/gui/structure_overlay.h"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "core/accel/bvh.h"
+#include "core/accel/kd_tree.h"
+#include "core/accel/octree.h"
+#include "core/accel/uniform_grid.h"
+#include "core/render/colormap.h"
+
+namespace accelviz {
+
+namespace {
+
+/// Colour for position x in [0, 1] of a range; the map's darkest fifth is skipped
+/// so the shallowest level stays visible on the dark background.
+Rgba8 level_colour(double x, uint8_t alpha = 230) {
+    const Rgb c = colormap(0.2 + 0.8 * std::clamp(x, 0.0, 1.0));
+    return {c.r, c.g, c.b, alpha};
+}
+
+/// Where level `depth` sits in the levels shown [lo, hi].
+double level_position(int depth, int lo, int hi) { return hi > lo ? double(depth - lo) / double(hi - lo) : 1.0; }
+
+/// The levels the settings show, clipped to what the structure has.
+struct LevelRange {
+    int lo, hi;
+    bool contains(int depth) const { return depth >= lo && depth <= hi; }
+};
+LevelRange shown_levels(const OverlaySettings& s, int deepest) {
+    const int lo = std::clamp(s.level_min, 0, deepest);
+    return {lo, std::clamp(std::max(s.level_max, lo), lo, deepest)};
+}
+
+std::string range_legend(const char* what, LevelRange levels, int deepest) {
+    char text[160];
+    std::snprintf(text, sizeof text, "%s: levels %d..%d of 0..%d, colour = depth (blue shallow, yellow deep)", what,
+                  levels.lo, levels.hi, deepest);
+    return text;
+}
+
+// [SECTION] BVH: node boxes by depth
+
+void bvh_overlay(const Bvh& bvh, const OverlaySettings& s, StructureOverlay& out) {
+    if (bvh.nodes.empty()) return;
+    // Depth of every node, in one pass over the flat array (children follow their parent).
+    std::vector<int> depth(bvh.nodes.size(), 0);
+    for (size_t i = 0; i < bvh.nodes.size(); ++i) {
+        const BvhNode& n = bvh.nodes[i];
+        if (!n.is_leaf()) depth[n.first] = depth[n.first + 1] = depth[i] + 1;
+        out.deepest_level = std::max(out.deepest_level, depth[i]);
+    }
+    const LevelRange levels = shown_levels(s, out.deepest_level);
+    for (size_t i = 0; i < bvh.nodes.size(); ++i) {
+        const BvhNode& n = bvh.nodes[i];
+        if (!levels.contains(depth[i]) || (s.leaves_only && !n.is_leaf())) continue;
+        out.boxes.push_back({n.bounds.lo, n.bounds.hi, level_colour(level_position(depth[i], levels.lo, levels.hi))});
+    }
+    out.legend = range_legend(s.leaves_only ? "BVH leaves" : "BVH nodes", levels, out.deepest_level);
+}
+
+// [SECTION] Octree: cells by depth
+
+void octree_overlay(const Octree& tree, const OverlaySettings& s, StructureOverlay& out) {
+    if (tree.nodes.empty()) return;
+    struct Cell { uint32_t node; Aabb box; int depth; };
+    std::vector<Cell> cells;  // every cell with its box (the nodes store only the centre)
+    std::vector<Cell> stack = {{0, tree.bounds, 0}};
+    while (!stack.empty()) {
+        const Cell c = stack.back();
+        stack.pop_back();
+        cells.push_back(c);
+        out.deepest_level = std::max(out.deepest_level, c.depth);
+        const OctreeNode& n = tree.nodes[c.node];
+        if (!n.is_leaf())
+            for (int o = 7; o >= 0; --o) stack.push_back({n.first + uint32_t(o), octant_box(c.box, n.centre, o), c.depth + 1});
+    }
+    const LevelRange levels = shown_levels(s, out.deepest_level);
+    for (const Cell& c : cells) {
+        const OctreeNode& n = tree.nodes[c.node];
+        if (!levels.contains(c.depth)) continue;
+        if (s.leaves_only && (!n.is_leaf() || n.count == 0)) continue;
+        out.boxes.push_back({c.box.lo, c.box.hi, level_colour(level_position(c.depth, levels.lo, levels.hi))});
+    }
+    out.legend = range_legend(s.leaves_only ? "Octree non-empty leaves" : "Octree cells", levels, out.deepest_level);
+}
+
+// [SECTION] KD tree: split planes clipped to their node
+
+void kd_overlay(const KdTree& tree, const OverlaySettings& s, StructureOverlay& out) {
+    if (tree.nodes.empty()) return;
+    struct Cell { uint32_t node; Aabb box; int depth; };
+    std::vector<Cell> cells;
+    std::vector<Cell> stack = {{0, tree.bounds, 0}};
+    while (!stack.empty()) {
+        const Cell c = stack.back();
+        stack.pop_back();
+        cells.push_back(c);
+        out.deepest_level = std::max(out.deepest_level, c.depth);
+        const KdNode& n = tree.nodes[c.node];
+        if (n.is_leaf()) continue;
+        Aabb lower = c.box, upper = c.box;
+        lower.hi[n.axis] = n.split;
+        upper.lo[n.axis] = n.split;
+        stack.push_back({n.first + 1, upper, c.depth + 1});
+        stack.push_back({n.first, lower, c.depth + 1});
+    }
+    const LevelRange levels = shown_levels(s, out.deepest_level);
+    for (const Cell& c : cells) {
+        const KdNode& n = tree.nodes[c.node];
+        if (!levels.contains(c.depth)) continue;
+        const double x = level_position(c.depth, levels.lo, levels.hi);
+        if (s.leaves_only) {
+            if (n.is_leaf() && n.count > 0) out.boxes.push_back({c.box.lo, c.box.hi, level_colour(x)});
+            continue;
+        }
+        if (n.is_leaf()) continue;
+        // The plane x_axis = split, as a rectangle spanning the node's box.
+        const int a = n.axis, b = (a + 1) % 3, d = (a + 2) % 3;
+        ColouredQuad quad;
+        const float us[4] = {c.box.lo[b], c.box.hi[b], c.box.hi[b], c.box.lo[b]};
+        const float vs[4] = {c.box.lo[d], c.box.lo[d], c.box.hi[d], c.box.hi[d]};
+        for (int k = 0; k < 4; ++k) {
+            quad.corners[k][a] = n.split;
+            quad.corners[k][b] = us[k];
+            quad.corners[k][d] = vs[k];
+        }
+        quad.colour = level_colour(x, 70);
+        out.quads.push_back(quad);
+        // The rectangle's outline, so the plane reads edge-on too: a flat box.
+        Aabb rim = c.box;
+        rim.lo[a] = rim.hi[a] = n.split;
+        out.boxes.push_back({rim.lo, rim.hi, level_colour(x, 200)});
+    }
+    out.legend = s.leaves_only ? range_legend("KD non-empty leaves", levels, out.deepest_level)
+                               : range_legend("KD split planes", levels, out.deepest_level);
+}
+
+// [SECTION] Grid: non-empty cells by triangle count
+
+void grid_overlay(const UniformGrid& grid, StructureOverlay& out) {
+    uint32_t most = 0;
+    for (size_t c = 0; c + 1 < grid.cell_start.size(); ++c) most = std::max(most, grid.cell_start[c + 1] - grid.cell_start[c]);
+    if (most == 0) return;
+    for (int k = 0; k < grid.res[2]; ++k)
+        for (int j = 0; j < grid.res[1]; ++j)
+            for (int i = 0; i < grid.res[0]; ++i) {
+                const uint32_t id = grid.cell_id(i, j, k);
+                const uint32_t count = grid.cell_start[id + 1] - grid.cell_start[id];
+                if (count == 0) continue;
+                const Aabb box = grid.cell_bounds(i, j, k);
+                out.boxes.push_back({box.lo, box.hi, level_colour(most > 1 ? double(count - 1) / (most - 1) : 1.0)});
+            }
+    char text[160];
+    std::snprintf(text, sizeof text, "Grid %dx%dx%d: %zu non-empty cells, colour = triangles in the cell (1..%u)",
+                  grid.res[0], grid.res[1], grid.res[2], out.boxes.size(), most);
+    out.legend = text;
+}
+
+}  // namespace
+
+StructureOverlay make_structure_overlay(const Accelerator& accel, const OverlaySettings& settings) {
+    StructureOverlay out;
+    if (auto* bvh = dynamic_cast<const AcceleratorFor<Bvh>*>(&accel))
+        bvh_overlay(bvh->structure(), settings, out);
+    else if (auto* octree = dynamic_cast<const AcceleratorFor<Octree>*>(&accel))
+        octree_overlay(octree->structure(), settings, out);
+    else if (auto* kd = dynamic_cast<const AcceleratorFor<KdTree>*>(&accel))
+        kd_overlay(kd->structure(), settings, out);
+    else if (auto* grid = dynamic_cast<const AcceleratorFor<UniformGrid>*>(&accel))
+        grid_overlay(grid->structure(), out);
+    else
+        out.legend = "naive: no structure, every ray tests every triangle";
+    return out;
+}
+
+}  // namespace accelviz
