@@ -100,11 +100,8 @@ Plane best_sah_plane(const std::vector<SpatialRef>& refs, const Aabb& box, const
     return best;
 }
 
-/// A node to build. Its index is given when it is popped (depth-first order), so
-/// a lower child, pushed last, always lands right after its parent.
 struct WorkItem {
-    uint32_t parent;  ///< kNoParent for the root
-    bool upper;       ///< the upper child of `parent` (which then records this node's index)
+    uint32_t node;
     uint32_t depth;
     Aabb box;
     std::vector<SpatialRef> refs;
@@ -146,16 +143,13 @@ Expected<KdTree> build_kd_tree(const Mesh& mesh, const KdConfig& config) {
     uint32_t no_progress = 0;
 
     std::vector<WorkItem> work;
-    constexpr uint32_t kNoParent = 0xffffffffu;
-    work.push_back({kNoParent, false, 0, tree.bounds, root_references(mesh, pad)});
+    work.push_back({0, 0, tree.bounds, root_references(mesh, pad)});
+    tree.nodes.emplace_back();
     std::vector<float> los, his;  // scratch for the SAH sweep
     std::vector<SpatialRef> below, above;
     while (!work.empty()) {
         WorkItem item = std::move(work.back());
         work.pop_back();
-        const uint32_t node = uint32_t(tree.nodes.size());
-        tree.nodes.emplace_back();
-        if (item.upper) tree.nodes[item.parent].first = node;  // the lower child is parent + 1 by construction
         const size_t n = item.refs.size();
         const double p = area(item.box) / root_area;  // hit probability, for the tree's SAH cost
 
@@ -203,7 +197,7 @@ Expected<KdTree> build_kd_tree(const Mesh& mesh, const KdConfig& config) {
         }
 
         if (!split) {
-            KdNode& leaf = tree.nodes[node];
+            KdNode& leaf = tree.nodes[item.node];
             leaf = KdNode{0, uint32_t(tree.prim_ids.size()), uint32_t(n), KdNode::kLeaf};
             for (const SpatialRef& r : item.refs) tree.prim_ids.push_back(r.tri);
             ++st.leaves;
@@ -215,14 +209,17 @@ Expected<KdTree> build_kd_tree(const Mesh& mesh, const KdConfig& config) {
             continue;
         }
         live_refs = uint64_t(int64_t(live_refs) + int64_t(below.size() + above.size()) - int64_t(n));
-        tree.nodes[node] = KdNode{plane.position, 0, 0, uint8_t(plane.axis)};  // `first` set when the upper child is made
+        const uint32_t first = uint32_t(tree.nodes.size());
+        tree.nodes[item.node] = KdNode{plane.position, first, 0, uint8_t(plane.axis)};
+        tree.nodes.emplace_back();
+        tree.nodes.emplace_back();
         st.sah_cost += p * config.cost_trav;
         Aabb lower = item.box, upper = item.box;
         lower.hi[plane.axis] = plane.position;
         upper.lo[plane.axis] = plane.position;
-        // Upper pushed first so the lower child is built next, at node + 1: depth-first order.
-        work.push_back({node, true, item.depth + 1, upper, std::move(above)});
-        work.push_back({node, false, item.depth + 1, lower, std::move(below)});
+        // Upper pushed first so the lower child is built first: depth-first order.
+        work.push_back({first + 1, item.depth + 1, upper, std::move(above)});
+        work.push_back({first, item.depth + 1, lower, std::move(below)});
         above = {};
         below = {};
         item.refs = {};

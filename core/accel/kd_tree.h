@@ -68,8 +68,7 @@ int kd_max_depth(const KdConfig& config, size_t triangles);
 /// One node, 16 bytes.
 /// Invariant: a leaf iff axis == kLeaf; its triangles are prim_ids[first .. first+count)
 /// (count may be 0: an empty leaf). Otherwise the plane is x_axis = split, the
-/// lower child (x <= split) comes right after the node (depth-first layout, as
-/// pbrt: a descent often continues in the same cache line), the upper is nodes[first].
+/// lower child (x <= split) is nodes[first], the upper nodes[first + 1].
 struct KdNode {
     static constexpr uint8_t kLeaf = 3;
     float split = 0;
@@ -160,8 +159,7 @@ Hit KdTree::intersect_closest(const Ray& ray, Observer& obs) const {
             const float t_split = (n->split - ray.origin[a]) * pre.dir_inv[a];
             // Moving up the axis (or along it, +0) the lower child comes first.
             const bool lower_first = !pre.dir_negative[a];
-            const uint32_t lower = cur.node + 1, upper = n->first;
-            const uint32_t near = lower_first ? lower : upper, far = lower_first ? upper : lower;
+            const uint32_t near = n->first + (lower_first ? 0 : 1), far = n->first + (lower_first ? 1 : 0);
             obs.on({.kind = EventKind::SplitPlane, .axis = uint8_t(a), .near_first = lower_first, .node = cur.node,
                     .t = t_split, .split = n->split});
             if (!(t_split < cur.t_max)) {

@@ -64,8 +64,8 @@ void for_each_node(const KdTree& t, F&& f) {
         Aabb lo = it.box, hi = it.box;
         lo.hi[n.axis] = n.split;
         hi.lo[n.axis] = n.split;
-        stack.push_back({it.node + 1, lo, it.depth + 1});
-        stack.push_back({n.first, hi, it.depth + 1});
+        stack.push_back({n.first, lo, it.depth + 1});
+        stack.push_back({n.first + 1, hi, it.depth + 1});
     }
 }
 
@@ -153,7 +153,7 @@ TEST(KdTree, ChildrenPartitionTheirParent) {
             // The plane lies strictly inside the box: two non-empty halves that tile it.
             EXPECT_GT(n.split, box.lo[n.axis]);
             EXPECT_LT(n.split, box.hi[n.axis]);
-            EXPECT_GT(n.first, node + 1) << "the upper child comes after the lower child's subtree";
+            EXPECT_EQ(n.first % 2, 1u) << "children are allocated in pairs after the root";
         });
         EXPECT_EQ(leaves, t.build_stats.leaves);
         EXPECT_EQ(refs, t.prim_ids.size());
