@@ -152,21 +152,22 @@ void draw_legend(const Session& session, const ViewRect& rect) {
                                    ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav |
                                    ImGuiWindowFlags_NoInputs;
     if (ImGui::Begin("##legend", nullptr, flags)) {
-        // The colour ramp the overlay uses (skipping the map's darkest fifth, as it does).
-        const float width = 8.0f * ImGui::GetFontSize(), height = ImGui::GetTextLineHeight();
-        const ImVec2 p = ImGui::GetCursorScreenPos();
-        ImDrawList* draw = ImGui::GetWindowDrawList();
-        constexpr int kSteps = 32;
-        for (int i = 0; i < kSteps; ++i) {
-            const Rgb c = colormap(0.2 + 0.8 * i / double(kSteps - 1));
-            draw->AddRectFilled(ImVec2(p.x + width * i / kSteps, p.y), ImVec2(p.x + width * (i + 1) / kSteps, p.y + height),
-                                IM_COL32(c.r, c.g, c.b, 255));
-        }
-        ImGui::Dummy(ImVec2(width, height));
-        ImGui::SameLine();
         ImGui::PushTextWrapPos(float(rect.width) - 4 * margin);
         ImGui::TextUnformatted(session.overlay.legend.c_str());
         ImGui::PopTextWrapPos();
+        if (!session.overlay.boxes.empty()) {
+            // The colour ramp the overlay uses (skipping the map's darkest fifth, as it does).
+            const float width = 10.0f * ImGui::GetFontSize(), height = 0.6f * ImGui::GetTextLineHeight();
+            const ImVec2 p = ImGui::GetCursorScreenPos();
+            ImDrawList* draw = ImGui::GetWindowDrawList();
+            constexpr int kSteps = 32;
+            for (int i = 0; i < kSteps; ++i) {
+                const Rgb c = colormap(0.2 + 0.8 * i / double(kSteps - 1));
+                draw->AddRectFilled(ImVec2(p.x + width * i / kSteps, p.y),
+                                    ImVec2(p.x + width * (i + 1) / kSteps, p.y + height), IM_COL32(c.r, c.g, c.b, 255));
+            }
+            ImGui::Dummy(ImVec2(width, height));
+        }
     }
     ImGui::End();
 }
@@ -179,6 +180,10 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
     // 1. Work finished on the loader thread, and files dropped on the window.
     session.take_finished_load(state);
     for (const std::string& path : input.dropped_paths) session.open_scene(state, path);
+
+    // GPU copies and the structure overlay now, so the panels and the legend of
+    // this very frame describe what it draws (and a headless frame is complete).
+    session.upload_to_gpu(state.overlay);
 
     // 2. Fonts and colours (a changed UI scale rebuilds the font atlas), then ImGui's frame.
     session.style.apply(state.view, renderer);
@@ -228,7 +233,7 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
     out.view_rect = layout.view;
     renderer.begin_frame(input.width, input.height, state.view.background);
     if (session.scene && state.camera && !layout.view.empty()) {
-        session.upload_to_gpu(state.overlay);
+        session.upload_to_gpu(state.overlay);  // the panels may have changed the overlay
         out.view = make_view3d(*state.camera, layout.view, session.scene->bounds);
         renderer.begin_view(out.view);
         const bool overlay = state.overlay.show_structure;
