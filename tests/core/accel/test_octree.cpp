@@ -30,9 +30,11 @@ std::vector<std::pair<std::string, OctreeConfig>> configs() {
     return out;
 }
 
-void check_scene(const std::string& source) {
+void check_scene(const std::string& source, bool skip_deep = false) {
     const SceneCase& scene = scene_case(source);
     for (const auto& [label, config] : configs()) {
+        // On a big mesh the leaf-size-1 octree only hits the reference budget, slowly.
+        if (skip_deep && config.leaf_size == 1) continue;
         const Octree tree = build(scene.mesh, config);
         expect_exact(tree, scene, "octree " + label);
         expect_trace_agrees(tree, scene, 97, "octree " + label);
@@ -68,7 +70,7 @@ TEST(Octree, ExactOnSingleTriangle) { check_scene("builtin:single"); }
 TEST(Octree, ExactOnCornellBox) { check_scene("builtin:cornell"); }
 TEST(Octree, SlowExactOnBunny) {
     if (!shared_asset_exists("bunny.obj")) GTEST_SKIP() << "bunny.obj not found";
-    check_scene("bunny");
+    check_scene("bunny", /*skip_deep=*/true);
 }
 
 TEST(Octree, LeavesAreVisitedFrontToBack) {
