@@ -5,8 +5,10 @@
 ///
 /// Exactness: every traversal tests triangles with intersect_triangle() on the
 /// same Triangle values make_triangles() gives, keeps the closest by is_closer(),
-/// and culls a node only when its entry distance is strictly beyond the closest
-/// hit; so it returns the same triangle and bit-identical t as BruteForce.
+/// tests boxes with a slab test widened by a few ulps (core/accel/box_test.h) and
+/// culls a node only when that widened entry distance is strictly beyond the
+/// closest hit; so it returns the same triangle and bit-identical t as BruteForce.
+/// Box events report the widened interval, clipped to the ray's [t_min, t_max].
 
 #include <cstdint>
 #include <string>
@@ -14,6 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/accel/box_test.h"
 #include "core/accel/bvh_config.h"
 #include "core/geometry/triangle.h"
 #include "core/traversal/observers.h"
@@ -129,7 +132,7 @@ Hit Bvh::intersect_unordered(const Ray& ray, Observer& obs) const {
     while (true) {
         const BvhNode& n = nodes[node];
         // Boxes are tested against the whole ray: algorithm 1 does not prune by the closest hit.
-        const SlabResult box = slab_test(n.bounds, precomp, ray.t_min, ray.t_max);
+        const SlabResult box = widened_slab_test(n.bounds, precomp, ray.t_min, ray.t_max);
         obs.on({.kind = EventKind::BoxTest, .hit = box.hit(), .node = node, .t_enter = box.t_enter,
                 .t_exit = box.t_exit});
         if (!box.hit()) {
@@ -143,14 +146,14 @@ Hit Bvh::intersect_unordered(const Ray& ray, Observer& obs) const {
                 // Left now, right later. The right box is not tested yet: the stack
                 // entry carries this node's interval, a bound on the child's.
                 stack[stack_size++] = {n.first + 1, box.t_enter, box.t_exit};
-                obs.on({.kind = EventKind::Push, .node = n.first + 1, .t_enter = box.t_enter});
+                obs.on({.kind = EventKind::Push, .node = n.first + 1, .t_enter = box.t_enter, .t_exit = box.t_exit});
                 node = n.first;
                 continue;
             }
         }
         if (stack_size == 0) break;
         const StackEntry next = stack[--stack_size];
-        obs.on({.kind = EventKind::Pop, .node = next.node, .t_enter = next.t_enter});
+        obs.on({.kind = EventKind::Pop, .node = next.node, .t_enter = next.t_enter, .t_exit = next.t_exit});
         node = next.node;
     }
     return done(best, obs);
@@ -166,7 +169,7 @@ Hit Bvh::intersect_ordered(const Ray& ray, Observer& obs) const {
     int stack_size = 0;
 
     // The root's box; after this, boxes are tested from the parent, both children at once.
-    const SlabResult root = slab_test(nodes[0].bounds, precomp, ray.t_min, ray.t_max);
+    const SlabResult root = widened_slab_test(nodes[0].bounds, precomp, ray.t_min, ray.t_max);
     obs.on({.kind = EventKind::BoxTest, .hit = root.hit(), .node = 0, .t_enter = root.t_enter, .t_exit = root.t_exit});
     if (!root.hit()) {
         obs.on({.kind = EventKind::Cull, .reason = CullReason::MissedBox, .node = 0, .t_enter = root.t_enter,
@@ -187,7 +190,7 @@ Hit Bvh::intersect_ordered(const Ray& ray, Observer& obs) const {
             bool keep[2];
             for (int side = 0; side < 2; ++side) {
                 const uint32_t id = n.first + uint32_t(side);
-                const SlabResult box = slab_test(nodes[id].bounds, precomp, ray.t_min, ray.t_max);
+                const SlabResult box = widened_slab_test(nodes[id].bounds, precomp, ray.t_min, ray.t_max);
                 obs.on({.kind = EventKind::BoxTest, .hit = box.hit(), .node = id, .t_enter = box.t_enter,
                         .t_exit = box.t_exit});
                 child[side] = {id, box.t_enter, box.t_exit};
@@ -202,7 +205,7 @@ Hit Bvh::intersect_ordered(const Ray& ray, Observer& obs) const {
                 const bool right_first = child[1].t_enter < child[0].t_enter;
                 const StackEntry& far = child[right_first ? 0 : 1];
                 stack[stack_size++] = far;
-                obs.on({.kind = EventKind::Push, .node = far.node, .t_enter = far.t_enter});
+                obs.on({.kind = EventKind::Push, .node = far.node, .t_enter = far.t_enter, .t_exit = far.t_exit});
                 current = child[right_first ? 1 : 0];
                 continue;
             }
@@ -215,7 +218,7 @@ Hit Bvh::intersect_ordered(const Ray& ray, Observer& obs) const {
         bool found = false;
         while (stack_size > 0) {
             const StackEntry next = stack[--stack_size];
-            obs.on({.kind = EventKind::Pop, .node = next.node, .t_enter = next.t_enter});
+            obs.on({.kind = EventKind::Pop, .node = next.node, .t_enter = next.t_enter, .t_exit = next.t_exit});
             if (next.t_enter > best.t) {
                 obs.on({.kind = EventKind::Cull, .reason = CullReason::BeyondClosestHit, .node = next.node,
                         .t_enter = next.t_enter, .t_exit = next.t_exit});
@@ -240,7 +243,7 @@ bool Bvh::intersect_any(const Ray& ray, Observer& obs) const {
     const RayPrecomp precomp(ray);
     StackEntry stack[kBvhStackSize];
     int stack_size = 0;
-    const SlabResult root = slab_test(nodes[0].bounds, precomp, ray.t_min, ray.t_max);
+    const SlabResult root = widened_slab_test(nodes[0].bounds, precomp, ray.t_min, ray.t_max);
     obs.on({.kind = EventKind::BoxTest, .hit = root.hit(), .node = 0, .t_enter = root.t_enter, .t_exit = root.t_exit});
     if (!root.hit()) {
         obs.on({.kind = EventKind::Cull, .reason = CullReason::MissedBox, .node = 0, .t_enter = root.t_enter,
@@ -265,7 +268,7 @@ bool Bvh::intersect_any(const Ray& ray, Observer& obs) const {
             bool keep[2];
             for (int side = 0; side < 2; ++side) {
                 const uint32_t id = n.first + uint32_t(side);
-                const SlabResult box = slab_test(nodes[id].bounds, precomp, ray.t_min, ray.t_max);
+                const SlabResult box = widened_slab_test(nodes[id].bounds, precomp, ray.t_min, ray.t_max);
                 obs.on({.kind = EventKind::BoxTest, .hit = box.hit(), .node = id, .t_enter = box.t_enter,
                         .t_exit = box.t_exit});
                 child[side] = {id, box.t_enter, box.t_exit};
@@ -278,7 +281,7 @@ bool Bvh::intersect_any(const Ray& ray, Observer& obs) const {
                 const bool right_first = child[1].t_enter < child[0].t_enter;
                 const StackEntry& far = child[right_first ? 0 : 1];
                 stack[stack_size++] = far;
-                obs.on({.kind = EventKind::Push, .node = far.node, .t_enter = far.t_enter});
+                obs.on({.kind = EventKind::Push, .node = far.node, .t_enter = far.t_enter, .t_exit = far.t_exit});
                 current = child[right_first ? 1 : 0];
                 continue;
             }
@@ -289,7 +292,7 @@ bool Bvh::intersect_any(const Ray& ray, Observer& obs) const {
         }
         if (stack_size == 0) break;
         current = stack[--stack_size];
-        obs.on({.kind = EventKind::Pop, .node = current.node, .t_enter = current.t_enter});
+        obs.on({.kind = EventKind::Pop, .node = current.node, .t_enter = current.t_enter, .t_exit = current.t_exit});
     }
     return finish(Hit{});
 }

@@ -5,8 +5,9 @@
 /// Which fields mean what, per kind (unused fields keep their defaults):
 ///   BoxTest        node, t_enter, t_exit, hit      slab test of a node's box (or the grid's box)
 ///   VisitNode      node, t_enter, t_exit           traversal starts working on node
-///   Push           node, t_enter                   node put on the stack for later
-///   Pop            node, t_enter                   node taken off the stack
+///   Push           node, t_enter, t_exit           node put on the stack for later (BVH algorithm 1: the
+///                                                  parent's interval, the child's box is tested when popped)
+///   Pop            node, t_enter, t_exit           node taken off the stack
 ///   Cull           node, reason, t_enter, t_exit   node (and its subtree) skipped
 ///   Leaf           node, first, count              a leaf's triangles are about to be tested; KD/octree
 ///                                                  also t_enter, t_exit: the leaf's [t_min, t_max] on the ray

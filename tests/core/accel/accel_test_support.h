@@ -1,0 +1,195 @@
+#pragma once
+/// What every acceleration-structure test needs: seeded random rays of the kinds
+/// that break structures (origins inside and outside, axis-aligned directions,
+/// ±0 components, origins on box planes, rays starting inside boxes, rays through
+/// vertices, finite ranges), and the brute-force answers for them, computed once.
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <tbb/parallel_for.h>
+
+#include "core/accel/brute_force.h"
+#include "core/geometry/mesh.h"
+#include "core/util/random.h"
+
+namespace accelviz::test {
+
+/// A direction uniform on the unit sphere.
+inline Vec3 random_direction(Rng& rng) {
+    while (true) {
+        const Vec3 d{rng.uniform(-1.0f, 1.0f), rng.uniform(-1.0f, 1.0f), rng.uniform(-1.0f, 1.0f)};
+        const float len2 = dot(d, d);
+        if (len2 > 1e-4f && len2 <= 1.0f) return d / std::sqrt(len2);
+    }
+}
+
+inline Vec3 random_point_in(Rng& rng, const Aabb& box) {
+    return {rng.uniform(box.lo.x, box.hi.x), rng.uniform(box.lo.y, box.hi.y), rng.uniform(box.lo.z, box.hi.z)};
+}
+
+/// +0 or -0, at random: both must behave alike.
+inline float signed_zero(Rng& rng) { return rng.below(2) ? 0.0f : -0.0f; }
+
+/// `count` seeded rays over `mesh`. Ten kinds in turn (see the comments below).
+inline std::vector<Ray> make_test_rays(const Mesh& mesh, size_t count, uint64_t seed) {
+    Rng rng(seed);
+    Aabb bounds = mesh.bounds();
+    if (bounds.empty()) bounds = {{-1, -1, -1}, {1, 1, 1}};
+    const Vec3 centre = bounds.center();
+    const float diagonal = std::max(length(bounds.extent()), 1e-3f);
+    const Vec3 margin = Vec3{1, 1, 1} * (0.25f * diagonal);
+    const Aabb around{bounds.lo - margin, bounds.hi + margin};
+    const size_t tris = mesh.triangle_count();
+
+    std::vector<Ray> rays;
+    rays.reserve(count);
+    for (size_t i = 0; i < count; ++i) {
+        Ray ray;
+        switch (i % 10) {
+            case 0:  // from outside, aimed at a point inside the bounds
+                ray.origin = centre + random_direction(rng) * (1.5f * diagonal);
+                ray.dir = normalize(random_point_in(rng, bounds) - ray.origin);
+                break;
+            case 1:  // from inside the bounds, any direction
+                ray.origin = random_point_in(rng, bounds);
+                ray.dir = random_direction(rng);
+                break;
+            case 2: {  // axis-aligned: one component ±1, the others ±0
+                const int axis = int(rng.below(3));
+                ray.origin = random_point_in(rng, around);
+                ray.dir = {signed_zero(rng), signed_zero(rng), signed_zero(rng)};
+                ray.dir[axis] = rng.below(2) ? 1.0f : -1.0f;
+                break;
+            }
+            case 3: {  // one component ±0
+                ray.origin = random_point_in(rng, around);
+                ray.dir = random_direction(rng);
+                ray.dir[int(rng.below(3))] = signed_zero(rng);
+                break;
+            }
+            case 4: {  // origin exactly on a vertex's coordinate plane (a box plane), moving along it
+                ray.origin = random_point_in(rng, around);
+                ray.dir = random_direction(rng);
+                if (tris > 0) {
+                    const int axis = int(rng.below(3));
+                    ray.origin[axis] = mesh.vertex(rng.below(tris), int(rng.below(3)))[axis];
+                    ray.dir[axis] = signed_zero(rng);
+                }
+                break;
+            }
+            case 5:  // starting inside a triangle's box (so inside every box above it)
+                ray.origin = tris > 0 ? random_point_in(rng, mesh.triangle_bounds(rng.below(tris)))
+                                      : random_point_in(rng, bounds);
+                ray.dir = random_direction(rng);
+                break;
+            case 6:  // starting exactly at a vertex: t = 0 ties between the triangles sharing it
+                ray.origin = tris > 0 ? mesh.vertex(rng.below(tris), int(rng.below(3))) : centre;
+                ray.dir = random_direction(rng);
+                break;
+            case 7:  // from outside through a vertex: ties on shared edges and vertices
+                ray.origin = centre + random_direction(rng) * (1.5f * diagonal);
+                ray.dir = tris > 0 ? mesh.vertex(rng.below(tris), int(rng.below(3))) - ray.origin
+                                   : random_direction(rng);
+                break;
+            case 8:  // a finite segment: t in [t_min, t_max]
+                ray.origin = random_point_in(rng, around);
+                ray.dir = random_direction(rng);
+                ray.t_min = rng.uniform(0.0f, 0.3f * diagonal);
+                ray.t_max = ray.t_min + rng.uniform(0.0f, diagonal);
+                break;
+            default:  // from outside, aimed at a triangle's centroid (nearly always a hit)
+                ray.origin = centre + random_direction(rng) * (1.5f * diagonal);
+                ray.dir = tris > 0 ? normalize(mesh.triangle_bounds(rng.below(tris)).center() - ray.origin)
+                                   : random_direction(rng);
+                break;
+        }
+        rays.push_back(ray);
+    }
+    return rays;
+}
+
+/// The brute-force answer for every ray, computed in parallel. Semantically
+/// BruteForce::intersect_closest: the smallest (t, id) among the triangles that
+/// intersect_triangle() accepts on [t_min, t_max]; u, v of that triangle. The
+/// triangle tests are laid out structure-of-arrays so the compiler vectorizes
+/// them; IEEE arithmetic is element-wise, so each lane computes exactly what
+/// intersect_triangle computes (same operations, same order, no contraction).
+/// check_oracle() confirms that against BruteForce itself.
+inline std::vector<Hit> brute_force_answers(const Mesh& mesh, const std::vector<Ray>& rays) {
+    const std::vector<Triangle> tris = make_triangles(mesh);
+    const size_t n = tris.size();
+    std::vector<float> p0x(n), p0y(n), p0z(n), e1x(n), e1y(n), e1z(n), e2x(n), e2y(n), e2z(n);
+    for (size_t i = 0; i < n; ++i) {
+        p0x[i] = tris[i].p0.x; p0y[i] = tris[i].p0.y; p0z[i] = tris[i].p0.z;
+        e1x[i] = tris[i].edge1.x; e1y[i] = tris[i].edge1.y; e1z[i] = tris[i].edge1.z;
+        e2x[i] = tris[i].edge2.x; e2y[i] = tris[i].edge2.y; e2z[i] = tris[i].edge2.z;
+    }
+    std::vector<Hit> answers(rays.size());
+    tbb::parallel_for(size_t(0), rays.size(), [&](size_t r) {
+        const Ray& ray = rays[r];
+        constexpr size_t kBlock = 512;
+        float t[kBlock];
+        unsigned char hit[kBlock];
+        Hit best;
+        for (size_t begin = 0; begin < n; begin += kBlock) {
+            const size_t m = std::min(kBlock, n - begin);
+            for (size_t k = 0; k < m; ++k) {  // intersect_triangle, one lane per triangle
+                const size_t i = begin + k;
+                const float px = ray.dir.y * e2z[i] - ray.dir.z * e2y[i];
+                const float py = ray.dir.z * e2x[i] - ray.dir.x * e2z[i];
+                const float pz = ray.dir.x * e2y[i] - ray.dir.y * e2x[i];
+                const float det = e1x[i] * px + e1y[i] * py + e1z[i] * pz;
+                const float inv_det = 1.0f / det;
+                const float tx = ray.origin.x - p0x[i], ty = ray.origin.y - p0y[i], tz = ray.origin.z - p0z[i];
+                const float u = (tx * px + ty * py + tz * pz) * inv_det;
+                const float qx = ty * e1z[i] - tz * e1y[i];
+                const float qy = tz * e1x[i] - tx * e1z[i];
+                const float qz = tx * e1y[i] - ty * e1x[i];
+                const float v = (ray.dir.x * qx + ray.dir.y * qy + ray.dir.z * qz) * inv_det;
+                const float tt = (e2x[i] * qx + e2y[i] * qy + e2z[i] * qz) * inv_det;
+                t[k] = tt;
+                hit[k] = (det != 0.0f) & (u >= 0.0f) & (v >= 0.0f) & (u + v <= 1.0f) & (tt >= ray.t_min) &
+                         (tt <= ray.t_max);
+            }
+            for (size_t k = 0; k < m; ++k)
+                if (hit[k] && is_closer(t[k], uint32_t(begin + k), best)) best = {uint32_t(begin + k), t[k], 0, 0};
+        }
+        if (best.found()) {
+            const TriangleTest test = intersect_triangle(tris[best.tri], ray);
+            best.u = test.u;
+            best.v = test.v;
+        }
+        answers[r] = best;
+    });
+    return answers;
+}
+
+/// Same triangle and bit-identical t, u, v (misses compare equal whatever t holds).
+inline bool same_hit(const Hit& a, const Hit& b) {
+    if (a.tri != b.tri) return false;
+    if (!a.found()) return true;
+    return std::bit_cast<uint32_t>(a.t) == std::bit_cast<uint32_t>(b.t) &&
+           std::bit_cast<uint32_t>(a.u) == std::bit_cast<uint32_t>(b.u) &&
+           std::bit_cast<uint32_t>(a.v) == std::bit_cast<uint32_t>(b.v);
+}
+
+inline std::string describe(const Ray& r) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "ray o=(%.9g, %.9g, %.9g) d=(%.9g, %.9g, %.9g) t in [%.9g, %.9g]", r.origin.x,
+                  r.origin.y, r.origin.z, r.dir.x, r.dir.y, r.dir.z, r.t_min, r.t_max);
+    return buf;
+}
+
+inline std::string describe(const Hit& h) {
+    if (!h.found()) return "miss";
+    char buf[128];
+    std::snprintf(buf, sizeof buf, "tri %u t=%.9g u=%.9g v=%.9g", h.tri, h.t, h.u, h.v);
+    return buf;
+}
+
+}  // namespace accelviz::test
