@@ -132,7 +132,8 @@ nlohmann::json to_json(const AppState& s) {
         j["camera"] = nullptr;
     j["view"] = {{"ui_scale", s.view.ui_scale},   {"light_theme", s.view.light_theme},
                  {"background", rgb_json(s.view.background)}, {"show_ui", s.view.show_ui},
-                 {"show_help", s.view.show_help}, {"show_bounds", s.view.show_bounds}};
+                 {"show_help", s.view.show_help}, {"show_bounds", s.view.show_bounds},
+                 {"mode", s.view.mode},           {"right_view", s.view.right_view}};
     return j;
 }
 
@@ -172,6 +173,11 @@ Expected<AppState> app_state_from_json(const nlohmann::json& j) {
             s.view.show_ui = v.value("show_ui", s.view.show_ui);
             s.view.show_help = v.value("show_help", s.view.show_help);
             s.view.show_bounds = v.value("show_bounds", s.view.show_bounds);
+            s.view.mode = v.value("mode", s.view.mode);
+            if (s.view.mode != "3d" && s.view.mode != "split") return Error{"view.mode: must be \"3d\" or \"split\""};
+            s.view.right_view = v.value("right_view", s.view.right_view);
+            if (s.view.right_view != "raycast" && s.view.right_view != "heat-nodes" && s.view.right_view != "heat-tris")
+                return Error{"view.right_view: must be raycast, heat-nodes or heat-tris"};
         }
     } catch (const std::exception& e) {  // nlohmann type errors and ours
         return Error{std::string("state: ") + e.what()};

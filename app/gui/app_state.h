@@ -25,6 +25,12 @@ struct ViewSettings {
     bool show_ui = true;            ///< panels and status bar (Tab hides them)
     bool show_help = false;         ///< the keyboard shortcuts window (F1)
     bool show_bounds = true;        ///< the scene's bounding box as a wireframe
+    /// "3d": the 3D view. "split": raster vs ray cast, the OpenGL view (left)
+    /// next to the CPU ray caster's picture of the same camera (right).
+    std::string mode = "3d";
+    /// In "split": what the right half shows: "raycast" (shaded), "heat-nodes",
+    /// "heat-tris" (work per pixel through the current structure).
+    std::string right_view = "raycast";
 };
 
 /// What of the current structure the 3D view draws over the mesh.
@@ -42,9 +48,18 @@ struct OverlaySettings {
 /// The font size in pixels for a UI scale (16 px at scale 1, 8 to 64 px).
 int font_pixels(float ui_scale);
 
+/// AccelConfig's defaults with type "bvh".
+inline AccelConfig bvh_config_default() {
+    AccelConfig config;
+    config.type = "bvh";
+    return config;
+}
+
 struct AppState {
     std::string scene = "builtin:cube";  ///< "builtin:NAME?k=v" or an OBJ path
-    AccelConfig accel;                   ///< the structure and its build parameters
+    /// The structure and its build parameters; the window starts with a BVH
+    /// (a preset can start from naive).
+    AccelConfig accel = bvh_config_default();
     OverlaySettings overlay;
     /// The camera; empty means "the scene's default view": the direction of
     /// default_camera() (core/render/camera.h), at the distance that fits the

@@ -22,10 +22,12 @@ namespace {
 struct Layout {
     float sidebar_width = 0;
     float status_height = 0;
-    ViewRect view;
+    ViewRect view;      ///< the whole area of the view (mouse and keys act here)
+    ViewRect gl_view;   ///< where OpenGL draws the scene: `view`, or its left half when split
+    ViewRect ray_view;  ///< split: the right half, the ray caster's picture (same size as gl_view)
 };
 
-Layout compute_layout(int width, int height, bool ui) {
+Layout compute_layout(int width, int height, bool ui, bool split) {
     Layout layout;
     if (ui) {
         const float font = ImGui::GetFontSize();
@@ -34,6 +36,13 @@ Layout compute_layout(int width, int height, bool ui) {
     }
     const int left = int(layout.sidebar_width);
     layout.view = {left, 0, std::max(0, width - left), std::max(0, height - int(layout.status_height))};
+    layout.gl_view = layout.view;
+    if (split) {
+        // Two halves of exactly the same size, so both renderers see the same camera.
+        const int half = layout.view.width / 2;
+        layout.gl_view = {layout.view.x, layout.view.y, half, layout.view.height};
+        layout.ray_view = {layout.view.x + layout.view.width - half, layout.view.y, half, layout.view.height};
+    }
     return layout;
 }
 
@@ -45,17 +54,18 @@ constexpr ImGuiWindowFlags kFixedPanel = ImGuiWindowFlags_NoTitleBar | ImGuiWind
 
 /// Mouse and keys move the camera, unless ImGui wants them (a panel is hovered
 /// or a text field is being typed in).
-void handle_view_input(AppState& state, Session& session, const ViewRect& rect) {
+void handle_view_input(AppState& state, Session& session, const ViewRect& rect, const ViewRect& gl_rect) {
     const ImGuiIO& io = ImGui::GetIO();
 
     if (!io.WantCaptureKeyboard) {
         if (ImGui::IsKeyPressed(GLFW_KEY_F1, false)) state.view.show_help = !state.view.show_help;
         if (ImGui::IsKeyPressed(GLFW_KEY_TAB, false)) state.view.show_ui = !state.view.show_ui;
         if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE, false)) state.view.show_help = false;
+        if (ImGui::IsKeyPressed(GLFW_KEY_S, false)) state.view.mode = state.view.mode == "split" ? "3d" : "split";
     }
     if (!state.camera || rect.empty()) return;
     CameraParams& camera = *state.camera;
-    const double aspect = double(rect.width) / rect.height;
+    const double aspect = gl_rect.height > 0 ? double(gl_rect.width) / gl_rect.height : 1.0;
 
     if (!io.WantCaptureKeyboard) {
         const double step = std::min(double(io.DeltaTime), 0.1);  // seconds; a stall must not spin the view
@@ -139,6 +149,63 @@ void draw_view_messages(Session& session, const ViewRect& rect, bool determinist
     }
 }
 
+/// Split view: what each half is, and the work each renderer did.
+void draw_split_labels(const AppState& state, const Session& session, const Layout& layout, bool deterministic) {
+    const float margin = 0.5f * ImGui::GetFontSize();
+    const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
+                                   ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoMove |
+                                   ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav |
+                                   ImGuiWindowFlags_NoInputs;
+    // At the top of each half; at the bottom over a heat map, whose own title sits at the top.
+    auto label = [&](const char* id, const ViewRect& rect, const std::string& title, const std::string& detail,
+                     bool at_bottom) {
+        if (at_bottom)
+            ImGui::SetNextWindowPos(ImVec2(float(rect.x) + margin, float(rect.y + rect.height) - margin),
+                                    ImGuiCond_Always, ImVec2(0.0f, 1.0f));
+        else
+            ImGui::SetNextWindowPos(ImVec2(float(rect.x) + margin, float(rect.y) + margin), ImGuiCond_Always);
+        ImGui::SetNextWindowBgAlpha(0.75f);
+        // Over a heat map, stay clear of its legend at the bottom right.
+        const float max_width = (at_bottom ? 0.6f : 1.0f) * float(rect.width) - 2 * margin;
+        if (ImGui::Begin(id, nullptr, flags)) {
+            ImGui::TextUnformatted(title.c_str());
+            ImGui::PushTextWrapPos(max_width - ImGui::GetStyle().WindowPadding.x);  // window-local x
+            ImGui::TextDisabled("%s", detail.c_str());
+            ImGui::PopTextWrapPos();
+        }
+        ImGui::End();
+    };
+    char text[256];
+    const size_t triangles = session.scene ? session.scene->mesh->triangle_count() : 0;
+    std::snprintf(text, sizeof text, "every triangle projected and filled: %zu triangles", triangles);
+    label("##raster_label", layout.gl_view, "Rasterized (OpenGL z-buffer)", text, false);
+
+    std::string title = "Ray cast (CPU, " + (session.scene ? session.scene->accel_config.type : std::string("?")) + ")";
+    std::string detail = "computing ...";
+    if (const auto& shown = session.ray_cast.shown()) {
+        const Counters& w = shown->frame.work;
+        const double rays = double(shown->key.width) * shown->key.height;
+        std::snprintf(text, sizeof text,
+                      "per ray: %.1f nodes, %.1f box tests, %.1f triangle tests (naive: %zu triangle tests)",
+                      w.nodes_visited / rays, w.box_tests / rays, w.triangle_tests / rays, triangles);
+        detail = text;
+        if (!deterministic) {
+            std::snprintf(text, sizeof text, "  (%.0f ms)", shown->milliseconds);
+            detail += text;
+        }
+        if (session.ray_cast.stale()) detail += "  updating ...";
+    }
+    if (state.view.right_view == "heat-nodes") title += ": nodes visited";
+    if (state.view.right_view == "heat-tris") title += ": triangle tests";
+    label("##ray_label", layout.ray_view, title, detail, state.view.right_view != "raycast");
+
+    // The divider between the halves.
+    const float x = float(layout.ray_view.x) - 1.0f;
+    ImGui::GetBackgroundDrawList()->AddLine(ImVec2(x, float(layout.view.y)),
+                                            ImVec2(x, float(layout.view.y + layout.view.height)),
+                                            IM_COL32(255, 255, 255, 255), 2.0f);
+}
+
 /// What the overlay's colours mean, at the bottom left of the 3D view.
 void draw_legend(const Session& session, const ViewRect& rect) {
     if (session.overlay.legend.empty() || rect.empty()) return;
@@ -191,12 +258,21 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
 
     // 3. Layout, then the 3D view's input (ImGui's capture flags are from this NewFrame).
     const bool ui = input.draw_ui && state.view.show_ui;
-    const Layout layout = compute_layout(input.width, input.height, ui);
-    if (session.frame_pending && session.scene && state.camera && !layout.view.empty()) {
-        frame_bounds(*state.camera, session.scene->bounds, double(layout.view.width) / layout.view.height);
+    const bool split = state.view.mode == "split";
+    const Layout layout = compute_layout(input.width, input.height, ui, split);
+    if (session.frame_pending && session.scene && state.camera && !layout.gl_view.empty()) {
+        frame_bounds(*state.camera, session.scene->bounds, double(layout.gl_view.width) / layout.gl_view.height);
         session.frame_pending = false;
     }
-    if (input.draw_ui) handle_view_input(state, session, layout.view);
+    if (input.draw_ui) handle_view_input(state, session, layout.view, layout.gl_view);
+
+    // Split view: the ray caster's picture of this frame's camera (on the worker;
+    // headless waits for it so the frame is complete).
+    if (split && session.scene && state.camera && !layout.ray_view.empty()) {
+        session.ray_cast.request(session.scene, *state.camera, layout.ray_view.width, layout.ray_view.height,
+                                 input.deterministic);
+        session.ray_cast.update_texture(state.view.right_view);
+    }
 
     // 4. Panels.
     if (ui) {
@@ -223,18 +299,19 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
         ImGui::PopStyleVar();
 
         draw_view_messages(session, layout.view, input.deterministic);
-        if (state.overlay.show_structure) draw_legend(session, layout.view);
+        if (state.overlay.show_structure) draw_legend(session, layout.gl_view);
+        if (split) draw_split_labels(state, session, layout, input.deterministic);
         session.help_window.draw(state);
     }
     ImGui::Render();
 
     // 5. GL: background, 3D view, panels on top.
     FrameLayout out;
-    out.view_rect = layout.view;
+    out.view_rect = layout.gl_view;
     renderer.begin_frame(input.width, input.height, state.view.background);
-    if (session.scene && state.camera && !layout.view.empty()) {
+    if (session.scene && state.camera && !layout.gl_view.empty()) {
         session.upload_to_gpu(state.overlay);  // the panels may have changed the overlay
-        out.view = make_view3d(*state.camera, layout.view, session.scene->bounds);
+        out.view = make_view3d(*state.camera, layout.gl_view, session.scene->bounds);
         renderer.begin_view(out.view);
         const bool overlay = state.overlay.show_structure;
         auto draw_overlay = [&] {
@@ -254,6 +331,7 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
         if (mesh_style.opacity >= 1.0f) renderer.draw_mesh(*session.mesh_buffer, mesh_style);
         draw_overlay();
         out.scene_drawn = true;
+        if (split && session.ray_cast.texture()) renderer.draw_image(*session.ray_cast.texture(), layout.ray_view);
     }
     if (ui) renderer.draw_imgui(ImGui::GetDrawData());
     return out;

@@ -247,6 +247,18 @@ void ViewPanel::draw(AppState& state, Session& session, double view_aspect) {
     ImGui::PopStyleVar();
     ImGui::Checkbox("Scene bounds", &view.show_bounds);
 
+    // Raster vs ray cast (S).
+    bool split = view.mode == "split";
+    if (ImGui::Checkbox("Raster | ray cast (S)", &split)) view.mode = split ? "split" : "3d";
+    if (split) {
+        static constexpr const char* kLabels[] = {"shaded", "heat: nodes visited", "heat: triangle tests"};
+        int current = 0;
+        for (int i = 0; i < 3; ++i)
+            if (view.right_view == kRightViews[i]) current = i;
+        ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);
+        if (ImGui::Combo("Ray cast shows", &current, kLabels, 3)) view.right_view = kRightViews[current];
+    }
+
     ImGui::Separator();
     if (state.camera) {
         float fov = float(state.camera->fov_deg);
@@ -319,6 +331,7 @@ void HelpWindow::draw(AppState& state) {
             {"+ / -", "zoom in / out"},
             {"F", "frame the scene"},
             {"R", "reset to the default view"},
+            {"S", "raster | ray cast side by side"},
             {"Tab", "hide / show the panels"},
             {"F1", "this help"},
             {"Drop an .obj file", "open it"},

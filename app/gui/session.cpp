@@ -40,6 +40,10 @@ void Session::set_scene(AppState& state, std::shared_ptr<const LoadedScene> load
     }
 }
 
+bool Session::has_pending_work() const {
+    return loader.busy() || loader.has_result() || ray_cast.busy() || ray_cast.has_result();
+}
+
 void Session::upload_to_gpu(const OverlaySettings& settings) {
     if (!scene) return;
     // The overlay depends on the scene and on the settings that select boxes

@@ -12,6 +12,7 @@
 #include "app/gl/renderer.h"
 #include "app/gui/app_state.h"
 #include "app/gui/panels.h"
+#include "app/gui/ray_cast_view.h"
 #include "app/gui/scene_loader.h"
 #include "app/gui/structure_overlay.h"
 #include "app/gui/ui_style.h"
@@ -49,6 +50,9 @@ struct Session {
     uint64_t overlay_generation = 0;   ///< scene generation the overlay is of (0: none)
     OverlaySettings overlay_settings;  ///< the settings it was made with
 
+    /// The CPU ray caster's picture for the split view.
+    RayCastView ray_cast;
+
     UiStyle style;
     bool dragging_view = false;  ///< a mouse drag that started in the 3D view
 
@@ -69,6 +73,9 @@ struct Session {
     void take_finished_load(AppState& state);
     /// Swaps in a loaded scene (what take_finished_load does on success).
     void set_scene(AppState& state, std::shared_ptr<const LoadedScene> loaded, bool keep_camera);
+    /// True while a worker runs or has a result to hand over (the window keeps
+    /// drawing frames until it is taken).
+    bool has_pending_work() const;
     /// Makes the GPU copies match `scene` and the overlay match `settings`
     /// (call on the GL thread).
     void upload_to_gpu(const OverlaySettings& settings);

@@ -56,6 +56,7 @@ int run_window(AppState state) {
             // 3. The scene loads on the worker; the window is drawn meanwhile.
             Session session;
             session.loader.on_finished = [] { GlfwWindow::wake_up(); };
+            session.ray_cast.set_on_finished([] { GlfwWindow::wake_up(); });
             session.open_scene(state, state.scene, /*keep_camera=*/state.camera.has_value());
 
             // 4. The loop. It sleeps until something happens: an input or window
@@ -68,7 +69,7 @@ int run_window(AppState state) {
             int frames_to_draw = 3;
             uint64_t events_seen = 0;
             while (!(*window)->should_close()) {
-                const bool busy = session.loader.busy() || session.loader.has_result() || any_input_held();
+                const bool busy = session.has_pending_work() || any_input_held();
                 (*window)->process_events(frames_to_draw > 0 || busy ? 0.0 : 0.5);
                 if ((*window)->event_count() != events_seen) {
                     events_seen = (*window)->event_count();

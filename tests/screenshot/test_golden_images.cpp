@@ -96,6 +96,25 @@ TEST(GoldenImage, OctreeCellsByDepth) {
                             "teapot_octree_cells");
 }
 
+// [SECTION] Raster vs ray cast (the ray caster's picture is waited for headless)
+
+TEST(GoldenImage, SplitRasterAndRayCastSideBySide) {
+    AppState state = teapot_with(R"({"structure": {"type": "bvh"}, "overlay": {"show_structure": false}})");
+    state.view.mode = "split";
+    auto image = render_gui_view_headless(state, "gui", 800, 450);
+    ASSERT_TRUE(image) << image.error();
+    EXPECT_TRUE(matches_golden(*image, "teapot_split_raycast"));
+}
+
+TEST(GoldenImage, SplitWithNodeHeatMap) {
+    AppState state = teapot_with(R"({"structure": {"type": "bvh"}, "overlay": {"level_max": 3}})");
+    state.view.mode = "split";
+    state.view.right_view = "heat-nodes";
+    auto image = render_gui_view_headless(state, "gui", 800, 450);
+    ASSERT_TRUE(image) << image.error();
+    EXPECT_TRUE(matches_golden(*image, "teapot_split_heat_nodes"));
+}
+
 // [SECTION] Errors
 
 TEST(HeadlessRender, UnknownViewIsAnErrorNamingTheViews) {

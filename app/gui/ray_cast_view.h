@@ -1,0 +1,68 @@
+#pragma once
+/// "Raster vs ray cast": the 3D view split in two. The left half is the live
+/// OpenGL view (rasterized, z-buffer); the right half shows the CPU ray caster's
+/// picture of exactly the same camera and size, through the current structure
+/// (core's ray_cast with the camera contract), as a texture: the shaded image,
+/// or a heat map of the nodes visited or triangles tested per pixel.
+///
+/// The ray cast runs on a worker (LatestJob): while the camera moves, the last
+/// finished picture stays up (marked as updating), and only the newest camera
+/// is cast.
+
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "app/gl/renderer.h"
+#include "app/gl/texture.h"
+#include "app/gui/app_state.h"
+#include "app/gui/latest_job.h"
+#include "app/gui/scene_loader.h"
+#include "core/render/frame.h"
+
+namespace accelviz {
+
+/// What the right half shows (ViewSettings::right_view).
+inline constexpr const char* kRightViews[] = {"raycast", "heat-nodes", "heat-tris"};
+
+class RayCastView {
+public:
+    /// What a cast was made of; a new cast is needed when it changes.
+    struct Key {
+        const LoadedScene* scene = nullptr;
+        CameraParams camera;
+        int width = 0, height = 0;
+        bool operator==(const Key& o) const;
+    };
+    struct Result {
+        Key key;
+        std::shared_ptr<const LoadedScene> scene;  ///< keeps key.scene alive
+        Frame frame;
+        double milliseconds = 0;
+    };
+
+    /// Asks for a cast of the current view if the last request differs (call
+    /// every frame in split mode, on the UI thread). `wait`: block until it is
+    /// done (headless renders).
+    void request(const std::shared_ptr<const LoadedScene>& scene, const CameraParams& camera, int width, int height,
+                 bool wait);
+    /// Takes a finished cast and makes the texture for `right_view` (GL thread).
+    void update_texture(const std::string& right_view);
+    /// The texture (null before the first cast finishes) and what it shows.
+    const Texture* texture() const { return texture_.get(); }
+    const std::optional<Result>& shown() const { return shown_; }
+    bool busy() const { return job_.busy(); }
+    bool has_result() const { return job_.has_result(); }
+    /// True when the picture shown is of another camera or size than requested.
+    bool stale() const { return shown_ && !(shown_->key == requested_); }
+    void set_on_finished(std::function<void()> callback) { job_.on_finished = std::move(callback); }
+
+private:
+    LatestJob<Result> job_;
+    Key requested_;
+    std::optional<Result> shown_;
+    std::string texture_view_;  ///< the right_view the texture was made for
+    std::unique_ptr<Texture> texture_;
+};
+
+}  // namespace accelviz
