@@ -69,6 +69,7 @@ void BoxBuffer::upload(const std::vector<BoxInstance>& boxes) {
     gl.BindBuffer(GL_ARRAY_BUFFER, instances_.id());
     gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(boxes.size() * sizeof(BoxInstance)), boxes.data(), GL_STATIC_DRAW);
     count_ = boxes.size();
+    translucent_ = std::any_of(boxes.begin(), boxes.end(), [](const BoxInstance& b) { return b.colour.a < 255; });
 }
 
 ColouredBuffer::ColouredBuffer() {
@@ -190,9 +191,13 @@ void Renderer::draw_boxes(const BoxBuffer& boxes) {
     gl.Enable(GL_DEPTH_TEST);
     gl.DepthFunc(GL_LEQUAL);
     gl.DepthMask(GL_FALSE);  // the depth buffer keeps the mesh alone (read back as the raster depth)
-    gl.Enable(GL_BLEND);
-    gl.BlendEquation(GL_FUNC_ADD);
-    gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    if (boxes.translucent_) {
+        gl.Enable(GL_BLEND);
+        gl.BlendEquation(GL_FUNC_ADD);
+        gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    } else {
+        gl.Disable(GL_BLEND);  // measurably faster on llvmpipe with many boxes
+    }
     gl.BindVertexArray(boxes.vertex_array_.id());
     // 12 edges per box, every box at once.
     gl.DrawElementsInstanced(GL_LINES, 24, GL_UNSIGNED_BYTE, nullptr, GLsizei(boxes.size()));

@@ -73,6 +73,7 @@ private:
     GlBuffer instances_;
     GlBuffer edge_indices_;  ///< the 24 corner indices of the 12 edges, shared by every instance
     size_t count_ = 0;
+    bool translucent_ = false;  ///< some colour has alpha < 255: blend
 };
 
 /// Line segments (GL_LINES: vertices 2i and 2i+1 form segment i) or triangles

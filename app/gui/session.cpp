@@ -65,7 +65,7 @@ void Session::upload_to_gpu(const OverlaySettings& settings) {
     if (!bounds_buffer) bounds_buffer = std::make_unique<BoxBuffer>();
     mesh_buffer->upload(*scene->mesh);
     std::vector<BoxInstance> bounds;
-    if (!scene->bounds.empty()) bounds.push_back({scene->bounds.lo, scene->bounds.hi, Rgba8{120, 170, 255, 200}});
+    if (!scene->bounds.empty()) bounds.push_back({scene->bounds.lo, scene->bounds.hi, Rgba8{110, 160, 240, 255}});
     bounds_buffer->upload(bounds);
     uploaded_generation = scene_generation;
 }

@@ -15,7 +15,7 @@ namespace {
 
 /// Colour for position x in [0, 1] of a range; the map's darkest fifth is skipped
 /// so the shallowest level stays visible on the dark background.
-Rgba8 level_colour(double x, uint8_t alpha = 230) {
+Rgba8 level_colour(double x, uint8_t alpha = 255) {
     const Rgb c = colormap(0.2 + 0.8 * std::clamp(x, 0.0, 1.0));
     return {c.r, c.g, c.b, alpha};
 }
