@@ -18,34 +18,64 @@
 /// rule and the references' safety margin (reference_padding) make sure of that.
 
 #include <cstdint>
+#include <vector>
 
 #include "core/traversal/observers.h"
 
 namespace accelviz {
 
-/// A per-ray mailbox: a direct-mapped cache of the last triangle ids this ray
-/// tested. It lives on the ray's stack, so a built structure stays immutable
-/// and any number of threads can trace through it (no per-triangle "last ray"
-/// field in shared memory). A collision evicts the older id; that triangle may
-/// then be tested twice, which only costs time: a test's result never changes.
+/// A per-ray mailbox: the set of triangle ids this ray has tested. It lives with
+/// the ray (on its stack), so a built structure stays immutable and any number of
+/// threads can trace through it: no per-triangle "last ray" field in shared
+/// memory. Exact, in two stages:
+///   - a 64-slot open-addressing hash table (linear probing) for the first 32
+///     ids: 256 bytes to clear per ray, one or two probes per lookup;
+///   - past 32 ids, a bitset over all triangle ids, allocated then: a ray that
+///     has tested that many triangles (a crowded grid cell) pays its clearing
+///     back quickly, and lookups stay O(1) however many it tests.
 class Mailbox {
 public:
-    static constexpr uint32_t kSlots = 128;  ///< power of two; 512 bytes per ray
+    static constexpr uint32_t kSlots = 64;      ///< power of two
+    static constexpr uint32_t kMaxInTable = 32;  ///< load factor 1/2, then the bitset
 
-    Mailbox() {
-        for (uint32_t& id : ids_) id = Hit::kNoHit;
+    explicit Mailbox(uint32_t triangle_count) : triangle_count_(triangle_count) {
+        for (uint32_t& id : slots_) id = Hit::kNoHit;
     }
-    /// True if `tri` is in the cache (already tested: skip it); otherwise adds it.
+
+    /// True if `tri` was tested already (skip it); otherwise records it.
     bool seen(uint32_t tri) {
-        uint32_t& slot = ids_[(tri * 2654435761u) >> 25];  // Knuth's multiplicative hash, top 7 bits
-        if (slot == tri) return true;
-        slot = tri;
-        return false;
+        if (!bits_.empty()) return test_and_set(tri);
+        uint32_t slot = (tri * 2654435761u) >> 26;  // Knuth's multiplicative hash, top 6 bits
+        while (slots_[slot] != Hit::kNoHit) {
+            if (slots_[slot] == tri) return true;
+            slot = (slot + 1) & (kSlots - 1);
+        }
+        if (count_ < kMaxInTable) {
+            slots_[slot] = tri;
+            ++count_;
+            return false;
+        }
+        // The table is full enough: move to the bitset.
+        bits_.assign((size_t(triangle_count_) + 63) / 64, 0);
+        for (uint32_t id : slots_)
+            if (id != Hit::kNoHit) test_and_set(id);
+        return test_and_set(tri);
     }
 
 private:
-    static_assert(kSlots == 128, "the hash keeps the top 7 bits");
-    uint32_t ids_[kSlots];
+    bool test_and_set(uint32_t tri) {
+        uint64_t& word = bits_[tri >> 6];
+        const uint64_t bit = uint64_t(1) << (tri & 63);
+        const bool was = (word & bit) != 0;
+        word |= bit;
+        return was;
+    }
+
+    static_assert(kSlots == 64, "the hash keeps the top 6 bits");
+    uint32_t slots_[kSlots];
+    uint32_t count_ = 0;
+    uint32_t triangle_count_;
+    std::vector<uint64_t> bits_;  ///< empty until the table holds kMaxInTable ids
 };
 
 /// The closest-hit bookkeeping of one ray's walk through cells.
@@ -54,8 +84,9 @@ public:
     /// `strict_cell` false is the naive rule (teaching switch): any hit found in a
     /// cell is accepted at once and ends the walk after that cell, which gives
     /// wrong answers when a triangle's hit lies beyond the cell it was tested in.
-    CellHits(const Ray& ray, bool use_mailbox, bool strict_cell)
-        : test_ray_(ray), use_mailbox_(use_mailbox), strict_(strict_cell) {}
+    /// `triangle_count`: ids are below it (the mailbox's bitset size).
+    CellHits(const Ray& ray, bool use_mailbox, bool strict_cell, uint32_t triangle_count)
+        : test_ray_(ray), use_mailbox_(use_mailbox), strict_(strict_cell), mailbox_(triangle_count) {}
 
     /// The walk enters a cell spanning [t_in, t_out] along the ray. A hit
     /// remembered from an earlier cell whose t lies in this cell is accepted now.

@@ -137,7 +137,7 @@ Expected<KdTree> build_kd_tree(const Mesh& mesh, const KdConfig& config);
 
 template <class Observer>
 Hit KdTree::intersect_closest(const Ray& ray, Observer& obs) const {
-    CellHits hits(ray, build_config.mailbox, build_config.strict_cell);
+    CellHits hits(ray, build_config.mailbox, build_config.strict_cell, build_stats.triangles);
     if (nodes.empty()) return hits.done(obs);
     const RayPrecomp pre(ray);
     const SlabResult root = slab_test(bounds, pre, ray.t_min, ray.t_max);

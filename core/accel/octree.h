@@ -106,7 +106,7 @@ Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config);
 
 template <class Observer>
 Hit Octree::intersect_closest(const Ray& ray, Observer& obs) const {
-    CellHits hits(ray, build_config.mailbox, /*strict_cell=*/true);
+    CellHits hits(ray, build_config.mailbox, /*strict_cell=*/true, build_stats.triangles);
     if (nodes.empty()) return hits.done(obs);
     const RayPrecomp pre(ray);
     const SlabResult root = slab_test(bounds, pre, ray.t_min, ray.t_max);

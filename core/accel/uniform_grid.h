@@ -112,7 +112,7 @@ Expected<UniformGrid> build_uniform_grid(const Mesh& mesh, const GridConfig& con
 
 template <class Observer>
 Hit UniformGrid::intersect_closest(const Ray& ray, Observer& obs) const {
-    CellHits hits(ray, build_config.mailbox, /*strict_cell=*/true);
+    CellHits hits(ray, build_config.mailbox, /*strict_cell=*/true, uint32_t(triangles.size()));
     if (cell_start.empty()) return hits.done(obs);
     const RayPrecomp pre(ray);
     const SlabResult box = slab_test(bounds, pre, ray.t_min, ray.t_max);
