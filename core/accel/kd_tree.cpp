@@ -69,6 +69,9 @@ Plane best_sah_plane(const std::vector<SpatialRef>& refs, const Aabb& box, const
     const size_t n = refs.size();
     const double node_area = area(box);
     for (int a = 0; a < 3; ++a) {
+        const int b = (a + 1) % 3, d = (a + 2) % 3;
+        const double e_b = double(box.hi[b]) - box.lo[b], e_d = double(box.hi[d]) - box.lo[d];
+        const double cross_section = e_b * e_d, perimeter_half = e_b + e_d;
         los.resize(n);
         his.resize(n);
         for (size_t i = 0; i < n; ++i) {
@@ -88,10 +91,10 @@ Plane best_sah_plane(const std::vector<SpatialRef>& refs, const Aabb& box, const
             while (i_hi < n && his[i_hi] == s) ++i_hi;
             const size_t above = n - i_hi;
             if (!(s > box.lo[a] && s < box.hi[a])) continue;  // a plane on the boundary cuts nothing off
-            Aabb lower = box, upper = box;
-            lower.hi[a] = s;
-            upper.lo[a] = s;
-            double cost = c.cost_trav + c.cost_isect * (area(lower) * double(below) + area(upper) * double(above)) /
+            // The children's areas, linear in s: 2·(e_b·e_c + (extent along a)·(e_b + e_c)).
+            const double area_lower = 2.0 * (cross_section + (double(s) - box.lo[a]) * perimeter_half);
+            const double area_upper = 2.0 * (cross_section + (double(box.hi[a]) - s) * perimeter_half);
+            double cost = c.cost_trav + c.cost_isect * (area_lower * double(below) + area_upper * double(above)) /
                                             node_area;
             if (below == 0 || above == 0) cost *= 1.0 - c.empty_bonus;
             if (cost < best.cost) best = {a, s, cost};

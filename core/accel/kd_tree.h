@@ -108,6 +108,9 @@ struct KdBuildStats {
 /// triangle that comes within `padding` of its box (box or exact test, per
 /// config.clip). triangles[k] is triangle prim_ids[k] (leaf order, a copy so a
 /// leaf's triangles are contiguous).
+/// (Tried instead of padding: unpadded references and a traversal that widens each
+/// plane into a slab of the same width. Fewer references, but every node step did
+/// more work: 25% slower on the bunny.)
 struct KdTree {
     Aabb bounds;
     std::vector<KdNode> nodes;
