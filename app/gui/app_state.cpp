@@ -38,7 +38,9 @@ auto read_enum(const nlohmann::json& j, const char* field, Parse parse) {
     return *value;
 }
 
-nlohmann::json accel_json(const AccelConfig& a) {
+}  // namespace
+
+nlohmann::json accel_config_json(const AccelConfig& a) {
     nlohmann::json j;
     j["type"] = a.type;
     j["bvh"] = {{"builder", std::string(to_string(a.bvh.builder))},
@@ -69,6 +71,8 @@ nlohmann::json accel_json(const AccelConfig& a) {
     if (a.cost_isect) j["cost_isect"] = *a.cost_isect;
     return j;
 }
+
+namespace {
 
 void read_accel(const nlohmann::json& j, AccelConfig& a) {
     a.type = j.value("type", a.type);
@@ -117,7 +121,7 @@ void read_accel(const nlohmann::json& j, AccelConfig& a) {
 nlohmann::json to_json(const AppState& s) {
     nlohmann::json j;
     j["scene"] = s.scene;
-    j["structure"] = accel_json(s.accel);
+    j["structure"] = accel_config_json(s.accel);
     j["overlay"] = {{"show_structure", s.overlay.show_structure},
                     {"level_min", s.overlay.level_min},
                     {"level_max", s.overlay.level_max},

@@ -68,6 +68,9 @@ struct AppState {
     ViewSettings view;
 };
 
+/// The structure part of the JSON form (what AppState's "structure" holds).
+nlohmann::json accel_config_json(const AccelConfig& config);
+
 /// JSON form (every field optional when reading: missing ones keep their defaults).
 nlohmann::json to_json(const AppState& state);
 /// Reads a state; errors are one line naming the field.

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <utility>
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>  // key codes only: ImGui 1.86 indexes io.KeysDown by the GLFW backend's codes
@@ -136,7 +137,8 @@ void draw_view_messages(Session& session, const ViewRect& rect, bool determinist
     if (!session.message.empty()) {
         ImGui::SetNextWindowPos(ImVec2(centre_top.x, y), ImGuiCond_Always, ImVec2(0.5f, 0.0f));
         ImGui::SetNextWindowSizeConstraints(ImVec2(0, 0), ImVec2(0.9f * float(rect.width), FLT_MAX));
-        ImGui::PushStyleColor(ImGuiCol_WindowBg, ImVec4(0.55f, 0.10f, 0.08f, 0.95f));
+        ImGui::PushStyleColor(ImGuiCol_WindowBg, session.message_is_error ? ImVec4(0.55f, 0.10f, 0.08f, 0.95f)
+                                                                          : ImVec4(0.12f, 0.30f, 0.50f, 0.95f));
         ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 1.0f, 1.0f, 1.0f));
         if (ImGui::Begin("##message", nullptr, flags)) {
             ImGui::PushTextWrapPos(0.85f * float(rect.width));
@@ -334,6 +336,15 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
         if (split && session.ray_cast.texture()) renderer.draw_image(*session.ray_cast.texture(), layout.ray_view);
     }
     if (ui) renderer.draw_imgui(ImGui::GetDrawData());
+
+    // 6. A screenshot asked for: this frame, as drawn (panels included).
+    if (!session.screenshot_path.empty()) {
+        const std::string path = std::exchange(session.screenshot_path, {});
+        if (auto err = write_png(renderer.read_colour({0, 0, input.width, input.height}), path))
+            session.notify(err->message, true);
+        else
+            session.notify("Screenshot saved: " + path, false);
+    }
     return out;
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <fstream>
 
 #include <imgui.h>
 #include <imgui_stdlib.h>
@@ -278,6 +279,39 @@ void ViewPanel::draw(AppState& state, Session& session, double view_aspect) {
         copied = true;
     }
     if (copied && !ImGui::IsItemHovered()) copied = false;
+
+    // The whole state as JSON (a preset is such a file), and screenshots.
+    ImGui::Separator();
+    const float button = ImGui::CalcTextSize("Save").x + ImGui::CalcTextSize("Load").x +
+                         4 * ImGui::GetStyle().FramePadding.x + 2 * ImGui::GetStyle().ItemSpacing.x;
+    ImGui::SetNextItemWidth(-button);
+    ImGui::InputText("##state_path", &state_path);
+    ImGui::SameLine();
+    if (ImGui::Button("Save")) {
+        std::ofstream out(state_path);
+        out << to_json(state).dump(2) << "\n";
+        session.notify(out ? "State saved: " + state_path : state_path + ": cannot write", !out);
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Load")) {
+        std::ifstream in(state_path);
+        const nlohmann::json json = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+        if (!in && json.is_discarded()) {
+            session.notify(state_path + ": cannot read", true);
+        } else if (json.is_discarded()) {
+            session.notify(state_path + ": not valid JSON", true);
+        } else if (auto loaded = app_state_from_json(json); !loaded) {
+            session.notify(state_path + ": " + loaded.error(), true);
+        } else {
+            session.apply_state(state, *loaded);
+        }
+    }
+    const float shot_button = ImGui::CalcTextSize("Screenshot").x + 2 * ImGui::GetStyle().FramePadding.x +
+                              ImGui::GetStyle().ItemSpacing.x;
+    ImGui::SetNextItemWidth(-shot_button);
+    ImGui::InputText("##screenshot_path", &screenshot_path);
+    ImGui::SameLine();
+    if (ImGui::Button("Screenshot")) session.screenshot_path = screenshot_path;
 }
 
 // [SECTION] Status line

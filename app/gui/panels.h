@@ -34,6 +34,8 @@ struct ViewPanel {
     float ui_scale_edit = 0;   ///< the slider's value; applied when released (font rebuild)
     bool editing_scale = false;
     bool copied = false;       ///< "copied" feedback after the copy button
+    std::string state_path = "accelviz-state.json";      ///< save / load the whole state
+    std::string screenshot_path = "accelviz-screenshot.png";
     void draw(AppState& state, Session& session, double view_aspect);
 };
 

@@ -18,6 +18,7 @@ void Session::take_finished_load(AppState& state) {
     if (!result) return;
     if (!*result) {
         // DESIGN.md, "Errors": show it, keep the previous scene.
+        message_is_error = true;
         message = result->error();
         if (scene) {
             message += "  (keeping " + scene->source + " with " + scene->accel_config.type + ")";
@@ -38,6 +39,30 @@ void Session::set_scene(AppState& state, std::shared_ptr<const LoadedScene> load
         state.camera = default_camera(scene->bounds);  // its direction; draw_frame fits the distance
         frame_pending = true;
     }
+}
+
+void Session::apply_state(AppState& state, const AppState& loaded) {
+    const bool new_scene = !scene || loaded.scene != scene->source;
+    const bool new_structure =
+        !scene || accel_config_json(loaded.accel) != accel_config_json(scene->accel_config);
+    const std::string current_scene = state.scene;
+    state = loaded;
+    if (new_scene) {
+        state.scene = current_scene;  // until the new one has loaded
+        loader.request(loaded.scene, loaded.accel);
+        keep_camera_on_load = loaded.camera.has_value();
+    } else if (new_structure) {
+        rebuild_structure(state);
+    }
+    if (!state.camera && scene && !new_scene) {
+        state.camera = default_camera(scene->bounds);
+        frame_pending = true;
+    }
+}
+
+void Session::notify(std::string text, bool is_error) {
+    message = std::move(text);
+    message_is_error = is_error;
 }
 
 bool Session::has_pending_work() const {

@@ -35,6 +35,10 @@ struct Session {
     /// The last thing the user should know: a load error ("keeping the previous
     /// scene"). Empty: nothing to say.
     std::string message;
+    bool message_is_error = true;  ///< false: a notice ("saved ..."), shown in neutral colours
+
+    /// A screenshot of the next frame goes to this PNG path (then cleared).
+    std::string screenshot_path;
 
     // GPU copies of `scene` (made on the UI thread, which owns the context).
     std::unique_ptr<MeshBuffer> mesh_buffer;
@@ -73,6 +77,11 @@ struct Session {
     void take_finished_load(AppState& state);
     /// Swaps in a loaded scene (what take_finished_load does on success).
     void set_scene(AppState& state, std::shared_ptr<const LoadedScene> loaded, bool keep_camera);
+    /// Switches to a saved state: reloads the scene or rebuilds the structure
+    /// only where they differ (on the worker), takes the rest at once.
+    void apply_state(AppState& state, const AppState& loaded);
+    /// Shows a notice or an error in the view.
+    void notify(std::string text, bool is_error);
     /// True while a worker runs or has a result to hand over (the window keeps
     /// drawing frames until it is taken).
     bool has_pending_work() const;

@@ -7,6 +7,7 @@
 
 #include "app/gui/headless.h"
 #include "app/gui/session.h"
+#include "golden.h"
 
 namespace accelviz {
 namespace {
@@ -55,6 +56,51 @@ TEST(SceneErrors, GoodObjPathLoadsAndResetsCamera) {
     ASSERT_NE((*app)->session().scene, nullptr);
     EXPECT_TRUE((*app)->session().message.empty());
     EXPECT_TRUE(state.camera.has_value()) << "the default view of the scene";
+}
+
+TEST(SavedState, ApplyingAStateLoadsItsSceneAndStructureAndKeepsItsCamera) {
+    auto app = HeadlessApp::create(320, 240);
+    ASSERT_TRUE(app) << app.error();
+    AppState state;
+    state.scene = "builtin:cube";
+    (*app)->session().open_scene(state, state.scene);
+    draw_until_loaded(**app, state);
+
+    AppState saved;
+    saved.scene = "builtin:teapot?n=2";
+    saved.accel.type = "octree";
+    saved.camera = CameraParams{{0, 5, 9}, {0, 1, 0}, {0, 1, 0}, 40};
+    saved.view.mode = "split";
+    auto round_trip = app_state_from_json(to_json(saved));  // what a state file holds
+    ASSERT_TRUE(round_trip) << round_trip.error();
+    (*app)->session().apply_state(state, *round_trip);
+    draw_until_loaded(**app, state);
+
+    ASSERT_NE((*app)->session().scene, nullptr);
+    EXPECT_EQ((*app)->session().scene->source, "builtin:teapot?n=2");
+    EXPECT_EQ((*app)->session().scene->accel->name(), "octree");
+    EXPECT_EQ(state.scene, "builtin:teapot?n=2");
+    EXPECT_EQ(state.view.mode, "split");
+    ASSERT_TRUE(state.camera.has_value());
+    EXPECT_EQ(state.camera->eye.z, 9.0) << "the saved camera, not the scene's default";
+}
+
+TEST(Screenshot, WritesTheFrameAsDrawn) {
+    auto app = HeadlessApp::create(320, 240);
+    ASSERT_TRUE(app) << app.error();
+    AppState state;
+    state.scene = "builtin:cube";
+    (*app)->session().open_scene(state, state.scene);
+    draw_until_loaded(**app, state);
+    const std::string path = testing::screenshot_out_dir() + "/screenshot_test.png";
+    (*app)->session().screenshot_path = path;
+    (*app)->draw(state, {});
+    const Image drawn = (*app)->read_colour();
+    auto written = read_png(path);
+    ASSERT_TRUE(written) << written.error();
+    EXPECT_TRUE(written->pixels == drawn.pixels);
+    EXPECT_NE((*app)->session().message.find(path), std::string::npos);
+    EXPECT_FALSE((*app)->session().message_is_error);
 }
 
 }  // namespace
