@@ -15,6 +15,21 @@ void add_accel_flags(CLI::App& command, AccelConfig& config) {
     command.add_option("--cost-isect", config.cost_isect, "SAH cost of one ray-triangle test, C_isect (bvh, kd)")
         ->check(CLI::Range(1e-6, 1e6));
 
+    // BVH (issue 3). --leaf-size, --cost-trav and --cost-isect above apply too (default 4, 1, 1).
+    command.add_option_function<std::string>(
+               "--bvh-build", [&config](const std::string& v) { config.bvh.builder = *parse_bvh_builder(v); },
+               "bvh: how nodes are split: longest axis at its middle, at the median triangle, full SAH sweep, "
+               "or binned SAH (midpoint|median|sah-sweep|sah-binned, default sah-binned)")
+        ->check(CLI::IsMember(bvh_builder_names()));
+    command.add_option("--bins", config.bvh.bins, "bvh sah-binned: buckets per axis, B in 2..64")
+        ->check(CLI::Range(2, 64))
+        ->capture_default_str();
+    command.add_option_function<std::string>(
+               "--bvh-traversal", [&config](const std::string& v) { config.bvh_traversal = *parse_bvh_traversal(v); },
+               "bvh: closest-hit algorithm: 2 = nearest child first, skip nodes beyond the closest hit; "
+               "1 = left then right, no pruning (ordered|unordered, default ordered)")
+        ->check(CLI::IsMember(bvh_traversal_names()));
+
     // Space partitioning: grid, kd, octree (issue 4).
     auto on_off = [](bool& a) { return [&a](const std::string& v) { a = v == "on"; }; };
     command.add_option_function<std::string>(

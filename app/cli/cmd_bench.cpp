@@ -1,8 +1,212 @@
+// `accelviz bench SCENE [structure flags] [camera flags] --json`: how fast the chosen
+// structure builds and traces one primary ray per pixel, as one JSON object (or a
+// table). With --reference embree (when built with Embree), Embree 3 traces the same
+// rays in the same process, so the two speeds are compared side by side.
+//
+// Method: the rays are generated once, before timing (both structures trace the
+// same array); frame_ms times tracing only, and build_ms the whole build (mesh to
+// structure). Both are medians over --repeat runs.
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+
+#include <nlohmann/json.hpp>
+
+#include "app/cli/accel_flags.h"
+#include "app/cli/camera_flags.h"
 #include "app/cli/commands.h"
+#include "app/cli/embree_reference.h"
+#include "app/cli/ray_batch.h"
+#include "core/geometry/scene.h"
 
 namespace accelviz::cli {
+namespace {
 
-// Placeholder: `bench` arrives with the BVH work.
-Command register_bench(CLI::App&) { return {}; }
+struct BenchOptions {
+    std::string scene;
+    int width = 1280, height = 720;
+    int threads = 1;
+    int repeat = 5;
+    bool json = false;
+    std::string reference;
+    CameraFlags camera;
+    AccelConfig accel;
+};
+
+double ms_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+double median(std::vector<double> values) {
+    std::sort(values.begin(), values.end());
+    const size_t n = values.size();
+    return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+/// Progress lines go to stderr, and only to a terminal (never into a captured log).
+void progress(const char* format, const std::string& what, int run, int runs) {
+    static const bool to_terminal = isatty(STDERR_FILENO) != 0;
+    if (to_terminal) std::fprintf(stderr, format, what.c_str(), run, runs);
+}
+
+/// Timings and results of one structure.
+struct Measured {
+    std::vector<double> build_ms, frame_ms;
+    RayResults results;
+    double mrays_per_s(size_t rays) const { return double(rays) / (median(frame_ms) * 1e3); }
+};
+
+nlohmann::ordered_json summary(const Measured& m, size_t rays) {
+    nlohmann::ordered_json j;
+    j["build_ms"] = median(m.build_ms);
+    j["frame_ms"] = median(m.frame_ms);
+    j["mrays_per_s"] = m.mrays_per_s(rays);
+    j["hit_count"] = m.results.hit_count();
+    j["depth_sum"] = m.results.depth_sum();
+    j["build_ms_runs"] = m.build_ms;
+    j["frame_ms_runs"] = m.frame_ms;
+    return j;
+}
+
+int run_bench(const BenchOptions& opt) {
+    using clock = std::chrono::steady_clock;
+    auto fail = [](const std::string& message) {
+        std::cerr << "accelviz bench: " << message << "\n";
+        return 1;
+    };
+#ifndef ACCELVIZ_HAVE_EMBREE
+    if (!opt.reference.empty()) return fail("--reference embree: this build has no Embree (CMake did not find embree 3)");
+#endif
+    auto mesh = load_scene(opt.scene);
+    if (!mesh) return fail(mesh.error());
+    auto camera_params = opt.camera.resolve(mesh->bounds());
+    if (!camera_params) return fail(camera_params.error());
+    const Camera camera(*camera_params, opt.width, opt.height);
+    const std::vector<Ray> rays = camera_rays(camera);
+
+    // Ours: build R times, trace R times.
+    Measured ours;
+    std::shared_ptr<const Accelerator> accel;
+    for (int run = 0; run < opt.repeat; ++run) {
+        progress("bench: building %s (%d/%d)\n", opt.accel.type, run + 1, opt.repeat);
+        accel.reset();  // free the previous one first: one structure in memory at a time
+        const auto start = clock::now();
+        auto built = build_accelerator(*mesh, opt.accel);
+        ours.build_ms.push_back(ms_since(start));
+        if (!built) return fail(built.error());
+        accel = *built;
+    }
+    ours.results = RayResults(rays.size());
+    for (int run = 0; run < opt.repeat; ++run) {
+        progress("bench: tracing with %s (%d/%d)\n", opt.accel.type, run + 1, opt.repeat);
+        const auto start = clock::now();
+        for_each_ray_chunk(rays.size(), opt.threads, [&](size_t begin, size_t end) {
+            for (size_t i = begin; i < end; ++i) {
+                const Hit hit = accel->intersect_closest(rays[i]);
+                ours.results.t[i] = hit.t;
+                ours.results.tri[i] = hit.tri;
+            }
+        });
+        ours.frame_ms.push_back(ms_since(start));
+    }
+
+    nlohmann::ordered_json out;
+    out["scene"] = opt.scene;
+    out["triangles"] = mesh->triangle_count();
+    out["accel"] = accel->name();
+    out["config"] = accel->config();
+    out["threads"] = opt.threads;
+    out["width"] = opt.width;
+    out["height"] = opt.height;
+    out["repeat"] = opt.repeat;
+    out["rays"] = rays.size();
+    const nlohmann::ordered_json ours_summary = summary(ours, rays.size());
+    for (const auto& [key, value] : ours_summary.items()) out[key] = value;
+    out["build_stats"] = accel->stats();
+
+#ifdef ACCELVIZ_HAVE_EMBREE
+    if (opt.reference == "embree") {
+        Measured embree;
+        EmbreeReference reference(opt.threads);
+        for (int run = 0; run < opt.repeat; ++run) {
+            progress("bench: building %s (%d/%d)\n", "embree", run + 1, opt.repeat);
+            embree.build_ms.push_back(reference.build(*mesh));
+        }
+        embree.results = RayResults(rays.size());
+        for (int run = 0; run < opt.repeat; ++run) {
+            progress("bench: tracing with %s (%d/%d)\n", "embree", run + 1, opt.repeat);
+            const auto start = clock::now();
+            reference.trace(rays, opt.threads, embree.results);
+            embree.frame_ms.push_back(ms_since(start));
+        }
+        size_t same = 0;
+        for (size_t i = 0; i < rays.size(); ++i) same += embree.results.tri[i] == ours.results.tri[i];
+        nlohmann::ordered_json ref;
+        ref["name"] = "embree";
+        ref["version"] = EmbreeReference::version();
+        ref["build_quality"] = "high";
+        ref["call"] = "rtcIntersect1, one ray per call";
+        const nlohmann::ordered_json embree_summary = summary(embree, rays.size());
+        for (const auto& [key, value] : embree_summary.items()) ref[key] = value;
+        ref["same_triangle_percent"] = 100.0 * double(same) / double(rays.size());
+        ref["speed_ratio"] = ours.mrays_per_s(rays.size()) / embree.mrays_per_s(rays.size());
+        ref["build_ratio"] = median(ours.build_ms) / median(embree.build_ms);
+        out["reference"] = ref;
+    }
+#endif
+
+    if (opt.json) {
+        std::cout << out.dump(2) << "\n";
+        return 0;
+    }
+    std::printf("scene      %s (%zu triangles), %dx%d, %d thread%s, median of %d\n", opt.scene.c_str(),
+                mesh->triangle_count(), opt.width, opt.height, opt.threads, opt.threads == 1 ? "" : "s", opt.repeat);
+    std::printf("structure  %s %s\n", accel->name().c_str(), accel->config().dump().c_str());
+    std::printf("%-10s %12s %12s %12s %10s %16s\n", "", "build ms", "frame ms", "Mrays/s", "hits", "depth sum");
+    auto row = [&](const char* name, const nlohmann::ordered_json& j) {
+        std::printf("%-10s %12.1f %12.1f %12.2f %10llu %16.6f\n", name, j["build_ms"].get<double>(),
+                    j["frame_ms"].get<double>(), j["mrays_per_s"].get<double>(),
+                    (unsigned long long)j["hit_count"].get<uint64_t>(), j["depth_sum"].get<double>());
+    };
+    row(accel->name().c_str(), out);
+    if (out.contains("reference")) {
+        const auto& ref = out["reference"];
+        row("embree", ref);
+        std::printf("ratio      speed %.2fx Embree, build %.2fx Embree's time; same triangle on %.3f%% of pixels\n",
+                    ref["speed_ratio"].get<double>(), ref["build_ratio"].get<double>(),
+                    ref["same_triangle_percent"].get<double>());
+    }
+    return 0;
+}
+
+}  // namespace
+
+Command register_bench(CLI::App& app) {
+    auto opt = std::make_shared<BenchOptions>();
+    CLI::App* sub = app.add_subcommand("bench", "Time building a structure and tracing one ray per pixel");
+    sub->add_option("scene", opt->scene, "OBJ file, or builtin:NAME (e.g. builtin:soup?n=100000)")->required();
+    sub->add_option("--width", opt->width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
+    sub->add_option("--height", opt->height, "Image height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
+    sub->add_option("--threads", opt->threads, "Tracing threads (0 = all cores)")->check(CLI::Range(0, 1024))
+        ->capture_default_str();
+    sub->add_option("--repeat", opt->repeat, "Runs of build and of trace; the medians are reported")
+        ->check(CLI::Range(1, 1000))
+        ->capture_default_str();
+    sub->add_flag("--json", opt->json, "One JSON object instead of a table");
+    sub->add_option("--reference", opt->reference,
+                    "Also run a production ray tracer on the same rays: embree"
+#ifndef ACCELVIZ_HAVE_EMBREE
+                    " (not available: built without Embree)"
+#endif
+                    )
+        ->check(CLI::IsMember({"embree"}));
+    opt->camera.add_to(*sub);
+    add_accel_flags(*sub, opt->accel);
+    return {sub, [opt] { return run_bench(*opt); }};
+}
 
 }  // namespace accelviz::cli
