@@ -1,20 +1,12 @@
+// load_scene: the one entry point the CLI and the window use for a scene source.
 #include "core/geometry/scene.h"
 
 namespace accelviz {
 
-// Placeholder until the scene loaders land.
-Expected<Mesh> load_obj(const std::string& path) { return Error{path + ": OBJ loading not implemented yet"}; }
-Expected<Mesh> make_builtin(const std::string& spec) {
-    if (spec == "cube") {
-        Mesh m; m.name = "builtin:cube";
-        m.add_triangle({-1,-1,1},{1,-1,1},{1,1,1});
-        return m;
-    }
-    return Error{"unknown built-in scene '" + spec + "'"};
-}
-const std::vector<BuiltinInfo>& builtin_scenes() { static std::vector<BuiltinInfo> v; return v; }
 Expected<Mesh> load_scene(const std::string& source) {
-    if (source.rfind("builtin:", 0) == 0) return make_builtin(source.substr(8));
+    constexpr std::string_view kBuiltinPrefix = "builtin:";
+    if (source.empty()) return Error{"no scene given (want an OBJ file or builtin:NAME)"};
+    if (source.starts_with(kBuiltinPrefix)) return make_builtin(source.substr(kBuiltinPrefix.size()));
     return load_obj(source);
 }
 

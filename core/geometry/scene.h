@@ -1,5 +1,9 @@
 #pragma once
 /// Where meshes come from: an OBJ file path, or a built-in scene "builtin:NAME?k=v&k=v".
+///
+/// Implemented in obj_loader.cpp (load_obj), builtin_scenes.cpp (make_builtin,
+/// builtin_scenes, the Bézier evaluation), teapot_patches.cpp (the teapot's
+/// control points) and scene.cpp (load_scene).
 
 #include <string>
 #include <vector>
@@ -9,13 +13,24 @@
 
 namespace accelviz {
 
-/// Loads an OBJ file through tinyobjloader; polygons are fan-triangulated.
-/// Errors (one line) name the file and, where known, the line: missing,
-/// unreadable, empty (no triangles), malformed (bad numbers, indices out of range).
+/// Loads an OBJ file through tinyobjloader; polygons are fan-triangulated
+/// (a polygon v0 v1 ... v(k-1) gives the k-2 triangles (v0, vi, vi+1)), in file order.
+/// Only `v` and `f` matter: normals, texture coordinates, groups and materials
+/// are ignored (a missing .mtl is not an error). Negative (relative) indices are
+/// allowed. Mesh.name is `path`.
+/// Errors (one line) name the file and, where known, the line, as
+/// "PATH:LINE: reason": missing, unreadable (e.g. a directory), empty (no
+/// triangles), malformed (a bad or missing number or a non-finite coordinate in a
+/// `v` line; a face index that is zero, not an integer or out of range; a face
+/// with fewer than 3 vertices). Never throws.
 Expected<Mesh> load_obj(const std::string& path);
 
 /// A built-in scene, e.g. "cube", "cornell", "teapot?n=8", "soup?n=1000&seed=7".
-/// `spec` is what follows "builtin:". Unknown names or parameters are errors.
+/// `spec` is what follows "builtin:". Unknown names or parameters, values that are
+/// not numbers or lie out of range are errors whose message lists what is accepted.
+/// Mesh.name is "builtin:" + spec. The output depends only on `spec`: identical
+/// on every machine: seeded scenes use Rng (core/util/random.h), and all arithmetic
+/// is correctly rounded IEEE (+ - * / sqrt; no sin, cos or pow).
 Expected<Mesh> make_builtin(const std::string& spec);
 
 /// The names make_builtin accepts, each with a one-line description and its parameters.
@@ -25,7 +40,34 @@ struct BuiltinInfo {
 };
 const std::vector<BuiltinInfo>& builtin_scenes();
 
-/// "builtin:..." → make_builtin, anything else → load_obj.
+/// "builtin:..." → make_builtin, anything else → load_obj. Empty source → error.
 Expected<Mesh> load_scene(const std::string& source);
+
+// ---------------------------------------------------------------------------
+// Bézier patches (the teapot)
+// ---------------------------------------------------------------------------
+
+/// A bicubic Bézier patch: 4 x 4 control points, control[i][j] weighted by
+/// B_i(u) B_j(v) with the cubic Bernstein polynomials B_k(t) = C(3,k) t^k (1-t)^(3-k).
+/// The patch passes through its four corner control points.
+struct BezierPatch {
+    Vec3 control[4][4];
+};
+
+/// The point of `patch` at (u, v) in [0,1]^2: the Bernstein form evaluated in
+/// double precision and rounded once to float. At u or v equal to 0 or 1 the
+/// result depends only on that edge's four control points, so two patches that
+/// share an edge produce bit-identical points along it.
+Vec3 bezier_patch_point(const BezierPatch& patch, double u, double v);
+
+/// Newell's teapot (1975) as the 28 patches of geomview's teapot.bez, z up:
+/// 0-3 rim, 4-7 upper body, 8-11 lower body, 12-15 handle, 16-19 spout,
+/// 20-23 lid knob (each collapses to the knob's top point along control row 0),
+/// 24-27 lid. No bottom. Bounds of the control points: x in [-0.25, 1.38125],
+/// y in [-0.5, 0.5], z in [0.300049, 1.050049]; the body's axis is x = 0.5, y = 0.
+/// Patches that share an edge list its control points in the same order.
+constexpr int kTeapotPatchCount = 28;
+/// The kTeapotPatchCount patches (a static table).
+const BezierPatch* teapot_patches();
 
 }  // namespace accelviz
