@@ -101,12 +101,15 @@ void ColouredBuffer::upload_quads(const std::vector<ColouredQuad>& quads) {
 
 Expected<std::unique_ptr<Renderer>> Renderer::create() {
     std::unique_ptr<Renderer> r(new Renderer());
-    struct Program { ShaderProgram* out; const char* vertex; const char* fragment; };
-    for (const Program& p : {Program{&r->mesh_program_, "mesh.vert", "mesh.frag"},
-                             Program{&r->boxes_program_, "boxes.vert", "coloured.frag"},
-                             Program{&r->coloured_program_, "coloured.vert", "coloured.frag"},
-                             Program{&r->image_program_, "image.vert", "image.frag"}}) {
-        auto program = ShaderProgram::from_embedded(p.vertex, p.fragment);
+    struct Program { ShaderProgram* out; const char* vertex; const char* fragment; const char* geometry; };
+    for (const Program& p : {Program{&r->mesh_program_, "mesh.vert", "mesh.frag", ""},
+                             Program{&r->boxes_program_, "boxes.vert", "coloured.frag", ""},
+                             Program{&r->coloured_program_, "coloured.vert", "coloured.frag", ""},
+                             Program{&r->thick_boxes_program_, "boxes.vert", "thick_lines.frag", "thick_lines.geom"},
+                             Program{&r->thick_coloured_program_, "coloured.vert", "thick_lines.frag",
+                                     "thick_lines.geom"},
+                             Program{&r->image_program_, "image.vert", "image.frag", ""}}) {
+        auto program = ShaderProgram::from_embedded(p.vertex, p.fragment, p.geometry);
         if (!program) return Error{program.error()};
         *p.out = std::move(*program);
     }
@@ -184,10 +187,23 @@ void Renderer::draw_mesh(const MeshBuffer& mesh, const MeshStyle& style) {
     gl.DepthMask(GL_TRUE);
 }
 
+const ShaderProgram& Renderer::line_program(bool boxes) const {
+    const bool thick = line_width_ > 1.01f;
+    if (boxes) return thick ? thick_boxes_program_ : boxes_program_;
+    return thick ? thick_coloured_program_ : coloured_program_;
+}
+
+void Renderer::use_line_program(bool boxes) {
+    const ShaderProgram& program = line_program(boxes);
+    use_view_program(program);
+    gl.Uniform1f(program.uniform("depth_bias"), kEdgeDepthBias);
+    gl.Uniform2f(program.uniform("viewport_size"), float(view_.rect.width), float(view_.rect.height));
+    gl.Uniform1f(program.uniform("line_width"), line_width_);
+}
+
 void Renderer::draw_boxes(const BoxBuffer& boxes) {
     if (boxes.size() == 0) return;
-    use_view_program(boxes_program_);
-    gl.Uniform1f(boxes_program_.uniform("depth_bias"), kEdgeDepthBias);
+    use_line_program(/*boxes=*/true);
     gl.Enable(GL_DEPTH_TEST);
     gl.DepthFunc(GL_LEQUAL);
     gl.DepthMask(GL_FALSE);  // the depth buffer keeps the mesh alone (read back as the raster depth)
@@ -207,8 +223,7 @@ void Renderer::draw_boxes(const BoxBuffer& boxes) {
 
 void Renderer::draw_segments(const ColouredBuffer& segments) {
     if (segments.vertex_count() < 2) return;
-    use_view_program(coloured_program_);
-    gl.Uniform1f(coloured_program_.uniform("depth_bias"), kEdgeDepthBias);
+    use_line_program(/*boxes=*/false);
     gl.Enable(GL_DEPTH_TEST);
     gl.DepthFunc(GL_LEQUAL);
     gl.DepthMask(GL_FALSE);  // as for boxes

@@ -117,6 +117,10 @@ public:
     int frame_width() const { return frame_width_; }
     int frame_height() const { return frame_height_; }
 
+    /// Width in pixels of box edges and segments (1: plain GL lines; more: each
+    /// line widened into a quad by a geometry shader, for projectors).
+    void set_line_width(float pixels) { line_width_ = pixels; }
+
     /// Restricts drawing to view.rect, clears its depth, and uses its camera for
     /// the 3D draws below.
     void begin_view(const View3D& view);
@@ -146,7 +150,13 @@ private:
     void set_gl_viewport(const ViewRect& rect);
     void use_view_program(const ShaderProgram& program);
 
+    /// The program for lines (boxes or segments) at the current width.
+    const ShaderProgram& line_program(bool boxes) const;
+    void use_line_program(bool boxes);
+
     ShaderProgram mesh_program_, boxes_program_, coloured_program_, image_program_;
+    ShaderProgram thick_boxes_program_, thick_coloured_program_;  ///< with thick_lines.geom
+    float line_width_ = 1.0f;
     GlVertexArray empty_vertex_array_;  ///< for draws that compute vertices from gl_VertexID
     std::unique_ptr<ImGuiRenderer> imgui_;
     View3D view_;

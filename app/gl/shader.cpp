@@ -2,6 +2,7 @@
 
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace accelviz {
 
@@ -30,20 +31,24 @@ Expected<GLuint> compile_stage(GLenum stage, std::string_view file) {
 
 }  // namespace
 
-Expected<ShaderProgram> ShaderProgram::from_embedded(std::string_view vertex_file, std::string_view fragment_file) {
-    auto vertex = compile_stage(GL_VERTEX_SHADER, vertex_file);
-    if (!vertex) return Error{vertex.error()};
-    auto fragment = compile_stage(GL_FRAGMENT_SHADER, fragment_file);
-    if (!fragment) {
-        gl.DeleteShader(*vertex);
-        return Error{fragment.error()};
+Expected<ShaderProgram> ShaderProgram::from_embedded(std::string_view vertex_file, std::string_view fragment_file,
+                                                     std::string_view geometry_file) {
+    struct Stage { GLenum type; std::string_view file; };
+    std::vector<GLuint> shaders;
+    for (const Stage& stage : {Stage{GL_VERTEX_SHADER, vertex_file}, Stage{GL_GEOMETRY_SHADER, geometry_file},
+                               Stage{GL_FRAGMENT_SHADER, fragment_file}}) {
+        if (stage.file.empty()) continue;
+        auto shader = compile_stage(stage.type, stage.file);
+        if (!shader) {
+            for (GLuint s : shaders) gl.DeleteShader(s);
+            return Error{shader.error()};
+        }
+        shaders.push_back(*shader);
     }
     const GLuint program = gl.CreateProgram();
-    gl.AttachShader(program, *vertex);
-    gl.AttachShader(program, *fragment);
+    for (GLuint s : shaders) gl.AttachShader(program, s);
     gl.LinkProgram(program);
-    gl.DeleteShader(*vertex);  // flagged; freed with the program
-    gl.DeleteShader(*fragment);
+    for (GLuint s : shaders) gl.DeleteShader(s);  // flagged; freed with the program
     GLint ok = GL_FALSE;
     gl.GetProgramiv(program, GL_LINK_STATUS, &ok);
     if (!ok) {

@@ -18,7 +18,9 @@ class ShaderProgram {
 public:
     /// Compiles and links two embedded files. The error names the file and
     /// carries the driver's log.
-    static Expected<ShaderProgram> from_embedded(std::string_view vertex_file, std::string_view fragment_file);
+    /// With `geometry_file` non-empty, a geometry stage goes between them.
+    static Expected<ShaderProgram> from_embedded(std::string_view vertex_file, std::string_view fragment_file,
+                                                 std::string_view geometry_file = {});
 
     ShaderProgram() = default;
     ShaderProgram(ShaderProgram&& other) noexcept : id_(other.id_) { other.id_ = 0; }

@@ -137,7 +137,8 @@ nlohmann::json to_json(const AppState& s) {
     j["view"] = {{"ui_scale", s.view.ui_scale},   {"light_theme", s.view.light_theme},
                  {"background", rgb_json(s.view.background)}, {"show_ui", s.view.show_ui},
                  {"show_help", s.view.show_help}, {"show_bounds", s.view.show_bounds},
-                 {"mode", s.view.mode},           {"right_view", s.view.right_view}};
+                 {"mode", s.view.mode},           {"right_view", s.view.right_view},
+                 {"line_width", s.view.line_width}};
     return j;
 }
 
@@ -177,6 +178,9 @@ Expected<AppState> app_state_from_json(const nlohmann::json& j) {
             s.view.show_ui = v.value("show_ui", s.view.show_ui);
             s.view.show_help = v.value("show_help", s.view.show_help);
             s.view.show_bounds = v.value("show_bounds", s.view.show_bounds);
+            s.view.line_width = v.value("line_width", s.view.line_width);
+            if (!(s.view.line_width >= 1.0f && s.view.line_width <= 6.0f))
+                return Error{"view.line_width: must be between 1 and 6 pixels"};
             s.view.mode = v.value("mode", s.view.mode);
             if (s.view.mode != "3d" && s.view.mode != "split") return Error{"view.mode: must be \"3d\" or \"split\""};
             s.view.right_view = v.value("right_view", s.view.right_view);

@@ -25,6 +25,7 @@ struct ViewSettings {
     bool show_ui = true;            ///< panels and status bar (Tab hides them)
     bool show_help = false;         ///< the keyboard shortcuts window (F1)
     bool show_bounds = true;        ///< the scene's bounding box as a wireframe
+    float line_width = 1.0f;        ///< pixels, 1 to 6: box edges and segments (wider for projectors)
     /// "3d": the 3D view. "split": raster vs ray cast, the OpenGL view (left)
     /// next to the CPU ray caster's picture of the same camera (right).
     std::string mode = "3d";

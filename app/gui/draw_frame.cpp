@@ -315,6 +315,7 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
         session.upload_to_gpu(state.overlay);  // the panels may have changed the overlay
         out.view = make_view3d(*state.camera, layout.gl_view, session.scene->bounds);
         renderer.begin_view(out.view);
+        renderer.set_line_width(state.view.line_width);
         const bool overlay = state.overlay.show_structure;
         auto draw_overlay = [&] {
             if (state.view.show_bounds) renderer.draw_boxes(*session.bounds_buffer);

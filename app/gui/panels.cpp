@@ -217,9 +217,17 @@ void ViewPanel::draw(AppState& state, Session& session, double view_aspect) {
     ImGui::SliderFloat("UI scale", &ui_scale_edit, 0.75f, 3.0f, label);
     editing_scale = ImGui::IsItemActive();
     if (ImGui::IsItemDeactivatedAfterEdit()) view.ui_scale = ui_scale_edit;
-    if (ImGui::Button("Desk 1x")) view.ui_scale = 1.0f;
+    if (ImGui::Button("Desk 1x")) {
+        view.ui_scale = 1.0f;
+        view.line_width = 1.0f;
+    }
     ImGui::SameLine();
-    if (ImGui::Button("Projector 2x")) view.ui_scale = 2.0f;
+    if (ImGui::Button("Projector 2x")) {
+        view.ui_scale = 2.0f;
+        view.line_width = 2.0f;
+    }
+    ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);
+    ImGui::SliderFloat("Line width", &view.line_width, 1.0f, 6.0f, "%.1f px", ImGuiSliderFlags_AlwaysClamp);
 
     if (ImGui::Checkbox("Light theme", &view.light_theme)) {
         // Follow the theme with the background while it is still one of the defaults.

@@ -96,6 +96,26 @@ TEST(GoldenImage, OctreeCellsByDepth) {
                             "teapot_octree_cells");
 }
 
+TEST(GoldenImage, ThickLinesForProjectors) {
+    AppState state = teapot_with(R"({"structure": {"type": "bvh"}, "overlay": {"level_min": 2, "level_max": 5},
+                                     "view": {"line_width": 3}})");
+    state.view.line_width = 3;
+    auto image = render_gui_view_headless(state, "structure", 480, 270);
+    ASSERT_TRUE(image) << image.error();
+    EXPECT_TRUE(matches_golden(*image, "teapot_bvh_thick_lines"));
+}
+
+TEST(GoldenImage, ThickLinesClippedAtTheNearPlaneFromInsideTheScene) {
+    // The eye inside the scene's bounds: box edges pass behind it and must be
+    // cut at the near plane, not smeared across the image.
+    AppState state = teapot_with(R"({"structure": {"type": "bvh"}, "overlay": {"level_min": 0, "level_max": 3}})");
+    state.view.line_width = 3;
+    state.camera = CameraParams{{-0.2, 0.6, 0.3}, {3, 0.6, 0}, {0, 1, 0}, 70};
+    auto image = render_gui_view_headless(state, "structure", 320, 180);
+    ASSERT_TRUE(image) << image.error();
+    EXPECT_TRUE(matches_golden(*image, "teapot_inside_thick_lines"));
+}
+
 // [SECTION] Raster vs ray cast (the ray caster's picture is waited for headless)
 
 TEST(GoldenImage, SplitRasterAndRayCastSideBySide) {
