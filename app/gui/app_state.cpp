@@ -126,7 +126,8 @@ nlohmann::json to_json(const AppState& s) {
                     {"level_min", s.overlay.level_min},
                     {"level_max", s.overlay.level_max},
                     {"leaves_only", s.overlay.leaves_only},
-                    {"mesh_opacity", s.overlay.mesh_opacity}};
+                    {"mesh_opacity", s.overlay.mesh_opacity},
+                    {"max_boxes", s.overlay.max_boxes}};
     if (s.camera)
         j["camera"] = {{"eye", vec3_json(s.camera->eye)},
                        {"target", vec3_json(s.camera->target)},
@@ -155,6 +156,7 @@ Expected<AppState> app_state_from_json(const nlohmann::json& j) {
             s.overlay.level_max = o.value("level_max", s.overlay.level_max);
             s.overlay.leaves_only = o.value("leaves_only", s.overlay.leaves_only);
             s.overlay.mesh_opacity = o.value("mesh_opacity", s.overlay.mesh_opacity);
+            s.overlay.max_boxes = o.value("max_boxes", s.overlay.max_boxes);
             if (!(s.overlay.mesh_opacity >= 0.0f && s.overlay.mesh_opacity <= 1.0f))
                 return Error{"overlay.mesh_opacity: must be between 0 and 1"};
         }

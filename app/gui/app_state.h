@@ -43,6 +43,10 @@ struct OverlaySettings {
     int level_max = 64;
     bool leaves_only = false;    ///< BVH/octree: only the leaves' boxes; KD: non-empty leaves' boxes
     float mesh_opacity = 1.0f;   ///< < 1: see the structure through the mesh (x-ray)
+    /// Box budget: deeper levels are left out once the levels shown would draw
+    /// more boxes than this (0: no limit). A software renderer (llvmpipe) draws
+    /// about a million box edges per 100 ms; a GPU, far more.
+    size_t max_boxes = 200000;
     bool operator==(const OverlaySettings&) const = default;
 };
 

@@ -165,6 +165,14 @@ void StructurePanel::draw(AppState& state, Session& session) {
         if (ImGui::SmallButton("Level +")) o.level_min = o.level_max = std::min(deepest, std::min(o.level_min, deepest) + 1);
     }
     if (a.type != "grid" && a.type != "naive") ImGui::Checkbox("Leaves only", &o.leaves_only);
+    {
+        // The box budget in thousands (0: no limit).
+        int thousands = int(o.max_boxes / 1000);
+        ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);
+        ImGui::SliderInt("Box budget", &thousands, 0, 2000, thousands == 0 ? "no limit" : "%dk",
+                         ImGuiSliderFlags_Logarithmic);
+        if (ImGui::IsItemDeactivatedAfterEdit()) o.max_boxes = size_t(thousands) * 1000;
+    }
     ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);
     ImGui::SliderFloat("Mesh opacity", &o.mesh_opacity, 0.0f, 1.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
 }

@@ -28,16 +28,46 @@ struct LevelRange {
     int lo, hi;
     bool contains(int depth) const { return depth >= lo && depth <= hi; }
 };
-LevelRange shown_levels(const OverlaySettings& s, int deepest) {
+/// The levels asked for, clipped to the structure's, and cut short where the
+/// boxes of levels lo..hi would pass the budget (`per_level[d]`: boxes level d
+/// would add). At least level lo is always shown.
+struct ShownLevels {
+    LevelRange range;
+    bool cut_by_budget = false;
+};
+ShownLevels shown_levels(const OverlaySettings& s, int deepest, const std::vector<size_t>& per_level) {
     const int lo = std::clamp(s.level_min, 0, deepest);
-    return {lo, std::clamp(std::max(s.level_max, lo), lo, deepest)};
+    ShownLevels shown{{lo, std::clamp(std::max(s.level_max, lo), lo, deepest)}};
+    if (s.max_boxes == 0) return shown;
+    size_t total = 0;
+    for (int d = lo; d <= shown.range.hi; ++d) {
+        total += d < int(per_level.size()) ? per_level[size_t(d)] : 0;
+        if (total > s.max_boxes && d > lo) {
+            shown.range.hi = d - 1;
+            shown.cut_by_budget = true;
+            break;
+        }
+    }
+    return shown;
 }
 
-std::string range_legend(const char* what, LevelRange levels, int deepest) {
-    char text[160];
+std::string range_legend(const char* what, ShownLevels shown, int deepest, size_t budget) {
+    char text[256];
     std::snprintf(text, sizeof text, "%s: levels %d..%d of 0..%d, colour = depth (blue shallow, yellow deep)", what,
-                  levels.lo, levels.hi, deepest);
-    return text;
+                  shown.range.lo, shown.range.hi, deepest);
+    std::string legend = text;
+    if (shown.cut_by_budget) {
+        std::snprintf(text, sizeof text, "; deeper levels hidden (over %zu boxes: raise the budget or pick levels)",
+                      budget);
+        legend += text;
+    }
+    return legend;
+}
+
+/// Adds one box at `depth` to the per-level counts.
+void count_level(std::vector<size_t>& per_level, int depth) {
+    if (per_level.size() <= size_t(depth)) per_level.resize(size_t(depth) + 1, 0);
+    ++per_level[size_t(depth)];
 }
 
 // [SECTION] BVH: node boxes by depth
@@ -51,13 +81,17 @@ void bvh_overlay(const Bvh& bvh, const OverlaySettings& s, StructureOverlay& out
         if (!n.is_leaf()) depth[n.first] = depth[n.first + 1] = depth[i] + 1;
         out.deepest_level = std::max(out.deepest_level, depth[i]);
     }
-    const LevelRange levels = shown_levels(s, out.deepest_level);
+    std::vector<size_t> per_level;
+    for (size_t i = 0; i < bvh.nodes.size(); ++i)
+        if (!s.leaves_only || bvh.nodes[i].is_leaf()) count_level(per_level, depth[i]);
+    const ShownLevels shown = shown_levels(s, out.deepest_level, per_level);
+    const LevelRange levels = shown.range;
     for (size_t i = 0; i < bvh.nodes.size(); ++i) {
         const BvhNode& n = bvh.nodes[i];
         if (!levels.contains(depth[i]) || (s.leaves_only && !n.is_leaf())) continue;
         out.boxes.push_back({n.bounds.lo, n.bounds.hi, level_colour(level_position(depth[i], levels.lo, levels.hi))});
     }
-    out.legend = range_legend(s.leaves_only ? "BVH leaves" : "BVH nodes", levels, out.deepest_level);
+    out.legend = range_legend(s.leaves_only ? "BVH leaves" : "BVH nodes", shown, out.deepest_level, s.max_boxes);
 }
 
 // [SECTION] Octree: cells by depth
@@ -76,14 +110,21 @@ void octree_overlay(const Octree& tree, const OverlaySettings& s, StructureOverl
         if (!n.is_leaf())
             for (int o = 7; o >= 0; --o) stack.push_back({n.first + uint32_t(o), octant_box(c.box, n.centre, o), c.depth + 1});
     }
-    const LevelRange levels = shown_levels(s, out.deepest_level);
+    std::vector<size_t> per_level;
+    for (const Cell& c : cells) {
+        const OctreeNode& n = tree.nodes[c.node];
+        if (!s.leaves_only || (n.is_leaf() && n.count > 0)) count_level(per_level, c.depth);
+    }
+    const ShownLevels shown = shown_levels(s, out.deepest_level, per_level);
+    const LevelRange levels = shown.range;
     for (const Cell& c : cells) {
         const OctreeNode& n = tree.nodes[c.node];
         if (!levels.contains(c.depth)) continue;
         if (s.leaves_only && (!n.is_leaf() || n.count == 0)) continue;
         out.boxes.push_back({c.box.lo, c.box.hi, level_colour(level_position(c.depth, levels.lo, levels.hi))});
     }
-    out.legend = range_legend(s.leaves_only ? "Octree non-empty leaves" : "Octree cells", levels, out.deepest_level);
+    out.legend = range_legend(s.leaves_only ? "Octree non-empty leaves" : "Octree cells", shown, out.deepest_level,
+                              s.max_boxes);
 }
 
 // [SECTION] KD tree: split planes clipped to their node
@@ -106,7 +147,13 @@ void kd_overlay(const KdTree& tree, const OverlaySettings& s, StructureOverlay& 
         stack.push_back({n.first + 1, upper, c.depth + 1});
         stack.push_back({n.first, lower, c.depth + 1});
     }
-    const LevelRange levels = shown_levels(s, out.deepest_level);
+    std::vector<size_t> per_level;  // one box (a leaf, or a plane's outline) per counted node
+    for (const Cell& c : cells) {
+        const KdNode& n = tree.nodes[c.node];
+        if (s.leaves_only ? (n.is_leaf() && n.count > 0) : !n.is_leaf()) count_level(per_level, c.depth);
+    }
+    const ShownLevels shown = shown_levels(s, out.deepest_level, per_level);
+    const LevelRange levels = shown.range;
     for (const Cell& c : cells) {
         const KdNode& n = tree.nodes[c.node];
         if (!levels.contains(c.depth)) continue;
@@ -133,8 +180,8 @@ void kd_overlay(const KdTree& tree, const OverlaySettings& s, StructureOverlay& 
         rim.lo[a] = rim.hi[a] = n.split;
         out.boxes.push_back({rim.lo, rim.hi, level_colour(x, 200)});
     }
-    out.legend = s.leaves_only ? range_legend("KD non-empty leaves", levels, out.deepest_level)
-                               : range_legend("KD split planes", levels, out.deepest_level);
+    out.legend = range_legend(s.leaves_only ? "KD non-empty leaves" : "KD split planes", shown, out.deepest_level,
+                              s.max_boxes);
 }
 
 // [SECTION] Grid: non-empty cells by triangle count

@@ -1,0 +1,72 @@
+// The overlay's plain data (no GL): which boxes each setting selects.
+#include <gtest/gtest.h>
+
+#include "app/gui/scene_loader.h"
+#include "app/gui/structure_overlay.h"
+#include "core/accel/bvh.h"
+
+namespace accelviz {
+namespace {
+
+std::shared_ptr<const LoadedScene> teapot_with(const char* type) {
+    AccelConfig config;
+    config.type = type;
+    auto scene = load_and_build("builtin:teapot?n=4", config);
+    EXPECT_TRUE(scene) << scene.error();
+    return scene ? *scene : nullptr;
+}
+
+TEST(StructureOverlay, BvhAllLevelsIsEveryNodeAndLeavesOnlyIsEveryLeaf) {
+    auto scene = teapot_with("bvh");
+    ASSERT_TRUE(scene);
+    const Bvh& bvh = dynamic_cast<const AcceleratorFor<Bvh>&>(*scene->accel).structure();
+    OverlaySettings all;
+    all.max_boxes = 0;
+    EXPECT_EQ(make_structure_overlay(*scene->accel, all).boxes.size(), bvh.nodes.size());
+    OverlaySettings leaves = all;
+    leaves.leaves_only = true;
+    size_t leaf_count = 0;
+    for (const BvhNode& n : bvh.nodes) leaf_count += n.is_leaf();
+    EXPECT_EQ(make_structure_overlay(*scene->accel, leaves).boxes.size(), leaf_count);
+}
+
+TEST(StructureOverlay, OneLevelShowsItsNodesInOneColour) {
+    auto scene = teapot_with("bvh");
+    ASSERT_TRUE(scene);
+    OverlaySettings level;
+    level.level_min = level.level_max = 2;
+    const StructureOverlay overlay = make_structure_overlay(*scene->accel, level);
+    EXPECT_EQ(overlay.boxes.size(), 4u) << "a binary tree has 4 nodes at depth 2 (the teapot's BVH is that deep)";
+    for (const BoxInstance& b : overlay.boxes) EXPECT_EQ(b.colour.r, overlay.boxes[0].colour.r);
+}
+
+TEST(StructureOverlay, BudgetCutsDeeperLevelsAndSaysSo) {
+    auto scene = teapot_with("bvh");
+    ASSERT_TRUE(scene);
+    OverlaySettings budget;
+    budget.max_boxes = 20;
+    const StructureOverlay overlay = make_structure_overlay(*scene->accel, budget);
+    EXPECT_LE(overlay.boxes.size(), 20u);
+    EXPECT_GE(overlay.boxes.size(), 15u) << "levels 0..3 (15 nodes) fit, level 4 would not";
+    EXPECT_NE(overlay.legend.find("hidden"), std::string::npos) << overlay.legend;
+}
+
+TEST(StructureOverlay, GridShowsOnlyNonEmptyCellsAndKdShowsPlanes) {
+    auto grid = teapot_with("grid");
+    ASSERT_TRUE(grid);
+    const StructureOverlay cells = make_structure_overlay(*grid->accel, {});
+    EXPECT_GT(cells.boxes.size(), 0u);
+    EXPECT_TRUE(cells.quads.empty());
+    auto kd = teapot_with("kd");
+    ASSERT_TRUE(kd);
+    OverlaySettings top;
+    top.level_max = 0;
+    const StructureOverlay planes = make_structure_overlay(*kd->accel, top);
+    EXPECT_EQ(planes.quads.size(), 1u) << "the root's split plane";
+    auto naive = teapot_with("naive");
+    ASSERT_TRUE(naive);
+    EXPECT_TRUE(make_structure_overlay(*naive->accel, {}).boxes.empty());
+}
+
+}  // namespace
+}  // namespace accelviz
