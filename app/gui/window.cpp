@@ -71,12 +71,12 @@ int run_window(AppState state) {
             while (!(*window)->should_close()) {
                 const bool busy = session.has_pending_work() || any_input_held();
                 (*window)->process_events(frames_to_draw > 0 || busy ? 0.0 : 0.5);
-                if ((*window)->event_count() != events_seen) {
-                    events_seen = (*window)->event_count();
-                    frames_to_draw = 3;
-                }
-                if (frames_to_draw == 0 && !busy) continue;
-                frames_to_draw = std::max(frames_to_draw - 1, 0);
+                // Events, and work finishing, are followed by a few frames: ImGui
+                // shows a new auto-sized window one frame late, hover states settle.
+                if ((*window)->event_count() != events_seen || busy) frames_to_draw = 3;
+                events_seen = (*window)->event_count();
+                if (frames_to_draw == 0) continue;
+                --frames_to_draw;
 
                 const auto start = clock::now();
                 ImGui_ImplGlfw_NewFrame();
