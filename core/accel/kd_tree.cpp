@@ -5,6 +5,8 @@
 #include <cmath>
 #include <sstream>
 
+#include <tbb/parallel_for.h>
+
 #include "core/geometry/triangle_box.h"
 
 namespace accelviz {
@@ -110,6 +112,153 @@ struct WorkItem {
     std::vector<SpatialRef> refs;
 };
 
+/// What building one subtree gives: local nodes (its root at 0), leaf references,
+/// and the counts the stats add up.
+struct Subtree {
+    std::vector<KdNode> nodes;
+    std::vector<uint32_t> prim_ids;
+    uint32_t leaves = 0, empty_leaves = 0, max_depth = 0, leaves_at_depth_limit = 0, max_leaf_size = 0;
+    uint32_t no_progress = 0;
+    double sah_cost = 0;
+    bool budget_hit = false;
+};
+
+/// The fixed inputs of every node's decision.
+struct BuildContext {
+    const Mesh& mesh;
+    const KdConfig& config;
+    float pad;
+    double root_area;
+    int depth_limit;
+};
+
+/// Builds the subtree of `root` depth first over an explicit work stack. Nodes
+/// whose reference count is below `defer_below` (other than the root) are left
+/// as placeholders and handed to `deferred` (their node index is local), so that
+/// they can be built separately and spliced in. `budget`: the most references
+/// this subtree may hold.
+Subtree build_subtree(const BuildContext& ctx, WorkItem root, double budget, size_t defer_below,
+                      std::vector<WorkItem>* deferred) {
+    const KdConfig& config = ctx.config;
+    Subtree out;
+    uint64_t live_refs = root.refs.size();  // references in leaves + in pending work
+    std::vector<WorkItem> work;
+    root.node = 0;
+    out.nodes.emplace_back();
+    work.push_back(std::move(root));
+    std::vector<float> los, his;  // scratch for the SAH sweep
+    std::vector<SpatialRef> below, above;
+    bool is_root = true;
+    while (!work.empty()) {
+        WorkItem item = std::move(work.back());
+        work.pop_back();
+        const size_t n = item.refs.size();
+        if (deferred && !is_root && n < defer_below) {
+            deferred->push_back(std::move(item));
+            continue;
+        }
+        is_root = false;
+        const double p = area(item.box) / ctx.root_area;  // hit probability, for the tree's SAH cost
+
+        // Choose a plane, or decide on a leaf.
+        Plane plane;
+        bool split = n > size_t(config.leaf_size) && int(item.depth) < ctx.depth_limit;
+        if (split && config.builder == KdBuilder::Sah) {
+            plane = best_sah_plane(item.refs, item.box, config, los, his);
+            split = plane.axis >= 0 && plane.cost < config.cost_isect * double(n);
+        }
+        below.clear();
+        above.clear();
+        if (split) {
+            // Median: longest axis first, then the others in turn until one separates something.
+            const Vec3 e = item.box.extent();
+            const int longest = max_axis(e);
+            for (int attempt = 0; attempt < 3; ++attempt) {
+                const int a = config.builder == KdBuilder::Sah ? plane.axis : (longest + attempt) % 3;
+                const float s = config.builder == KdBuilder::Sah ? plane.position : item.box.center()[a];
+                Aabb lower = item.box, upper = item.box;
+                lower.hi[a] = s;
+                upper.lo[a] = s;
+                below.clear();
+                above.clear();
+                for (const SpatialRef& r : item.refs) {
+                    if (goes_below(r, a, s))
+                        if (auto c = clip_reference(r, ctx.mesh, lower, ctx.pad, config.clip)) below.push_back(*c);
+                    if (goes_above(r, a, s))
+                        if (auto c = clip_reference(r, ctx.mesh, upper, ctx.pad, config.clip)) above.push_back(*c);
+                }
+                plane.axis = a;
+                plane.position = s;
+                const bool progress = (below.size() < n || above.size() < n) && s > item.box.lo[a] && s < item.box.hi[a];
+                if (progress || config.builder == KdBuilder::Sah) {
+                    split = progress;
+                    break;
+                }
+                split = false;
+            }
+            if (!split) ++out.no_progress;
+        }
+        if (split && double(live_refs) + double(below.size() + above.size()) - double(n) > budget) {
+            split = false;
+            out.budget_hit = true;
+        }
+
+        if (!split) {
+            KdNode& leaf = out.nodes[item.node];
+            leaf = KdNode{0, uint32_t(out.prim_ids.size()), uint32_t(n), KdNode::kLeaf};
+            for (const SpatialRef& r : item.refs) out.prim_ids.push_back(r.tri);
+            ++out.leaves;
+            if (n == 0) ++out.empty_leaves;
+            if (item.depth >= uint32_t(ctx.depth_limit) && n > size_t(config.leaf_size)) ++out.leaves_at_depth_limit;
+            out.max_depth = std::max(out.max_depth, item.depth);
+            out.max_leaf_size = std::max(out.max_leaf_size, uint32_t(n));
+            out.sah_cost += p * double(n) * config.cost_isect;
+            continue;
+        }
+        live_refs = uint64_t(int64_t(live_refs) + int64_t(below.size() + above.size()) - int64_t(n));
+        const uint32_t first = uint32_t(out.nodes.size());
+        out.nodes[item.node] = KdNode{plane.position, first, 0, uint8_t(plane.axis)};
+        out.nodes.emplace_back();
+        out.nodes.emplace_back();
+        out.sah_cost += p * config.cost_trav;
+        Aabb lower = item.box, upper = item.box;
+        lower.hi[plane.axis] = plane.position;
+        upper.lo[plane.axis] = plane.position;
+        // Upper pushed first so the lower child is built first: depth-first order.
+        work.push_back({first + 1, item.depth + 1, upper, std::move(above)});
+        work.push_back({first, item.depth + 1, lower, std::move(below)});
+        above = {};
+        below = {};
+        item.refs = {};
+    }
+    return out;
+}
+
+/// Appends `sub` to `tree`, its root replacing the placeholder node `at`.
+void splice(KdTree& tree, uint32_t at, const Subtree& sub) {
+    const uint32_t base = uint32_t(tree.nodes.size());  // where sub's node 1 goes
+    const uint32_t prim_base = uint32_t(tree.prim_ids.size());
+    auto global = [&](uint32_t local) { return local == 0 ? at : base + local - 1; };
+    for (uint32_t i = 0; i < sub.nodes.size(); ++i) {
+        KdNode n = sub.nodes[i];
+        n.first = n.is_leaf() ? n.first + prim_base : global(n.first);
+        if (i == 0) tree.nodes[at] = n;
+        else tree.nodes.push_back(n);
+    }
+    tree.prim_ids.insert(tree.prim_ids.end(), sub.prim_ids.begin(), sub.prim_ids.end());
+}
+
+void add_counts(KdBuildStats& st, uint32_t& no_progress, bool& budget_hit, const Subtree& sub) {
+    st.leaves += sub.leaves;
+    st.empty_leaves += sub.empty_leaves;
+    st.max_depth = std::max(st.max_depth, sub.max_depth);
+    st.leaves_at_depth_limit += sub.leaves_at_depth_limit;
+    st.max_leaf_size = std::max(st.max_leaf_size, sub.max_leaf_size);
+    st.sah_cost += sub.sah_cost;
+    no_progress += sub.no_progress;
+    budget_hit |= sub.budget_hit;
+}
+
 }  // namespace
 
 Expected<KdTree> build_kd_tree(const Mesh& mesh, const KdConfig& config) {
@@ -139,93 +288,35 @@ Expected<KdTree> build_kd_tree(const Mesh& mesh, const KdConfig& config) {
     const float pad = reference_padding(scene);
     st.padding = pad;
     tree.bounds = padded(scene, pad);
-    const double root_area = area(tree.bounds);
+    const BuildContext ctx{mesh, config, pad, area(tree.bounds), depth_limit};
     const double budget = config.max_duplication * st.triangles;
-    uint64_t live_refs = st.triangles;  // references in leaves + in pending work
-    bool budget_hit = false;
     uint32_t no_progress = 0;
+    bool budget_hit = false;
 
-    std::vector<WorkItem> work;
-    work.push_back({0, 0, tree.bounds, root_references(mesh, pad)});
-    tree.nodes.emplace_back();
-    std::vector<float> los, his;  // scratch for the SAH sweep
-    std::vector<SpatialRef> below, above;
-    while (!work.empty()) {
-        WorkItem item = std::move(work.back());
-        work.pop_back();
-        const size_t n = item.refs.size();
-        const double p = area(item.box) / root_area;  // hit probability, for the tree's SAH cost
-
-        // Choose a plane, or decide on a leaf.
-        Plane plane;
-        bool split = n > size_t(config.leaf_size) && int(item.depth) < depth_limit;
-        if (split && config.builder == KdBuilder::Sah) {
-            plane = best_sah_plane(item.refs, item.box, config, los, his);
-            split = plane.axis >= 0 && plane.cost < config.cost_isect * double(n);
-        }
-        below.clear();
-        above.clear();
-        if (split) {
-            // Median: longest axis first, then the others in turn until one separates something.
-            const Vec3 e = item.box.extent();
-            const int longest = max_axis(e);
-            for (int attempt = 0; attempt < 3; ++attempt) {
-                const int a = config.builder == KdBuilder::Sah ? plane.axis : (longest + attempt) % 3;
-                const float s = config.builder == KdBuilder::Sah ? plane.position : item.box.center()[a];
-                Aabb lower = item.box, upper = item.box;
-                lower.hi[a] = s;
-                upper.lo[a] = s;
-                below.clear();
-                above.clear();
-                for (const SpatialRef& r : item.refs) {
-                    if (goes_below(r, a, s))
-                        if (auto c = clip_reference(r, mesh, lower, pad, config.clip)) below.push_back(*c);
-                    if (goes_above(r, a, s))
-                        if (auto c = clip_reference(r, mesh, upper, pad, config.clip)) above.push_back(*c);
-                }
-                plane.axis = a;
-                plane.position = s;
-                const bool progress = (below.size() < n || above.size() < n) && s > item.box.lo[a] && s < item.box.hi[a];
-                if (progress || config.builder == KdBuilder::Sah) {
-                    split = progress;
-                    break;
-                }
-                split = false;
-            }
-            if (!split) ++no_progress;
-        }
-        if (split && double(live_refs) + double(below.size() + above.size()) - double(n) > budget) {
-            split = false;
-            budget_hit = true;
-        }
-
-        if (!split) {
-            KdNode& leaf = tree.nodes[item.node];
-            leaf = KdNode{0, uint32_t(tree.prim_ids.size()), uint32_t(n), KdNode::kLeaf};
-            for (const SpatialRef& r : item.refs) tree.prim_ids.push_back(r.tri);
-            ++st.leaves;
-            if (n == 0) ++st.empty_leaves;
-            if (item.depth >= uint32_t(depth_limit) && n > size_t(config.leaf_size)) ++st.leaves_at_depth_limit;
-            st.max_depth = std::max(st.max_depth, item.depth);
-            st.max_leaf_size = std::max(st.max_leaf_size, uint32_t(n));
-            st.sah_cost += p * double(n) * config.cost_isect;
-            continue;
-        }
-        live_refs = uint64_t(int64_t(live_refs) + int64_t(below.size() + above.size()) - int64_t(n));
-        const uint32_t first = uint32_t(tree.nodes.size());
-        tree.nodes[item.node] = KdNode{plane.position, first, 0, uint8_t(plane.axis)};
-        tree.nodes.emplace_back();
-        tree.nodes.emplace_back();
-        st.sah_cost += p * config.cost_trav;
-        Aabb lower = item.box, upper = item.box;
-        lower.hi[plane.axis] = plane.position;
-        upper.lo[plane.axis] = plane.position;
-        // Upper pushed first so the lower child is built first: depth-first order.
-        work.push_back({first + 1, item.depth + 1, upper, std::move(above)});
-        work.push_back({first, item.depth + 1, lower, std::move(below)});
-        above = {};
-        below = {};
-        item.refs = {};
+    // The top of the tree first, one node at a time; subtrees under nodes with fewer
+    // than N/64 references are collected, built in parallel (each on its own, so the
+    // result does not depend on the threads), and spliced in in depth-first order.
+    // The reference budget is shared out in proportion to their sizes.
+    std::vector<WorkItem> deferred;
+    const size_t defer_below = std::max<size_t>(4096, st.triangles / 64);
+    const Subtree top = build_subtree(ctx, WorkItem{0, 0, tree.bounds, root_references(mesh, pad)}, budget,
+                                      defer_below, &deferred);
+    tree.nodes = top.nodes;
+    tree.prim_ids = top.prim_ids;
+    add_counts(st, no_progress, budget_hit, top);
+    double deferred_refs = 0;
+    for (const WorkItem& w : deferred) deferred_refs += double(w.refs.size());
+    const double budget_left = std::max(0.0, budget - double(top.prim_ids.size()));
+    std::vector<uint32_t> placeholders;
+    for (const WorkItem& w : deferred) placeholders.push_back(w.node);
+    std::vector<Subtree> subtrees(deferred.size());
+    tbb::parallel_for(size_t(0), deferred.size(), [&](size_t k) {
+        const double share = budget_left * double(deferred[k].refs.size()) / std::max(deferred_refs, 1.0);
+        subtrees[k] = build_subtree(ctx, std::move(deferred[k]), std::max(share, 1.0), 0, nullptr);
+    });
+    for (size_t k = 0; k < deferred.size(); ++k) {
+        splice(tree, placeholders[k], subtrees[k]);
+        add_counts(st, no_progress, budget_hit, subtrees[k]);
     }
 
     tree.triangles.reserve(tree.prim_ids.size());

@@ -2,6 +2,8 @@
 // pitfall made visible by --kd-strict-cell off, and the tree's invariants.
 #include <gtest/gtest.h>
 
+#include <tbb/global_control.h>
+
 #include "accel/space_partition_support.h"
 #include "core/accel/kd_tree.h"
 #include "core/geometry/triangle_box.h"
@@ -215,6 +217,25 @@ TEST(KdTree, BuildIsDeterministic) {
         EXPECT_EQ(a.nodes[i].first, b.nodes[i].first);
     }
     EXPECT_EQ(a.prim_ids, b.prim_ids);
+}
+
+TEST(KdTree, ParallelBuildIsTheSameOnAnyNumberOfThreads) {
+    // Big enough that subtrees are built in parallel.
+    const SceneCase& scene = scene_case("builtin:soup?n=30000&seed=4", 10);
+    const KdTree many = build(scene.mesh, KdConfig{});
+    KdTree one;
+    {
+        tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
+        one = build(scene.mesh, KdConfig{});
+    }
+    ASSERT_EQ(many.nodes.size(), one.nodes.size());
+    for (size_t i = 0; i < many.nodes.size(); ++i) {
+        EXPECT_EQ(many.nodes[i].split, one.nodes[i].split);
+        EXPECT_EQ(many.nodes[i].first, one.nodes[i].first);
+        EXPECT_EQ(many.nodes[i].count, one.nodes[i].count);
+    }
+    EXPECT_EQ(many.prim_ids, one.prim_ids);
+    EXPECT_EQ(many.build_stats.leaves, one.build_stats.leaves);
 }
 
 TEST(KdTree, MailboxSavesTestsWithoutChangingAnswers) {
