@@ -93,6 +93,13 @@ private:
     template <class Observer>
     void intersect_leaf(const BvhNode& leaf, Ray& ray, Hit& best, Observer& obs) const;
 
+    /// A child algorithm 2 skips: it missed the box, or the box starts beyond the closest hit.
+    template <class Observer>
+    static void cull(uint32_t node, const SlabResult& box, Observer& obs) {
+        obs.on({.kind = EventKind::Cull, .reason = box.hit() ? CullReason::BeyondClosestHit : CullReason::MissedBox,
+                .node = node, .t_enter = box.t_enter, .t_exit = box.t_exit});
+    }
+
     template <class Observer>
     static Hit done(const Hit& best, Observer& obs) {
         obs.on({.kind = EventKind::Done, .hit = best.found(), .tri = best.tri, .t = best.t, .u = best.u, .v = best.v});
@@ -105,7 +112,7 @@ private:
 // ---------------------------------------------------------------------------
 
 template <class Observer>
-void Bvh::intersect_leaf(const BvhNode& leaf, Ray& ray, Hit& best, Observer& obs) const {
+[[gnu::always_inline]] inline void Bvh::intersect_leaf(const BvhNode& leaf, Ray& ray, Hit& best, Observer& obs) const {
     obs.on({.kind = EventKind::Leaf, .node = uint32_t(&leaf - nodes.data()), .first = leaf.first, .count = leaf.count});
     const uint32_t end = leaf.first + leaf.count;
     for (uint32_t k = leaf.first; k < end; ++k) {
@@ -124,7 +131,7 @@ template <class Observer>
 Hit Bvh::intersect_unordered(const Ray& ray, Observer& obs) const {
     Hit best;
     if (nodes.empty()) return done(best, obs);
-    const RayPrecomp precomp(ray);
+    const BoxTestRay box_ray(ray);
     Ray shrinking = ray;  // t_max follows the closest hit, for the triangle tests only
     StackEntry stack[kBvhStackSize];
     int stack_size = 0;
@@ -132,7 +139,7 @@ Hit Bvh::intersect_unordered(const Ray& ray, Observer& obs) const {
     while (true) {
         const BvhNode& n = nodes[node];
         // Boxes are tested against the whole ray: algorithm 1 does not prune by the closest hit.
-        const SlabResult box = widened_slab_test(n.bounds, precomp, ray.t_min, ray.t_max);
+        const SlabResult box = widened_slab_test(n.bounds, box_ray, ray.t_min, ray.t_max);
         obs.on({.kind = EventKind::BoxTest, .hit = box.hit(), .node = node, .t_enter = box.t_enter,
                 .t_exit = box.t_exit});
         if (!box.hit()) {
@@ -163,13 +170,13 @@ template <class Observer>
 Hit Bvh::intersect_ordered(const Ray& ray, Observer& obs) const {
     Hit best;
     if (nodes.empty()) return done(best, obs);
-    const RayPrecomp precomp(ray);
+    const BoxTestRay box_ray(ray);
     Ray shrinking = ray;  // t_max follows the closest hit, for the triangle tests
     StackEntry stack[kBvhStackSize];
     int stack_size = 0;
 
     // The root's box; after this, boxes are tested from the parent, both children at once.
-    const SlabResult root = widened_slab_test(nodes[0].bounds, precomp, ray.t_min, ray.t_max);
+    const SlabResult root = widened_slab_test(nodes[0].bounds, box_ray, ray.t_min, ray.t_max);
     obs.on({.kind = EventKind::BoxTest, .hit = root.hit(), .node = 0, .t_enter = root.t_enter, .t_exit = root.t_exit});
     if (!root.hit()) {
         obs.on({.kind = EventKind::Cull, .reason = CullReason::MissedBox, .node = 0, .t_enter = root.t_enter,
@@ -184,33 +191,36 @@ Hit Bvh::intersect_ordered(const Ray& ray, Observer& obs) const {
         if (n.is_leaf()) {
             intersect_leaf(n, shrinking, best, obs);
         } else {
-            // find_hit_order (lecture): test both children, keep the ones the ray
-            // enters no later than the closest hit so far.
-            StackEntry child[2];
-            bool keep[2];
-            for (int side = 0; side < 2; ++side) {
-                const uint32_t id = n.first + uint32_t(side);
-                const SlabResult box = widened_slab_test(nodes[id].bounds, precomp, ray.t_min, ray.t_max);
-                obs.on({.kind = EventKind::BoxTest, .hit = box.hit(), .node = id, .t_enter = box.t_enter,
-                        .t_exit = box.t_exit});
-                child[side] = {id, box.t_enter, box.t_exit};
-                keep[side] = box.hit() && !(box.t_enter > best.t);
-                if (!keep[side])
-                    obs.on({.kind = EventKind::Cull,
-                            .reason = box.hit() ? CullReason::BeyondClosestHit : CullReason::MissedBox, .node = id,
-                            .t_enter = box.t_enter, .t_exit = box.t_exit});
-            }
-            if (keep[0] && keep[1]) {
-                // Nearer first; the other waits on the stack with its entry distance.
-                const bool right_first = child[1].t_enter < child[0].t_enter;
-                const StackEntry& far = child[right_first ? 0 : 1];
-                stack[stack_size++] = far;
+            // find_hit_order (lecture): test both children; keep those the ray enters
+            // no later than the closest hit so far; go to the nearer, defer the other.
+            const uint32_t left = n.first, right = n.first + 1;
+            const SlabResult a = widened_slab_test(nodes[left].bounds, box_ray, ray.t_min, ray.t_max);
+            const SlabResult b = widened_slab_test(nodes[right].bounds, box_ray, ray.t_min, ray.t_max);
+            obs.on({.kind = EventKind::BoxTest, .hit = a.hit(), .node = left, .t_enter = a.t_enter, .t_exit = a.t_exit});
+            obs.on({.kind = EventKind::BoxTest, .hit = b.hit(), .node = right, .t_enter = b.t_enter, .t_exit = b.t_exit});
+            const bool keep_left = a.hit() && !(a.t_enter > best.t);
+            const bool keep_right = b.hit() && !(b.t_enter > best.t);
+            if (!keep_left) cull(left, a, obs);
+            if (!keep_right) cull(right, b, obs);
+            if (keep_left && keep_right) {
+                // Nearer first (the left on a tie); the other waits on the stack with its interval.
+                if (b.t_enter < a.t_enter) {
+                    stack[stack_size++] = {left, a.t_enter, a.t_exit};
+                    current = {right, b.t_enter, b.t_exit};
+                } else {
+                    stack[stack_size++] = {right, b.t_enter, b.t_exit};
+                    current = {left, a.t_enter, a.t_exit};
+                }
+                const StackEntry& far = stack[stack_size - 1];
                 obs.on({.kind = EventKind::Push, .node = far.node, .t_enter = far.t_enter, .t_exit = far.t_exit});
-                current = child[right_first ? 1 : 0];
                 continue;
             }
-            if (keep[0] || keep[1]) {
-                current = child[keep[0] ? 0 : 1];
+            if (keep_left) {
+                current = {left, a.t_enter, a.t_exit};
+                continue;
+            }
+            if (keep_right) {
+                current = {right, b.t_enter, b.t_exit};
                 continue;
             }
         }
@@ -240,10 +250,10 @@ bool Bvh::intersect_any(const Ray& ray, Observer& obs) const {
         return hit.found();
     };
     if (nodes.empty()) return finish(Hit{});
-    const RayPrecomp precomp(ray);
+    const BoxTestRay box_ray(ray);
     StackEntry stack[kBvhStackSize];
     int stack_size = 0;
-    const SlabResult root = widened_slab_test(nodes[0].bounds, precomp, ray.t_min, ray.t_max);
+    const SlabResult root = widened_slab_test(nodes[0].bounds, box_ray, ray.t_min, ray.t_max);
     obs.on({.kind = EventKind::BoxTest, .hit = root.hit(), .node = 0, .t_enter = root.t_enter, .t_exit = root.t_exit});
     if (!root.hit()) {
         obs.on({.kind = EventKind::Cull, .reason = CullReason::MissedBox, .node = 0, .t_enter = root.t_enter,
@@ -268,7 +278,7 @@ bool Bvh::intersect_any(const Ray& ray, Observer& obs) const {
             bool keep[2];
             for (int side = 0; side < 2; ++side) {
                 const uint32_t id = n.first + uint32_t(side);
-                const SlabResult box = widened_slab_test(nodes[id].bounds, precomp, ray.t_min, ray.t_max);
+                const SlabResult box = widened_slab_test(nodes[id].bounds, box_ray, ray.t_min, ray.t_max);
                 obs.on({.kind = EventKind::BoxTest, .hit = box.hit(), .node = id, .t_enter = box.t_enter,
                         .t_exit = box.t_exit});
                 child[side] = {id, box.t_enter, box.t_exit};
@@ -296,5 +306,19 @@ bool Bvh::intersect_any(const Ray& ray, Observer& obs) const {
     }
     return finish(Hit{});
 }
+
+// The traversals for the three observers every structure serves are compiled once, in
+// bvh.cpp: a file with little else in it, so the compiler inlines the box and triangle
+// tests into the loop (in a file holding many structures it may run out of its
+// inlining budget and call them, which costs a third of the speed).
+extern template Hit Bvh::intersect_ordered(const Ray&, NoObserver&) const;
+extern template Hit Bvh::intersect_ordered(const Ray&, CountingObserver&) const;
+extern template Hit Bvh::intersect_ordered(const Ray&, RecordingObserver&) const;
+extern template Hit Bvh::intersect_unordered(const Ray&, NoObserver&) const;
+extern template Hit Bvh::intersect_unordered(const Ray&, CountingObserver&) const;
+extern template Hit Bvh::intersect_unordered(const Ray&, RecordingObserver&) const;
+extern template bool Bvh::intersect_any(const Ray&, NoObserver&) const;
+extern template bool Bvh::intersect_any(const Ray&, CountingObserver&) const;
+extern template bool Bvh::intersect_any(const Ray&, RecordingObserver&) const;
 
 }  // namespace accelviz
