@@ -67,7 +67,10 @@ struct BoxTestRay {
 /// BoxTestRay::widen_by_sign. Measured: the per-box sign test costs 10% of the speed.)
 [[gnu::always_inline]] inline SlabResult widened_slab_test(const Aabb& box, const BoxTestRay& ray, float t_min,
                                                            float t_max) {
-    float enter = -kInfinity, exit = kInfinity;
+    // Starting from [t_min, t_max] clips the interval as it goes; starting from
+    // [-inf, +inf] gives the raw ends, which widen_by_sign needs before clipping.
+    const bool raw = ray.widen_by_sign;
+    float enter = raw ? -kInfinity : t_min, exit = raw ? kInfinity : t_max;
     for (int axis = 0; axis < 3; ++axis) {
         const Vec3& near_planes = ray.dir_negative[axis] ? box.hi : box.lo;
         const Vec3& far_planes = ray.dir_negative[axis] ? box.lo : box.hi;
@@ -76,11 +79,13 @@ struct BoxTestRay {
         enter = t_near > enter ? t_near : enter;
         exit = t_far < exit ? t_far : exit;
     }
-    if (ray.widen_by_sign) {  // move each end outwards by its sign; a product keeps ±inf
+    if (raw) {  // move each end outwards by its sign (a product keeps ±inf), then clip
         enter *= enter > 0.0f ? 1.0f - kBoxTestMargin : 1.0f + kBoxTestMargin;
         exit *= exit > 0.0f ? 1.0f + kBoxTestMargin : 1.0f - kBoxTestMargin;
+        enter = enter > t_min ? enter : t_min;
+        exit = exit < t_max ? exit : t_max;
     }
-    return {enter > t_min ? enter : t_min, exit < t_max ? exit : t_max};
+    return {enter, exit};
 }
 
 }  // namespace accelviz
