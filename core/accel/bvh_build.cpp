@@ -1,10 +1,15 @@
 #include "core/accel/bvh_build.h"
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <memory>
 #include <numeric>
+
+#if defined(__SSE__)
+#include <immintrin.h>
+#endif
 
 #include "core/accel/sah.h"
 
@@ -15,10 +20,35 @@ namespace {
 // [SECTION] What the builders work on
 // ---------------------------------------------------------------------------
 
-/// A triangle as the builder sees it: its box, its centroid and its id. 40 bytes,
+/// A box as two rows of four floats (x, y, z, unused), 16-byte aligned: growing one
+/// box by another is then one 4-wide min and one 4-wide max (SSE where available;
+/// the compiler does not vectorize the plain loop by itself). The builders' inner
+/// loops grow boxes millions of times.
+struct alignas(16) Box4 {
+    float lo[4] = {kInfinity, kInfinity, kInfinity, kInfinity};
+    float hi[4] = {-kInfinity, -kInfinity, -kInfinity, -kInfinity};
+
+    Box4() = default;
+    explicit Box4(const Aabb& b) : lo{b.lo.x, b.lo.y, b.lo.z, 0}, hi{b.hi.x, b.hi.y, b.hi.z, 0} {}
+    void grow(const Box4& b) {
+#if defined(__SSE__)
+        _mm_store_ps(lo, _mm_min_ps(_mm_load_ps(lo), _mm_load_ps(b.lo)));
+        _mm_store_ps(hi, _mm_max_ps(_mm_load_ps(hi), _mm_load_ps(b.hi)));
+#else
+        for (int i = 0; i < 4; ++i) {
+            lo[i] = std::min(lo[i], b.lo[i]);
+            hi[i] = std::max(hi[i], b.hi[i]);
+        }
+#endif
+    }
+    Aabb aabb() const { return {{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}}; }
+    float area() const { return aabb().area(); }
+};
+
+/// A triangle as the builder sees it: its box, its centroid and its id. 48 bytes,
 /// so the partitions move small, contiguous records instead of chasing ids into the mesh.
 struct PrimRef {
-    Aabb box;
+    Box4 box;
     Vec3 center;  ///< the triangle's centroid (p0 + p1 + p2) / 3: what the splits divide
     uint32_t id = 0;
 
@@ -29,7 +59,7 @@ struct PrimRef {
 /// mean of the three corners, summed in corner order.
 PrimRef make_prim_ref(const Mesh& mesh, uint32_t id) {
     const Vec3 p0 = mesh.vertex(id, 0), p1 = mesh.vertex(id, 1), p2 = mesh.vertex(id, 2);
-    return {mesh.triangle_bounds(id), (p0 + p1 + p2) / 3.0f, id};
+    return {Box4(mesh.triangle_bounds(id)), (p0 + p1 + p2) / 3.0f, id};
 }
 
 /// A node's triangles during the build: positions [begin, end) of the builder's order.
@@ -49,6 +79,12 @@ struct SplitChoice {
     bool median_fallback = false;  ///< midpoint only: the middle plane left one side empty
 };
 
+/// The two children's boxes, when a partition computes them on the way (saves a pass).
+struct ChildBounds {
+    bool filled = false;
+    Aabb bounds[2], centroid_bounds[2];  ///< [0] left, [1] right
+};
+
 /// One builder's way of choosing and applying splits. The driver (build_bvh)
 /// owns the decisions (leaf or split, fallbacks, depth budget); a splitter only
 /// measures ranges, proposes a split, and reorders its triangles.
@@ -60,8 +96,9 @@ public:
     virtual void measure(Range range, Aabb& bounds, Aabb& centroid_bounds) const = 0;
     /// The builder's split of the range. `step`, when not null, receives the candidates.
     virtual SplitChoice find_split(Range range, const Aabb& bounds, const Aabb& centroid_bounds, BuildStep* step) = 0;
-    /// Reorders the range so that the choice's left side comes first; returns the first right position.
-    virtual uint32_t partition(Range range, const SplitChoice& choice) = 0;
+    /// Reorders the range so that the choice's left side comes first; returns the first
+    /// right position. May fill `children` (then the driver need not measure them).
+    virtual uint32_t partition(Range range, const SplitChoice& choice, ChildBounds& children) = 0;
     /// The fallback: the first half of the range (by position) goes left. Returns begin + count/2.
     virtual uint32_t partition_in_half(Range range) = 0;
     /// The triangle id at position k once the build is done.
@@ -69,12 +106,13 @@ public:
 };
 
 void measure_refs(const PrimRef* refs, Range range, Aabb& bounds, Aabb& centroid_bounds) {
-    bounds = {};
+    Box4 box;
     centroid_bounds = {};
     for (uint32_t k = range.begin; k < range.end; ++k) {
-        bounds.grow(refs[k].box);
+        box.grow(refs[k].box);
         centroid_bounds.grow(refs[k].centroid());
     }
+    bounds = box.aabb();
 }
 
 /// Longest axis of the centroid bounds, or -1 if they are a single point (all centroids equal).
@@ -136,7 +174,7 @@ public:
         return choice;
     }
 
-    uint32_t partition(Range range, const SplitChoice& choice) override {
+    uint32_t partition(Range range, const SplitChoice& choice, ChildBounds&) override {
         if (choice.median_fallback) return range.begin + choice.left_count;  // nth_element already did it
         const auto mid = std::partition(refs_.begin() + range.begin, refs_.begin() + range.end,
                                         [&](const PrimRef& r) { return r.centroid()[choice.axis] < choice.position; });
@@ -163,7 +201,9 @@ public:
         return choice;
     }
 
-    uint32_t partition(Range range, const SplitChoice& choice) override { return range.begin + choice.left_count; }
+    uint32_t partition(Range range, const SplitChoice& choice, ChildBounds&) override {
+        return range.begin + choice.left_count;
+    }
 };
 
 // ---------------------------------------------------------------------------
@@ -186,75 +226,110 @@ public:
             usable[axis] = extent > 0.0f;
             origin_[axis] = centroid_bounds.lo[axis];
             scale_[axis] = usable[axis] ? float(bin_count_) / extent : 0.0f;
-            for (int b = 0; b < bin_count_; ++b) bins_[axis][b] = {};
         }
         if (!usable[0] && !usable[1] && !usable[2]) return {};
 
         // One pass: each triangle lands in one bin per axis (lecture: compute_bucket).
+        // `used` marks the non-empty bins: most nodes are small, and then a sweep over
+        // only those bins is much cheaper than over all B.
+        uint64_t used[3] = {0, 0, 0};
         for (uint32_t k = range.begin; k < range.end; ++k) {
             const PrimRef& ref = refs_[k];
             const Vec3 c = ref.centroid();
             for (int axis = 0; axis < 3; ++axis) {
                 if (!usable[axis]) continue;
-                Bin& bin = bins_[axis][bin_index(c[axis], axis)];
-                bin.box.grow(ref.box);
-                ++bin.count;
+                const int b = bin_index(c[axis], axis);
+                bins_[axis][b].box.grow(ref.box);
+                ++bins_[axis][b].count;
+                used[axis] |= uint64_t(1) << b;
             }
         }
 
-        // B - 1 planes per axis; the plane i has bins [0, i) on the left, [i, B) on the right.
+        // The plane i has bins [0, i) on the left and [i, B) on the right. Between two
+        // non-empty bins every plane splits the triangles alike; the first such plane
+        // stands for them all (it also wins their tie).
         SplitChoice best;
         const float area = bounds.area();
         for (int axis = 0; axis < 3; ++axis) {
             if (!usable[axis]) continue;
-            const Bin* bin = bins_[axis];
+            Bin* bin = bins_[axis];
+            int filled[kMaxBins];  // the non-empty bins, in order
+            int filled_count = 0;
+            for (uint64_t m = used[axis]; m != 0; m &= m - 1) filled[filled_count++] = std::countr_zero(m);
+            // Suffix boxes: right side of the plane before filled[j] holds filled[j ..].
             float right_area[kMaxBins];
             uint32_t right_count[kMaxBins];
-            Aabb right;
+            Box4 right;
             uint32_t count = 0;
-            for (int i = bin_count_ - 1; i >= 1; --i) {
-                right.grow(bin[i].box);
-                count += bin[i].count;
-                right_area[i] = right.area();
-                right_count[i] = count;
+            for (int j = filled_count - 1; j >= 1; --j) {
+                right.grow(bin[filled[j]].box);
+                count += bin[filled[j]].count;
+                right_area[j] = right.area();
+                right_count[j] = count;
             }
-            Aabb left;
+            // Prefix boxes, and the cost of the plane just after each non-empty bin.
+            float cost_after[kMaxBins];
+            Box4 left;
             count = 0;
-            for (int i = 1; i < bin_count_; ++i) {
-                left.grow(bin[i - 1].box);
-                count += bin[i - 1].count;
-                const bool both_sides = count > 0 && right_count[i] > 0;
-                const float cost = both_sides
-                                       ? model_.split_cost(area, left.area(), count, right_area[i], right_count[i])
-                                       : kInfinity;
-                const float position = origin_[axis] + float(i) / scale_[axis];
-                if (step) {
-                    step->candidate_positions[axis].push_back(position);
-                    step->candidate_costs[axis].push_back(cost);
-                }
+            for (int j = 1; j < filled_count; ++j) {
+                left.grow(bin[filled[j - 1]].box);
+                count += bin[filled[j - 1]].count;
+                const float cost = model_.split_cost(area, left.area(), count, right_area[j], right_count[j]);
+                cost_after[j] = cost;
                 if (cost < best.cost) {  // strict: the first axis and plane win a tie
-                    best = {.found = true, .axis = axis, .position = position, .left_count = count, .cost = cost,
-                            .index = uint32_t(i)};
+                    const int plane = filled[j - 1] + 1;
+                    best = {.found = true, .axis = axis, .position = plane_position(axis, plane), .left_count = count,
+                            .cost = cost, .index = uint32_t(plane)};
                 }
             }
+            if (step) {  // every plane for the stepper: +inf where one side is empty
+                int j = 0;  // non-empty bins left of plane i
+                for (int i = 1; i < bin_count_; ++i) {
+                    if (j < filled_count && filled[j] == i - 1) ++j;
+                    step->candidate_positions[axis].push_back(plane_position(axis, i));
+                    step->candidate_costs[axis].push_back(j == 0 || j == filled_count ? kInfinity : cost_after[j]);
+                }
+            }
+            for (int j = 0; j < filled_count; ++j) bin[filled[j]] = {};  // clean for the next node
         }
         return best;
     }
 
-    uint32_t partition(Range range, const SplitChoice& choice) override {
-        // The same bin_index as the binning pass, so exactly left_count triangles go left.
-        const auto mid = std::partition(refs_.begin() + range.begin, refs_.begin() + range.end, [&](const PrimRef& r) {
+    uint32_t partition(Range range, const SplitChoice& choice, ChildBounds& children) override {
+        // Hoare's partition with the same bin_index as the binning pass (so exactly
+        // left_count triangles go left), growing each side's boxes as it goes.
+        auto goes_left = [&](const PrimRef& r) {
             return uint32_t(bin_index(r.centroid()[choice.axis], choice.axis)) < choice.index;
-        });
-        return uint32_t(mid - refs_.begin());
+        };
+        Box4 left, right;
+        Aabb left_centroids, right_centroids;
+        uint32_t i = range.begin, j = range.end;
+        while (true) {
+            while (i < j && goes_left(refs_[i])) {
+                left.grow(refs_[i].box);
+                left_centroids.grow(refs_[i].center);
+                ++i;
+            }
+            while (i < j && !goes_left(refs_[j - 1])) {
+                right.grow(refs_[j - 1].box);
+                right_centroids.grow(refs_[j - 1].center);
+                --j;
+            }
+            if (i >= j) break;
+            std::swap(refs_[i], refs_[j - 1]);  // now refs_[i] goes left and refs_[j - 1] right
+        }
+        children = {true, {left.aabb(), right.aabb()}, {left_centroids, right_centroids}};
+        return i;
     }
 
 private:
     static constexpr int kMaxBins = 64;
     struct Bin {
-        Aabb box;
+        Box4 box;
         uint32_t count = 0;
     };
+
+    float plane_position(int axis, int plane) const { return origin_[axis] + float(plane) / scale_[axis]; }
 
     /// Bucket of a centroid coordinate, clamped to [0, B-1] (NaN lands in 0).
     int bin_index(float c, int axis) const {
@@ -292,13 +367,14 @@ public:
     bool uses_sah() const override { return true; }
 
     void measure(Range range, Aabb& bounds, Aabb& centroid_bounds) const override {
-        bounds = {};
+        Box4 box;
         centroid_bounds = {};
         for (uint32_t k = range.begin; k < range.end; ++k) {
             const uint32_t r = order_[0][k];
-            bounds.grow(refs_[r].box);
+            box.grow(refs_[r].box);
             centroid_bounds.grow(refs_[r].center);
         }
+        bounds = box.aabb();
     }
 
     SplitChoice find_split(Range range, const Aabb& bounds, const Aabb& centroid_bounds, BuildStep* step) override {
@@ -309,14 +385,14 @@ public:
             if (!(centroid_bounds.hi[axis] > centroid_bounds.lo[axis])) continue;
             const uint32_t* order = order_[axis].data() + range.begin;
             // Suffix areas: right_area_[i] is the area of the boxes of order[i .. n).
-            Aabb right;
+            Box4 right;
             for (uint32_t i = n - 1; i >= 1; --i) {
                 right.grow(refs_[order[i]].box);
                 right_area_[i] = right.area();
             }
             // Prefix boxes; the plane before position i puts order[0 .. i) on the left. It
             // exists only between two different centroid values.
-            Aabb left;
+            Box4 left;
             for (uint32_t i = 1; i < n; ++i) {
                 left.grow(refs_[order[i - 1]].box);
                 const float before = refs_[order[i - 1]].center[axis], after = refs_[order[i]].center[axis];
@@ -333,7 +409,7 @@ public:
         return best;
     }
 
-    uint32_t partition(Range range, const SplitChoice& choice) override {
+    uint32_t partition(Range range, const SplitChoice& choice, ChildBounds&) override {
         return split_orders(range, choice.axis, choice.left_count);
     }
     uint32_t partition_in_half(Range range) override { return split_orders(range, 0, range.count() / 2); }
@@ -511,14 +587,19 @@ Bvh build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecorder* recor
 
         bvh.nodes.reserve(2 * size_t(n) - 1);  // a binary tree with at most n leaves
         bvh.nodes.emplace_back();
-        struct Task { uint32_t node, begin, end, depth; };
-        std::vector<Task> work = {{0, 0, n, 0}};
+        /// A node still to build; its boxes come along when the parent's partition measured them.
+        struct Task {
+            uint32_t node, begin, end, depth;
+            bool measured = false;
+            Aabb bounds, centroid_bounds;
+        };
+        std::vector<Task> work = {{0, 0, n, 0, false, {}, {}}};
         while (!work.empty()) {
             const Task task = work.back();
             work.pop_back();
             const Range range{task.begin, task.end};
-            Aabb bounds, centroid_bounds;
-            splitter->measure(range, bounds, centroid_bounds);
+            Aabb bounds = task.bounds, centroid_bounds = task.centroid_bounds;
+            if (!task.measured) splitter->measure(range, bounds, centroid_bounds);
             bvh.nodes[task.node].bounds = bounds;
 
             BuildStep step_data;
@@ -532,22 +613,26 @@ Bvh build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecorder* recor
                 bvh.nodes[task.node].first = range.begin;
                 bvh.nodes[task.node].count = range.count();
             } else {
+                ChildBounds children;
                 const uint32_t mid = splits_in_half(decision) ? splitter->partition_in_half(range)
-                                                              : splitter->partition(range, choice);
+                                                              : splitter->partition(range, choice, children);
+                if (!children.filled) {
+                    splitter->measure({range.begin, mid}, children.bounds[0], children.centroid_bounds[0]);
+                    splitter->measure({mid, range.end}, children.bounds[1], children.centroid_bounds[1]);
+                }
                 const auto left = uint32_t(bvh.nodes.size());
                 bvh.nodes.emplace_back();
                 bvh.nodes.emplace_back();
                 bvh.nodes[task.node].first = left;
                 bvh.nodes[task.node].count = 0;
                 // Right pushed first so the left subtree is built (and laid out) first: depth-first order.
-                work.push_back({left + 1, mid, range.end, task.depth + 1});
-                work.push_back({left, range.begin, mid, task.depth + 1});
+                work.push_back({left + 1, mid, range.end, task.depth + 1, true, children.bounds[1],
+                                children.centroid_bounds[1]});
+                work.push_back({left, range.begin, mid, task.depth + 1, true, children.bounds[0],
+                                children.centroid_bounds[0]});
                 if (step) {
-                    Aabb left_box, right_box, unused;
-                    splitter->measure({range.begin, mid}, left_box, unused);
-                    splitter->measure({mid, range.end}, right_box, unused);
-                    step->split_cost = model.split_cost(bounds.area(), left_box.area(), mid - range.begin,
-                                                        right_box.area(), range.end - mid);
+                    step->split_cost = model.split_cost(bounds.area(), children.bounds[0].area(), mid - range.begin,
+                                                        children.bounds[1].area(), range.end - mid);
                     step->left_count = mid - range.begin;
                     if (!splits_in_half(decision)) {
                         step->axis = choice.axis;
