@@ -57,9 +57,10 @@ struct PrimRef {
 
 /// The lecture splits by "the position of the primitive's centroid" (重心): the
 /// mean of the three corners, summed in corner order.
-PrimRef make_prim_ref(const Mesh& mesh, uint32_t id) {
-    const Vec3 p0 = mesh.vertex(id, 0), p1 = mesh.vertex(id, 1), p2 = mesh.vertex(id, 2);
-    return {Box4(mesh.triangle_bounds(id)), (p0 + p1 + p2) / 3.0f, id};
+PrimRef make_prim_ref(Vec3 p0, Vec3 p1, Vec3 p2, uint32_t id) {
+    Aabb box;
+    for (Vec3 p : {p0, p1, p2}) box.grow(p);  // as Mesh::triangle_bounds
+    return {Box4(box), (p0 + p1 + p2) / 3.0f, id};
 }
 
 /// A node's triangles during the build: positions [begin, end) of the builder's order.
@@ -582,7 +583,12 @@ Bvh build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecorder* recor
 
     if (n > 0) {
         std::vector<PrimRef> refs(n);
-        for (uint32_t i = 0; i < n; ++i) refs[i] = make_prim_ref(mesh, i);
+        std::vector<Triangle> by_id(n);  // make_triangles(mesh), read in the same pass as the refs
+        for (uint32_t i = 0; i < n; ++i) {
+            const Vec3 p0 = mesh.vertex(i, 0), p1 = mesh.vertex(i, 1), p2 = mesh.vertex(i, 2);
+            refs[i] = make_prim_ref(p0, p1, p2, i);
+            by_id[i] = Triangle::from_points(p0, p1, p2);  // exactly as Mesh::triangle
+        }
         const std::unique_ptr<Splitter> splitter = make_splitter(config, std::move(refs));
 
         bvh.nodes.reserve(2 * size_t(n) - 1);  // a binary tree with at most n leaves
@@ -657,7 +663,7 @@ Bvh build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecorder* recor
         bvh.triangles.resize(n);
         for (uint32_t k = 0; k < n; ++k) {
             bvh.prim_ids[k] = splitter->prim_id(k);
-            bvh.triangles[k] = mesh.triangle(bvh.prim_ids[k]);  // exactly as make_triangles builds it
+            bvh.triangles[k] = by_id[bvh.prim_ids[k]];
         }
     }
 
