@@ -38,13 +38,15 @@ public:
     static constexpr uint32_t kSlots = 64;      ///< power of two
     static constexpr uint32_t kMaxInTable = 32;  ///< load factor 1/2, then the bitset
 
-    explicit Mailbox(uint32_t triangle_count) : triangle_count_(triangle_count) {
-        for (uint32_t& id : slots_) id = Hit::kNoHit;
-    }
+    explicit Mailbox(uint32_t triangle_count) : triangle_count_(triangle_count) {}
 
     /// True if `tri` was tested already (skip it); otherwise records it.
     bool seen(uint32_t tri) {
         if (!bits_.empty()) return test_and_set(tri);
+        if (!cleared_) {  // cleared on first use: rays that test nothing pay nothing
+            for (uint32_t& id : slots_) id = Hit::kNoHit;
+            cleared_ = true;
+        }
         uint32_t slot = (tri * 2654435761u) >> 26;  // Knuth's multiplicative hash, top 6 bits
         while (slots_[slot] != Hit::kNoHit) {
             if (slots_[slot] == tri) return true;
@@ -73,6 +75,7 @@ private:
 
     static_assert(kSlots == 64, "the hash keeps the top 6 bits");
     uint32_t slots_[kSlots];
+    bool cleared_ = false;
     uint32_t count_ = 0;
     uint32_t triangle_count_;
     std::vector<uint64_t> bits_;  ///< empty until the table holds kMaxInTable ids

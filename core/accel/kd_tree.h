@@ -160,15 +160,19 @@ Hit KdTree::intersect_closest(const Ray& ray, Observer& obs) const {
     Entry stack[kKdStackSize];
     int stack_size = 0;
     Entry cur{0, root.t_enter, root.t_exit};
+    // Plain arrays: indexed by a node's axis, Vec3's operator[] would be a chain of selects.
+    const float origin[3] = {ray.origin.x, ray.origin.y, ray.origin.z};
+    const float dir_inv[3] = {pre.dir_inv.x, pre.dir_inv.y, pre.dir_inv.z};
+    const bool dir_negative[3] = {pre.dir_negative[0] != 0, pre.dir_negative[1] != 0, pre.dir_negative[2] != 0};
     while (true) {
         // Down to the leaf holding the start of [t_min, t_max], deferring far children.
         obs.on({.kind = EventKind::VisitNode, .node = cur.node, .t_enter = cur.t_min, .t_exit = cur.t_max});
         const KdNode* n = &nodes[cur.node];
         while (!n->is_leaf()) {
             const int a = n->axis;
-            const float t_split = (n->split - ray.origin[a]) * pre.dir_inv[a];
+            const float t_split = (n->split - origin[a]) * dir_inv[a];
             // Moving up the axis (or along it, +0) the lower child comes first.
-            const bool lower_first = !pre.dir_negative[a];
+            const bool lower_first = !dir_negative[a];
             const uint32_t near = n->first + (lower_first ? 0 : 1), far = n->first + (lower_first ? 1 : 0);
             obs.on({.kind = EventKind::SplitPlane, .axis = uint8_t(a), .near_first = lower_first, .node = cur.node,
                     .t = t_split, .split = n->split});
