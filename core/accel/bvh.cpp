@@ -10,14 +10,8 @@ nlohmann::json Bvh::config() const {
 
 nlohmann::json Bvh::stats() const { return to_json(build_stats); }
 
-template Hit Bvh::intersect_ordered(const Ray&, NoObserver&) const;
-template Hit Bvh::intersect_ordered(const Ray&, CountingObserver&) const;
-template Hit Bvh::intersect_ordered(const Ray&, RecordingObserver&) const;
-template Hit Bvh::intersect_unordered(const Ray&, NoObserver&) const;
-template Hit Bvh::intersect_unordered(const Ray&, CountingObserver&) const;
-template Hit Bvh::intersect_unordered(const Ray&, RecordingObserver&) const;
-template bool Bvh::intersect_any(const Ray&, NoObserver&) const;
-template bool Bvh::intersect_any(const Ray&, CountingObserver&) const;
-template bool Bvh::intersect_any(const Ray&, RecordingObserver&) const;
+ACCELVIZ_BVH_TRAVERSALS(, NoObserver)
+ACCELVIZ_BVH_TRAVERSALS(, CountingObserver)
+ACCELVIZ_BVH_TRAVERSALS(, RecordingObserver)
 
 }  // namespace accelviz

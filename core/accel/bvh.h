@@ -62,25 +62,40 @@ struct Bvh {
     /// Algorithm 1 (lecture): test the node's box; at a leaf test its triangles;
     /// otherwise visit left, then right. No ordering, no pruning by the closest hit.
     template <class Observer>
-    Hit intersect_unordered(const Ray& ray, Observer& obs) const;
+    Hit intersect_unordered(const Ray& ray, Observer& obs) const {
+        return ray.t_min < 0.0f ? unordered<true>(ray, obs) : unordered<false>(ray, obs);
+    }
 
     /// Algorithm 2 (lecture): at an interior node test both children's boxes and
     /// go to the nearer one first (smaller entry distance; the left on a tie),
     /// keeping the other on the stack; skip every node whose entry distance is
     /// beyond the closest hit found so far.
     template <class Observer>
-    Hit intersect_ordered(const Ray& ray, Observer& obs) const;
+    Hit intersect_ordered(const Ray& ray, Observer& obs) const {
+        return ray.t_min < 0.0f ? ordered<true>(ray, obs) : ordered<false>(ray, obs);
+    }
 
     /// Any hit in [ray.t_min, ray.t_max] (shadow rays): stops at the first one.
     /// Visits children nearest first, like algorithm 2.
     template <class Observer>
-    bool intersect_any(const Ray& ray, Observer& obs) const;
+    bool intersect_any(const Ray& ray, Observer& obs) const {
+        return ray.t_min < 0.0f ? any_hit<true>(ray, obs) : any_hit<false>(ray, obs);
+    }
     bool intersect_any(const Ray& ray) const {
         NoObserver obs;
         return intersect_any(ray, obs);
     }
 
 private:
+    // The traversals. kMayStartBehind: the ray may hit at t < 0 (t_min < 0), which
+    // needs the slower box test (box_test.h); chosen once per ray by the public ones.
+    template <bool kMayStartBehind, class Observer>
+    Hit unordered(const Ray& ray, Observer& obs) const;
+    template <bool kMayStartBehind, class Observer>
+    Hit ordered(const Ray& ray, Observer& obs) const;
+    template <bool kMayStartBehind, class Observer>
+    bool any_hit(const Ray& ray, Observer& obs) const;
+
     /// A deferred node: its id and its box's [t_enter, t_exit] (clipped to the ray).
     struct StackEntry {
         uint32_t node;
@@ -93,10 +108,15 @@ private:
     template <class Observer>
     void intersect_leaf(const BvhNode& leaf, Ray& ray, Hit& best, Observer& obs) const;
 
+    /// The ray spends time in the box within [t_min, t_max]: the clipped interval is
+    /// not empty. (SlabResult::hit() also asks for t_exit >= 0, which is the same for
+    /// t_min >= 0 but would skip hits behind the origin for t_min < 0.)
+    static bool entered(const SlabResult& box) { return box.t_enter <= box.t_exit; }
+
     /// A child algorithm 2 skips: it missed the box, or the box starts beyond the closest hit.
     template <class Observer>
     static void cull(uint32_t node, const SlabResult& box, Observer& obs) {
-        obs.on({.kind = EventKind::Cull, .reason = box.hit() ? CullReason::BeyondClosestHit : CullReason::MissedBox,
+        obs.on({.kind = EventKind::Cull, .reason = entered(box) ? CullReason::BeyondClosestHit : CullReason::MissedBox,
                 .node = node, .t_enter = box.t_enter, .t_exit = box.t_exit});
     }
 
@@ -127,8 +147,8 @@ template <class Observer>
     }
 }
 
-template <class Observer>
-Hit Bvh::intersect_unordered(const Ray& ray, Observer& obs) const {
+template <bool kMayStartBehind, class Observer>
+Hit Bvh::unordered(const Ray& ray, Observer& obs) const {
     Hit best;
     if (nodes.empty()) return done(best, obs);
     const BoxTestRay box_ray(ray);
@@ -139,10 +159,10 @@ Hit Bvh::intersect_unordered(const Ray& ray, Observer& obs) const {
     while (true) {
         const BvhNode& n = nodes[node];
         // Boxes are tested against the whole ray: algorithm 1 does not prune by the closest hit.
-        const SlabResult box = widened_slab_test(n.bounds, box_ray, ray.t_min, ray.t_max);
-        obs.on({.kind = EventKind::BoxTest, .hit = box.hit(), .node = node, .t_enter = box.t_enter,
+        const SlabResult box = widened_slab_test<kMayStartBehind>(n.bounds, box_ray, ray.t_min, ray.t_max);
+        obs.on({.kind = EventKind::BoxTest, .hit = entered(box), .node = node, .t_enter = box.t_enter,
                 .t_exit = box.t_exit});
-        if (!box.hit()) {
+        if (!entered(box)) {
             obs.on({.kind = EventKind::Cull, .reason = CullReason::MissedBox, .node = node, .t_enter = box.t_enter,
                     .t_exit = box.t_exit});
         } else {
@@ -166,8 +186,8 @@ Hit Bvh::intersect_unordered(const Ray& ray, Observer& obs) const {
     return done(best, obs);
 }
 
-template <class Observer>
-Hit Bvh::intersect_ordered(const Ray& ray, Observer& obs) const {
+template <bool kMayStartBehind, class Observer>
+Hit Bvh::ordered(const Ray& ray, Observer& obs) const {
     Hit best;
     if (nodes.empty()) return done(best, obs);
     const BoxTestRay box_ray(ray);
@@ -176,9 +196,9 @@ Hit Bvh::intersect_ordered(const Ray& ray, Observer& obs) const {
     int stack_size = 0;
 
     // The root's box; after this, boxes are tested from the parent, both children at once.
-    const SlabResult root = widened_slab_test(nodes[0].bounds, box_ray, ray.t_min, ray.t_max);
-    obs.on({.kind = EventKind::BoxTest, .hit = root.hit(), .node = 0, .t_enter = root.t_enter, .t_exit = root.t_exit});
-    if (!root.hit()) {
+    const SlabResult root = widened_slab_test<kMayStartBehind>(nodes[0].bounds, box_ray, ray.t_min, ray.t_max);
+    obs.on({.kind = EventKind::BoxTest, .hit = entered(root), .node = 0, .t_enter = root.t_enter, .t_exit = root.t_exit});
+    if (!entered(root)) {
         obs.on({.kind = EventKind::Cull, .reason = CullReason::MissedBox, .node = 0, .t_enter = root.t_enter,
                 .t_exit = root.t_exit});
         return done(best, obs);
@@ -194,12 +214,12 @@ Hit Bvh::intersect_ordered(const Ray& ray, Observer& obs) const {
             // find_hit_order (lecture): test both children; keep those the ray enters
             // no later than the closest hit so far; go to the nearer, defer the other.
             const uint32_t left = n.first, right = n.first + 1;
-            const SlabResult a = widened_slab_test(nodes[left].bounds, box_ray, ray.t_min, ray.t_max);
-            const SlabResult b = widened_slab_test(nodes[right].bounds, box_ray, ray.t_min, ray.t_max);
-            obs.on({.kind = EventKind::BoxTest, .hit = a.hit(), .node = left, .t_enter = a.t_enter, .t_exit = a.t_exit});
-            obs.on({.kind = EventKind::BoxTest, .hit = b.hit(), .node = right, .t_enter = b.t_enter, .t_exit = b.t_exit});
-            const bool keep_left = a.hit() && !(a.t_enter > best.t);
-            const bool keep_right = b.hit() && !(b.t_enter > best.t);
+            const SlabResult a = widened_slab_test<kMayStartBehind>(nodes[left].bounds, box_ray, ray.t_min, ray.t_max);
+            const SlabResult b = widened_slab_test<kMayStartBehind>(nodes[right].bounds, box_ray, ray.t_min, ray.t_max);
+            obs.on({.kind = EventKind::BoxTest, .hit = entered(a), .node = left, .t_enter = a.t_enter, .t_exit = a.t_exit});
+            obs.on({.kind = EventKind::BoxTest, .hit = entered(b), .node = right, .t_enter = b.t_enter, .t_exit = b.t_exit});
+            const bool keep_left = entered(a) && !(a.t_enter > best.t);
+            const bool keep_right = entered(b) && !(b.t_enter > best.t);
             if (!keep_left) cull(left, a, obs);
             if (!keep_right) cull(right, b, obs);
             if (keep_left && keep_right) {
@@ -243,8 +263,8 @@ Hit Bvh::intersect_ordered(const Ray& ray, Observer& obs) const {
     return done(best, obs);
 }
 
-template <class Observer>
-bool Bvh::intersect_any(const Ray& ray, Observer& obs) const {
+template <bool kMayStartBehind, class Observer>
+bool Bvh::any_hit(const Ray& ray, Observer& obs) const {
     auto finish = [&](const Hit& hit) {
         obs.on({.kind = EventKind::Done, .hit = hit.found(), .tri = hit.tri, .t = hit.t, .u = hit.u, .v = hit.v});
         return hit.found();
@@ -253,9 +273,9 @@ bool Bvh::intersect_any(const Ray& ray, Observer& obs) const {
     const BoxTestRay box_ray(ray);
     StackEntry stack[kBvhStackSize];
     int stack_size = 0;
-    const SlabResult root = widened_slab_test(nodes[0].bounds, box_ray, ray.t_min, ray.t_max);
-    obs.on({.kind = EventKind::BoxTest, .hit = root.hit(), .node = 0, .t_enter = root.t_enter, .t_exit = root.t_exit});
-    if (!root.hit()) {
+    const SlabResult root = widened_slab_test<kMayStartBehind>(nodes[0].bounds, box_ray, ray.t_min, ray.t_max);
+    obs.on({.kind = EventKind::BoxTest, .hit = entered(root), .node = 0, .t_enter = root.t_enter, .t_exit = root.t_exit});
+    if (!entered(root)) {
         obs.on({.kind = EventKind::Cull, .reason = CullReason::MissedBox, .node = 0, .t_enter = root.t_enter,
                 .t_exit = root.t_exit});
         return finish(Hit{});
@@ -278,11 +298,11 @@ bool Bvh::intersect_any(const Ray& ray, Observer& obs) const {
             bool keep[2];
             for (int side = 0; side < 2; ++side) {
                 const uint32_t id = n.first + uint32_t(side);
-                const SlabResult box = widened_slab_test(nodes[id].bounds, box_ray, ray.t_min, ray.t_max);
-                obs.on({.kind = EventKind::BoxTest, .hit = box.hit(), .node = id, .t_enter = box.t_enter,
+                const SlabResult box = widened_slab_test<kMayStartBehind>(nodes[id].bounds, box_ray, ray.t_min, ray.t_max);
+                obs.on({.kind = EventKind::BoxTest, .hit = entered(box), .node = id, .t_enter = box.t_enter,
                         .t_exit = box.t_exit});
                 child[side] = {id, box.t_enter, box.t_exit};
-                keep[side] = box.hit();
+                keep[side] = entered(box);
                 if (!keep[side])
                     obs.on({.kind = EventKind::Cull, .reason = CullReason::MissedBox, .node = id,
                             .t_enter = box.t_enter, .t_exit = box.t_exit});
@@ -311,14 +331,15 @@ bool Bvh::intersect_any(const Ray& ray, Observer& obs) const {
 // bvh.cpp: a file with little else in it, so the compiler inlines the box and triangle
 // tests into the loop (in a file holding many structures it may run out of its
 // inlining budget and call them, which costs a third of the speed).
-extern template Hit Bvh::intersect_ordered(const Ray&, NoObserver&) const;
-extern template Hit Bvh::intersect_ordered(const Ray&, CountingObserver&) const;
-extern template Hit Bvh::intersect_ordered(const Ray&, RecordingObserver&) const;
-extern template Hit Bvh::intersect_unordered(const Ray&, NoObserver&) const;
-extern template Hit Bvh::intersect_unordered(const Ray&, CountingObserver&) const;
-extern template Hit Bvh::intersect_unordered(const Ray&, RecordingObserver&) const;
-extern template bool Bvh::intersect_any(const Ray&, NoObserver&) const;
-extern template bool Bvh::intersect_any(const Ray&, CountingObserver&) const;
-extern template bool Bvh::intersect_any(const Ray&, RecordingObserver&) const;
+#define ACCELVIZ_BVH_TRAVERSALS(EXTERN, OBSERVER)                                    \
+    EXTERN template Hit Bvh::ordered<false>(const Ray&, OBSERVER&) const;            \
+    EXTERN template Hit Bvh::ordered<true>(const Ray&, OBSERVER&) const;             \
+    EXTERN template Hit Bvh::unordered<false>(const Ray&, OBSERVER&) const;          \
+    EXTERN template Hit Bvh::unordered<true>(const Ray&, OBSERVER&) const;           \
+    EXTERN template bool Bvh::any_hit<false>(const Ray&, OBSERVER&) const;           \
+    EXTERN template bool Bvh::any_hit<true>(const Ray&, OBSERVER&) const;
+ACCELVIZ_BVH_TRAVERSALS(extern, NoObserver)
+ACCELVIZ_BVH_TRAVERSALS(extern, CountingObserver)
+ACCELVIZ_BVH_TRAVERSALS(extern, RecordingObserver)
 
 }  // namespace accelviz

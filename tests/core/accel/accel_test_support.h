@@ -96,10 +96,10 @@ inline std::vector<Ray> make_test_rays(const Mesh& mesh, size_t count, uint64_t 
                 ray.dir = tris > 0 ? mesh.vertex(rng.below(tris), int(rng.below(3))) - ray.origin
                                    : random_direction(rng);
                 break;
-            case 8:  // a finite segment: t in [t_min, t_max]
+            case 8:  // a finite segment: t in [t_min, t_max], sometimes reaching behind the origin (t_min < 0)
                 ray.origin = random_point_in(rng, around);
                 ray.dir = random_direction(rng);
-                ray.t_min = rng.uniform(0.0f, 0.3f * diagonal);
+                ray.t_min = rng.uniform(-0.3f * diagonal, 0.3f * diagonal);
                 ray.t_max = ray.t_min + rng.uniform(0.0f, diagonal);
                 break;
             default:  // from outside, aimed at a triangle's centroid (nearly always a hit)
