@@ -3,6 +3,7 @@
 /// `bench` times ours and the reference (Embree) through the same loop, on the
 /// same rays, so their ratio is measured side by side.
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -15,12 +16,20 @@
 
 namespace accelviz::cli {
 
-/// One ray per pixel centre (camera contract), row by row from the top.
+/// Side of the square tiles rays are traced in: the ray caster's (render) tile size.
+inline constexpr int kRayTile = 16;
+
+/// One ray per pixel centre (camera contract), in kRayTile x kRayTile tiles (row by
+/// row within a tile, tiles row by row), the order the ray caster traces them in:
+/// neighbouring rays visit mostly the same nodes, which keeps those in the cache.
 inline std::vector<Ray> camera_rays(const Camera& camera) {
     std::vector<Ray> rays;
     rays.reserve(size_t(camera.width()) * camera.height());
-    for (int y = 0; y < camera.height(); ++y)
-        for (int x = 0; x < camera.width(); ++x) rays.push_back(camera.ray(x, y));
+    for (int tile_y = 0; tile_y < camera.height(); tile_y += kRayTile)
+        for (int tile_x = 0; tile_x < camera.width(); tile_x += kRayTile)
+            for (int y = tile_y; y < std::min(tile_y + kRayTile, camera.height()); ++y)
+                for (int x = tile_x; x < std::min(tile_x + kRayTile, camera.width()); ++x)
+                    rays.push_back(camera.ray(x, y));
     return rays;
 }
 
