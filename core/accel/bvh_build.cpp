@@ -297,30 +297,25 @@ public:
     }
 
     uint32_t partition(Range range, const SplitChoice& choice, ChildBounds& children) override {
-        // Hoare's partition with the same bin_index as the binning pass (so exactly
-        // left_count triangles go left), growing each side's boxes as it goes.
-        auto goes_left = [&](const PrimRef& r) {
-            return uint32_t(bin_index(r.centroid()[choice.axis], choice.axis)) < choice.index;
-        };
-        Box4 left, right;
-        Aabb left_centroids, right_centroids;
-        uint32_t i = range.begin, j = range.end;
-        while (true) {
-            while (i < j && goes_left(refs_[i])) {
-                left.grow(refs_[i].box);
-                left_centroids.grow(refs_[i].center);
-                ++i;
-            }
-            while (i < j && !goes_left(refs_[j - 1])) {
-                right.grow(refs_[j - 1].box);
-                right_centroids.grow(refs_[j - 1].center);
-                --j;
-            }
-            if (i >= j) break;
-            std::swap(refs_[i], refs_[j - 1]);  // now refs_[i] goes left and refs_[j - 1] right
+        // Lomuto's partition without branches (which side a triangle goes to is a coin
+        // toss the branch predictor cannot learn): [begin, store) holds the left side,
+        // [store, k) the right; every element is swapped to `store`, and `store` only
+        // moves on if it went left. The same bin_index as the binning pass, so exactly
+        // left_count triangles go left. Each side's boxes are grown on the way.
+        Box4 side_box[2];        // [0] right, [1] left
+        Aabb side_centroids[2];
+        uint32_t store = range.begin;
+        for (uint32_t k = range.begin; k < range.end; ++k) {
+            const PrimRef ref = refs_[k];
+            const bool left = uint32_t(bin_index(ref.center[choice.axis], choice.axis)) < choice.index;
+            side_box[left].grow(ref.box);
+            side_centroids[left].grow(ref.center);
+            refs_[k] = refs_[store];
+            refs_[store] = ref;
+            store += left ? 1 : 0;
         }
-        children = {true, {left.aabb(), right.aabb()}, {left_centroids, right_centroids}};
-        return i;
+        children = {true, {side_box[1].aabb(), side_box[0].aabb()}, {side_centroids[1], side_centroids[0]}};
+        return store;
     }
 
 private:
