@@ -134,94 +134,27 @@ std::pair<uint64_t, uint64_t> check_scene(const Mesh& mesh, size_t ray_count, ui
     return default_visits;
 }
 
-// ---------------------------------------------------------------------------
-// Stand-ins until the built-in scenes land (TEMPORARY: removed once load_scene
-// knows them; the tests below then use the real ones).
-// ---------------------------------------------------------------------------
-Mesh stand_in(const std::string& spec) {
-    Mesh m;
-    m.name = "stand-in:" + spec;
-    Rng rng(42);
-    if (spec == "same-centroid") {
-        for (int i = 0; i < 300; ++i) {  // random triangles, each moved so its box centre is the origin
-            Vec3 a = random_direction(rng) * float(1 + i % 7), b = random_direction(rng), c = random_direction(rng) * 3.0f;
-            Aabb box;
-            box.grow(a); box.grow(b); box.grow(c);
-            const Vec3 shift = box.center();
-            m.add_triangle(a - shift, b - shift, c - shift);
-        }
-        for (int i = 1; i <= 100; ++i) {  // flat, axis-aligned, nested: ties between coplanar triangles
-            const float s = float(i);
-            m.add_triangle({-s, -s, 0}, {s, -s, 0}, {0, s, 0});
-        }
-    } else if (spec == "same-box") {
-        for (int i = 0; i < 400; ++i) {
-            Vec3 p[3];
-            for (auto& q : p) q = {rng.uniform(-1.0f, 1.0f), rng.uniform(-1.0f, 1.0f), rng.uniform(-1.0f, 1.0f)};
-            p[0].x = -1; p[1].x = 1; p[1].y = -1; p[2].y = 1; p[2].z = -1; p[0].z = 1;
-            m.add_triangle(p[0], p[1], p[2]);
-        }
-    } else if (spec == "stadium") {
-        const float s = 100;
-        auto quad = [&](Vec3 a, Vec3 b, Vec3 c, Vec3 d) { m.add_triangle(a, b, c); m.add_triangle(a, c, d); };
-        for (int i = -5; i < 5; ++i)
-            for (int j = -5; j < 5; ++j)
-                quad({i * s / 5, 0, j * s / 5}, {(i + 1) * s / 5, 0, j * s / 5}, {(i + 1) * s / 5, 0, (j + 1) * s / 5},
-                     {i * s / 5, 0, (j + 1) * s / 5});
-        quad({-s, 0, -s}, {-s, s, -s}, {s, s, -s}, {s, 0, -s});
-        quad({-s, 0, s}, {s, 0, s}, {s, s, s}, {-s, s, s});
-        for (int i = 0; i < 3000; ++i) {  // the "teapot": a small dense blob
-            const Vec3 c = Vec3{0, 1, 0} + random_direction(rng) * 0.5f;
-            m.add_triangle(c, c + random_direction(rng) * 0.05f, c + random_direction(rng) * 0.05f);
-        }
-    } else if (spec.rfind("soup", 0) == 0) {
-        for (int i = 0; i < 2000; ++i) {
-            const Vec3 c = random_point_in(rng, {{0, 0, 0}, {1, 1, 1}});
-            const float size = rng.uniform(0.01f, 0.2f);
-            m.add_triangle(c, c + random_direction(rng) * size, c + random_direction(rng) * size);
-        }
-    } else if (spec == "single") {
-        m.add_triangle({0, 0, 0}, {1, 0, 0}, {0, 1, 0});
-    }
-    return m;
-}
-
-Mesh scene(const std::string& spec) {
-    auto mesh = load_scene("builtin:" + spec);
-    if (mesh.ok()) return *mesh;
-    return stand_in(spec);
-}
-
-Mesh bunny() {
-    auto mesh = load_scene(shared_asset("bunny.obj"));
-    if (mesh.ok()) return *mesh;
-    // TEMPORARY stand-in for load_obj: the bunny has only `v` and `f a b c` lines.
-    Mesh m;
-    m.name = shared_asset("bunny.obj");
-    std::FILE* f = std::fopen(m.name.c_str(), "r");
-    char line[256];
-    while (f && std::fgets(line, sizeof line, f)) {
-        float x, y, z;
-        unsigned a, b, c;
-        if (std::sscanf(line, "v %f %f %f", &x, &y, &z) == 3) m.positions.push_back({x, y, z});
-        else if (std::sscanf(line, "f %u %u %u", &a, &b, &c) == 3) m.indices.push_back({a - 1, b - 1, c - 1});
-    }
-    if (f) std::fclose(f);
-    return m;
+Mesh scene(const std::string& source) {
+    auto mesh = load_scene(source);
+    EXPECT_TRUE(mesh.ok()) << source << ": " << mesh.error();
+    return mesh.ok() ? *mesh : Mesh{};
 }
 
 }  // namespace
 
 TEST(BvhMatchesBruteForce, SlowBunny) {
-    const Mesh mesh = bunny();
+    const Mesh mesh = scene(shared_asset("bunny.obj"));
     ASSERT_GT(mesh.triangle_count(), 60000u);
     const auto [ordered, unordered] = check_scene(mesh, kRays, 1);
     EXPECT_LT(ordered, unordered) << "on the bunny algorithm 2 must visit strictly fewer nodes than algorithm 1";
 }
 
-TEST(BvhMatchesBruteForce, SameCentroid) { check_scene(scene("same-centroid"), kRays, 2); }
-TEST(BvhMatchesBruteForce, SameBox) { check_scene(scene("same-box"), kRays, 3); }
-TEST(BvhMatchesBruteForce, Stadium) { check_scene(scene("stadium"), kRays, 4); }
-TEST(BvhMatchesBruteForce, Soup) { check_scene(scene("soup?n=2000&seed=7"), kRays, 5); }
-TEST(BvhMatchesBruteForce, Empty) { check_scene(Mesh{}, kRays, 6); }
-TEST(BvhMatchesBruteForce, SingleTriangle) { check_scene(scene("single"), kRays, 7); }
+// The lecture's tricky cases (棘手的情况) and the teapot in a stadium.
+TEST(BvhMatchesBruteForce, SameCentroid) { check_scene(scene("builtin:same-centroid"), kRays, 2); }
+TEST(BvhMatchesBruteForce, SameBox) { check_scene(scene("builtin:same-box"), kRays, 3); }
+TEST(BvhMatchesBruteForce, Stadium) { check_scene(scene("builtin:stadium"), kRays, 4); }
+TEST(BvhMatchesBruteForce, Soup) { check_scene(scene("builtin:soup?n=2000&seed=7"), kRays, 5); }
+TEST(BvhMatchesBruteForce, Empty) { check_scene(scene("builtin:empty"), kRays, 6); }
+TEST(BvhMatchesBruteForce, SingleTriangle) { check_scene(scene("builtin:single"), kRays, 7); }
+TEST(BvhMatchesBruteForce, CornellBox) { check_scene(scene("builtin:cornell"), kRays, 8); }
+TEST(BvhMatchesBruteForce, Teapot) { check_scene(scene("builtin:teapot?n=6"), kRays, 9); }
