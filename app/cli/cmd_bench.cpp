@@ -4,8 +4,11 @@
 // rays in the same process, so the two speeds are compared side by side.
 //
 // Method: the rays are generated once, before timing (both structures trace the
-// same array); frame_ms times tracing only, and build_ms the whole build (mesh to
-// structure). Both are medians over --repeat runs.
+// same array, in the ray caster's 16x16 tiles); frame_ms times tracing only, and
+// build_ms the whole build (mesh to structure). Both are wall-clock medians over
+// --repeat runs; *_cpu_ms are the process's CPU time over the same runs (which, on a
+// machine shared with other work, is the steadier figure for one thread).
+#include <time.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -41,6 +44,14 @@ double ms_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
+/// CPU time of the whole process (all threads), in ms. On a shared machine the wall
+/// time includes the time other programs had the cores; this does not.
+double process_cpu_ms() {
+    timespec ts{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
+}
+
 double median(std::vector<double> values) {
     std::sort(values.begin(), values.end());
     const size_t n = values.size();
@@ -56,6 +67,7 @@ void progress(const char* format, const std::string& what, int run, int runs) {
 /// Timings and results of one structure.
 struct Measured {
     std::vector<double> build_ms, frame_ms;
+    std::vector<double> build_cpu_ms, frame_cpu_ms;  ///< process CPU time of the same runs
     RayResults results;
     double mrays_per_s(size_t rays) const { return double(rays) / (median(frame_ms) * 1e3); }
 };
@@ -67,6 +79,8 @@ nlohmann::ordered_json summary(const Measured& m, size_t rays) {
     j["mrays_per_s"] = m.mrays_per_s(rays);
     j["hit_count"] = m.results.hit_count();
     j["depth_sum"] = m.results.depth_sum();
+    j["build_cpu_ms"] = median(m.build_cpu_ms);
+    j["frame_cpu_ms"] = median(m.frame_cpu_ms);
     j["build_ms_runs"] = m.build_ms;
     j["frame_ms_runs"] = m.frame_ms;
     return j;
@@ -95,7 +109,9 @@ int run_bench(const BenchOptions& opt) {
         progress("bench: building %s (%d/%d)\n", opt.accel.type, run + 1, opt.repeat);
         accel.reset();  // free the previous one first: one structure in memory at a time
         const auto start = clock::now();
+        const double cpu_start = process_cpu_ms();
         auto built = build_accelerator(*mesh, opt.accel);
+        ours.build_cpu_ms.push_back(process_cpu_ms() - cpu_start);
         ours.build_ms.push_back(ms_since(start));
         if (!built) return fail(built.error());
         accel = *built;
@@ -104,6 +120,7 @@ int run_bench(const BenchOptions& opt) {
     for (int run = 0; run < opt.repeat; ++run) {
         progress("bench: tracing with %s (%d/%d)\n", opt.accel.type, run + 1, opt.repeat);
         const auto start = clock::now();
+        const double cpu_start = process_cpu_ms();
         for_each_ray_chunk(rays.size(), opt.threads, [&](size_t begin, size_t end) {
             for (size_t i = begin; i < end; ++i) {
                 const Hit hit = accel->intersect_closest(rays[i]);
@@ -111,6 +128,7 @@ int run_bench(const BenchOptions& opt) {
                 ours.results.tri[i] = hit.tri;
             }
         });
+        ours.frame_cpu_ms.push_back(process_cpu_ms() - cpu_start);
         ours.frame_ms.push_back(ms_since(start));
     }
 
@@ -134,13 +152,17 @@ int run_bench(const BenchOptions& opt) {
         EmbreeReference reference(opt.threads);
         for (int run = 0; run < opt.repeat; ++run) {
             progress("bench: building %s (%d/%d)\n", "embree", run + 1, opt.repeat);
+            const double cpu_start = process_cpu_ms();
             embree.build_ms.push_back(reference.build(*mesh));
+            embree.build_cpu_ms.push_back(process_cpu_ms() - cpu_start);
         }
         embree.results = RayResults(rays.size());
         for (int run = 0; run < opt.repeat; ++run) {
             progress("bench: tracing with %s (%d/%d)\n", "embree", run + 1, opt.repeat);
             const auto start = clock::now();
+            const double cpu_start = process_cpu_ms();
             reference.trace(rays, opt.threads, embree.results);
+            embree.frame_cpu_ms.push_back(process_cpu_ms() - cpu_start);
             embree.frame_ms.push_back(ms_since(start));
         }
         size_t same = 0;
@@ -166,11 +188,13 @@ int run_bench(const BenchOptions& opt) {
     std::printf("scene      %s (%zu triangles), %dx%d, %d thread%s, median of %d\n", opt.scene.c_str(),
                 mesh->triangle_count(), opt.width, opt.height, opt.threads, opt.threads == 1 ? "" : "s", opt.repeat);
     std::printf("structure  %s %s\n", accel->name().c_str(), accel->config().dump().c_str());
-    std::printf("%-10s %12s %12s %12s %10s %16s\n", "", "build ms", "frame ms", "Mrays/s", "hits", "depth sum");
+    std::printf("%-10s %10s %10s %10s %10s %10s %10s %16s\n", "", "build ms", "(cpu)", "frame ms", "(cpu)",
+                "Mrays/s", "hits", "depth sum");
     auto row = [&](const char* name, const nlohmann::ordered_json& j) {
-        std::printf("%-10s %12.1f %12.1f %12.2f %10llu %16.6f\n", name, j["build_ms"].get<double>(),
-                    j["frame_ms"].get<double>(), j["mrays_per_s"].get<double>(),
-                    (unsigned long long)j["hit_count"].get<uint64_t>(), j["depth_sum"].get<double>());
+        std::printf("%-10s %10.1f %10.1f %10.1f %10.1f %10.2f %10llu %16.6f\n", name, j["build_ms"].get<double>(),
+                    j["build_cpu_ms"].get<double>(), j["frame_ms"].get<double>(), j["frame_cpu_ms"].get<double>(),
+                    j["mrays_per_s"].get<double>(), (unsigned long long)j["hit_count"].get<uint64_t>(),
+                    j["depth_sum"].get<double>());
     };
     row(accel->name().c_str(), out);
     if (out.contains("reference")) {
