@@ -7,7 +7,8 @@
 /// same Triangle values make_triangles() gives, keeps the closest by is_closer(),
 /// tests boxes with a slab test widened by a few ulps (core/accel/box_test.h) and
 /// culls a node only when that widened entry distance is strictly beyond the
-/// closest hit; so it returns the same triangle and bit-identical t as BruteForce.
+/// closest hit; so it returns the same triangle and bit-identical t as BruteForce
+/// (except where Möller–Trumbore itself is unreliable: see box_test.h, "Limit").
 /// Box events report the widened interval, clipped to the ray's [t_min, t_max].
 
 #include <cstdint>
