@@ -6,6 +6,7 @@
 #include "app/cli/accel_flags.h"
 #include "app/cli/camera_flags.h"
 #include "app/cli/commands.h"
+#include "app/gui/headless.h"
 #include "core/geometry/scene.h"
 #include "core/render/ray_caster.h"
 #include "core/render/views.h"
@@ -23,15 +24,58 @@ struct RenderOptions {
     double heat_max = 0;
     CameraFlags camera;
     AccelConfig accel;
+    int step = -1;              ///< build-step: the decision to show
+    bool accel_given = false;   ///< --accel was on the command line
 };
 
-const std::vector<std::string> kViews = {"raycast", "raster", "split", "depth-diff", "heat-nodes", "heat-tris"};
+const std::vector<std::string> kViews = {"raycast",   "raster",    "split",     "depth-diff",
+                                         "heat-nodes", "heat-tris", "build-step"};
 
 double ms_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
+/// `--view build-step --step K`: the window's frame (OSMesa) with the construction
+/// stepper at decision K of the BVH build.
+int run_build_step(const RenderOptions& opt) {
+    if (opt.step < 0) {
+        std::cerr << "accelviz render: --view build-step needs --step K (the build decision to show, 0 = the root)\n";
+        return 1;
+    }
+    AppState state;
+    state.scene = opt.scene;
+    state.accel = opt.accel;
+    if (!opt.accel_given) state.accel.type = "bvh";
+    if (state.accel.type != "bvh") {
+        std::cerr << "accelviz render: --view build-step steps a BVH build (--accel bvh, not " << state.accel.type << ")\n";
+        return 1;
+    }
+    // The shared flags (--leaf-size, --cost-*) as the tree and the chart take them.
+    if (state.accel.leaf_size) state.accel.bvh.max_leaf_size = *state.accel.leaf_size;
+    if (state.accel.cost_trav) state.accel.bvh.cost_trav = *state.accel.cost_trav;
+    if (state.accel.cost_isect) state.accel.bvh.cost_isect = *state.accel.cost_isect;
+    state.build_step.active = true;
+    state.build_step.step = opt.step;
+    if (!opt.camera.eye.empty() || !opt.camera.target.empty() || !opt.camera.up.empty() || opt.camera.fov) {
+        auto mesh = load_scene(opt.scene);
+        if (!mesh) { std::cerr << "accelviz render: " << mesh.error() << "\n"; return 1; }
+        auto camera = opt.camera.resolve(mesh->bounds());
+        if (!camera) { std::cerr << "accelviz render: " << camera.error() << "\n"; return 1; }
+        state.camera = *camera;
+    }
+    auto image = render_gui_view_headless(state, "build-step", opt.width, opt.height);
+    if (!image) { std::cerr << "accelviz render: " << image.error() << "\n"; return 1; }
+    if (auto err = write_png(*image, opt.out)) { std::cerr << "accelviz render: " << err->message << "\n"; return 1; }
+    std::cout << opt.out << "\n";
+    return 0;
+}
+
 int run_render(const RenderOptions& opt) {
+    if (opt.view == "build-step") return run_build_step(opt);
+    if (opt.step >= 0) {
+        std::cerr << "accelviz render: --step needs --view build-step\n";
+        return 1;
+    }
     using clock = std::chrono::steady_clock;
     auto mesh = load_scene(opt.scene);
     if (!mesh) { std::cerr << "accelviz render: " << mesh.error() << "\n"; return 1; }
@@ -101,7 +145,7 @@ Command register_render(CLI::App& app) {
     sub->add_option("--out,-o", opt->out, "Output PNG file")->required();
     sub->add_option("--view", opt->view,
                     "raycast | raster | split (raster left, ray cast right, each --width wide) | depth-diff | "
-                    "heat-nodes | heat-tris")
+                    "heat-nodes | heat-tris | build-step (the window with the BVH construction stepper at --step)")
         ->check(CLI::IsMember(kViews))
         ->capture_default_str();
     sub->add_option("--width", opt->width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
@@ -112,9 +156,14 @@ Command register_render(CLI::App& app) {
                     "Also write the ray-cast depth (hit distance t, +inf on a miss) as a PFM file");
     sub->add_option("--heat-max", opt->heat_max, "Top of the heat-map scale (default: the image's maximum)")
         ->check(CLI::NonNegativeNumber);
+    sub->add_option("--step", opt->step, "build-step: which decision of the BVH build to show (0 = the root's)")
+        ->check(CLI::NonNegativeNumber);
     opt->camera.add_to(*sub);
     add_accel_flags(*sub, opt->accel);
-    return {sub, [opt] { return run_render(*opt); }};
+    return {sub, [opt, sub] {
+                opt->accel_given = sub->get_option("--accel")->count() > 0;
+                return run_render(*opt);
+            }};
 }
 
 }  // namespace accelviz::cli

@@ -140,6 +140,11 @@ nlohmann::json to_json(const AppState& s) {
                  {"show_help", s.view.show_help}, {"show_bounds", s.view.show_bounds},
                  {"mode", s.view.mode},           {"right_view", s.view.right_view},
                  {"line_width", s.view.line_width}};
+    nlohmann::json b = {{"active", s.build_step.active}, {"step", s.build_step.step}};
+    if (s.build_step.bins) b["bins"] = *s.build_step.bins;
+    if (s.build_step.cost_trav) b["cost_trav"] = *s.build_step.cost_trav;
+    if (s.build_step.cost_isect) b["cost_isect"] = *s.build_step.cost_isect;
+    j["build_step"] = b;
     return j;
 }
 
@@ -188,6 +193,19 @@ Expected<AppState> app_state_from_json(const nlohmann::json& j) {
             s.view.right_view = v.value("right_view", s.view.right_view);
             if (s.view.right_view != "raycast" && s.view.right_view != "heat-nodes" && s.view.right_view != "heat-tris")
                 return Error{"view.right_view: must be raycast, heat-nodes or heat-tris"};
+        }
+        if (j.contains("build_step")) {
+            const auto& b = j["build_step"];
+            BuildStepSettings& bs = s.build_step;
+            bs.active = b.value("active", bs.active);
+            bs.step = b.value("step", bs.step);
+            if (bs.step < 0) return Error{"build_step.step: must be 0 or more"};
+            if (b.contains("bins") && !b["bins"].is_null()) bs.bins = b["bins"].get<int>();
+            if (b.contains("cost_trav") && !b["cost_trav"].is_null()) bs.cost_trav = b["cost_trav"].get<float>();
+            if (b.contains("cost_isect") && !b["cost_isect"].is_null()) bs.cost_isect = b["cost_isect"].get<float>();
+            if (bs.bins && (*bs.bins < 2 || *bs.bins > 64)) return Error{"build_step.bins: must be between 2 and 64"};
+            if (bs.cost_trav && !(*bs.cost_trav >= 0.0f)) return Error{"build_step.cost_trav: must be 0 or more"};
+            if (bs.cost_isect && !(*bs.cost_isect > 0.0f)) return Error{"build_step.cost_isect: must be more than 0"};
         }
     } catch (const std::exception& e) {  // nlohmann type errors and ours
         return Error{std::string("state: ") + e.what()};

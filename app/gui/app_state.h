@@ -50,6 +50,20 @@ struct OverlaySettings {
     bool operator==(const OverlaySettings&) const = default;
 };
 
+/// The construction stepper (BVH): which of the builder's decisions the window
+/// shows, and the SAH chart's own parameters (the live sliders; unset = the
+/// parameters the tree was built with). Rule shared with the traversal stepper:
+/// the active stepper owns the arrow keys (Left/Right/Home/End), and turning one
+/// on turns the other off.
+struct BuildStepSettings {
+    bool active = false;  ///< the Construction panel is open: the 3D view shows the node being split
+    int step = 0;         ///< the decision shown: 0 = the root's, in the builder's order (depth first)
+    std::optional<int> bins;           ///< chart only: B for binned SAH
+    std::optional<float> cost_trav;    ///< chart only: C_trav
+    std::optional<float> cost_isect;   ///< chart only: C_isect
+    bool operator==(const BuildStepSettings&) const = default;
+};
+
 /// The font size in pixels for a UI scale (16 px at scale 1, 8 to 64 px).
 int font_pixels(float ui_scale);
 
@@ -71,6 +85,7 @@ struct AppState {
     /// scene in the 3D view (frame_bounds), filled in when the scene has loaded.
     std::optional<CameraParams> camera;
     ViewSettings view;
+    BuildStepSettings build_step;
 };
 
 /// The structure part of the JSON form (what AppState's "structure" holds).

@@ -26,17 +26,22 @@ struct Layout {
     ViewRect view;      ///< the whole area of the view (mouse and keys act here)
     ViewRect gl_view;   ///< where OpenGL draws the scene: `view`, or its left half when split
     ViewRect ray_view;  ///< split: the right half, the ray caster's picture (same size as gl_view)
+    float right_panel_width = 0;  ///< the construction stepper's panel, right of the view (0: none)
 };
 
-Layout compute_layout(int width, int height, bool ui, bool split) {
+Layout compute_layout(int width, int height, bool ui, bool split, bool right_panel) {
     Layout layout;
     if (ui) {
         const float font = ImGui::GetFontSize();
         layout.sidebar_width = std::floor(std::min(19.0f * font, 0.45f * float(width)));
         layout.status_height = std::floor(ImGui::GetTextLineHeight() + 2.0f * ImGui::GetStyle().FramePadding.y + 4.0f);
+        if (right_panel)
+            layout.right_panel_width =
+                std::floor(std::min(30.0f * font, 0.5f * std::max(0.0f, float(width) - layout.sidebar_width)));
     }
     const int left = int(layout.sidebar_width);
-    layout.view = {left, 0, std::max(0, width - left), std::max(0, height - int(layout.status_height))};
+    const int right = int(layout.right_panel_width);
+    layout.view = {left, 0, std::max(0, width - left - right), std::max(0, height - int(layout.status_height))};
     layout.gl_view = layout.view;
     if (split) {
         // Two halves of exactly the same size, so both renderers see the same camera.
@@ -57,6 +62,9 @@ constexpr ImGuiWindowFlags kFixedPanel = ImGuiWindowFlags_NoTitleBar | ImGuiWind
 /// or a text field is being typed in).
 void handle_view_input(AppState& state, Session& session, const ViewRect& rect, const ViewRect& gl_rect) {
     const ImGuiIO& io = ImGui::GetIO();
+    // The active stepper owns the arrow keys (the camera keeps the mouse and Shift+arrows).
+    const bool stepper_keys = state.build_step.active;
+    if (!io.WantCaptureKeyboard) session.build_stepper.handle_keys(state);
 
     if (!io.WantCaptureKeyboard) {
         if (ImGui::IsKeyPressed(GLFW_KEY_F1, false)) state.view.show_help = !state.view.show_help;
@@ -77,7 +85,7 @@ void handle_view_input(AppState& state, Session& session, const ViewRect& rect, 
         const double up = ImGui::IsKeyDown(GLFW_KEY_UP), down = ImGui::IsKeyDown(GLFW_KEY_DOWN);
         if (shift)
             pan(camera, (right - left) * slide, (up - down) * slide);
-        else
+        else if (!stepper_keys)
             orbit(camera, (left - right) * turn, (down - up) * turn);
         if (ImGui::IsKeyDown(GLFW_KEY_EQUAL) || ImGui::IsKeyDown(GLFW_KEY_KP_ADD)) dolly(camera, std::pow(0.3, step));
         if (ImGui::IsKeyDown(GLFW_KEY_MINUS) || ImGui::IsKeyDown(GLFW_KEY_KP_SUBTRACT))
@@ -261,7 +269,10 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
     // 3. Layout, then the 3D view's input (ImGui's capture flags are from this NewFrame).
     const bool ui = input.draw_ui && state.view.show_ui;
     const bool split = state.view.mode == "split";
-    const Layout layout = compute_layout(input.width, input.height, ui, split);
+    // The construction stepper: its recorded build and chart (on workers; headless waits).
+    session.build_stepper.update(state, session.scene, input.deterministic);
+    const bool build_panel = state.build_step.active && state.accel.type == "bvh";
+    const Layout layout = compute_layout(input.width, input.height, ui, split, build_panel);
     if (session.frame_pending && session.scene && state.camera && !layout.gl_view.empty()) {
         frame_bounds(*state.camera, session.scene->bounds, double(layout.gl_view.width) / layout.gl_view.height);
         session.frame_pending = false;
@@ -287,9 +298,13 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
             session.structure_panel.draw(state, session);
             session.view_panel.draw(state, session,
                                     layout.view.height > 0 ? double(layout.view.width) / layout.view.height : 1.0);
+            if (session.build_stepper.draw_sidebar(state)) session.rebuild_structure(state);
             session.stats_panel.draw(state, session);
         }
         ImGui::End();
+        if (layout.right_panel_width > 0)
+            session.build_stepper.draw_panel(state, float(input.width) - layout.right_panel_width, 0,
+                                             layout.right_panel_width, float(layout.view.height));
 
         ImGui::SetNextWindowPos(ImVec2(0, float(input.height) - layout.status_height), ImGuiCond_Always);
         ImGui::SetNextWindowSize(ImVec2(float(input.width), layout.status_height), ImGuiCond_Always);
@@ -301,7 +316,7 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
         ImGui::PopStyleVar();
 
         draw_view_messages(session, layout.view, input.deterministic);
-        if (state.overlay.show_structure) draw_legend(session, layout.gl_view);
+        if (state.overlay.show_structure && !session.build_stepper.shows_3d(state)) draw_legend(session, layout.gl_view);
         if (split) draw_split_labels(state, session, layout, input.deterministic);
         session.help_window.draw(state);
     }
@@ -325,14 +340,21 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
         };
         MeshStyle mesh_style;
         mesh_style.opacity = state.overlay.mesh_opacity;
-        if (mesh_style.opacity < 1.0f) {
+        const bool build_step_3d = session.build_stepper.shows_3d(state);
+        if (mesh_style.opacity < 1.0f && !build_step_3d) {
             // X-ray: the structure first (all of it), the nearest surface blended
             // over it, then the structure again where it is in front of the surface.
             draw_overlay();
             if (mesh_style.opacity > 0.0f) renderer.draw_mesh(*session.mesh_buffer, mesh_style);
         }
-        if (mesh_style.opacity >= 1.0f) renderer.draw_mesh(*session.mesh_buffer, mesh_style);
-        draw_overlay();
+        if (build_step_3d) {
+            // The construction stepper's picture replaces the structure overlay
+            // (and the scene's bounds: the root's box is the first step's).
+            session.build_stepper.draw_3d(renderer, *session.mesh_buffer, state.build_step.step);
+        } else {
+            if (mesh_style.opacity >= 1.0f) renderer.draw_mesh(*session.mesh_buffer, mesh_style);
+            draw_overlay();
+        }
         out.scene_drawn = true;
         if (split && session.ray_cast.texture()) renderer.draw_image(*session.ray_cast.texture(), layout.ray_view);
     }

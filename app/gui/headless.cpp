@@ -12,7 +12,7 @@
 namespace accelviz {
 
 const std::vector<std::string>& headless_gui_views() {
-    static const std::vector<std::string> views = {"structure", "gui"};
+    static const std::vector<std::string> views = {"structure", "gui", "build-step"};
     return views;
 }
 
@@ -73,7 +73,7 @@ Expected<HeadlessRender> render_headless(const AppState& state, const std::strin
                                          int frames) {
     const auto& views = headless_gui_views();
     if (std::find(views.begin(), views.end(), view) == views.end())
-        return Error{"unknown view '" + view + "' (the window's views are: structure, gui)"};
+        return Error{"unknown view '" + view + "' (the window's views are: structure, gui, build-step)"};
 
     LoadResult loaded = load_and_build(state.scene, state.accel);
     if (!loaded) return Error{loaded.error()};
@@ -85,7 +85,22 @@ Expected<HeadlessRender> render_headless(const AppState& state, const std::strin
     AppState frame_state = state;
     (*app)->session().set_scene(frame_state, std::move(*loaded), state.camera.has_value());
     FrameInput input;
-    input.draw_ui = view == "gui";
+    input.draw_ui = view == "gui" || view == "build-step";
+    if (view == "build-step") {
+        // The whole window with the construction stepper at build_step.step: check
+        // the step against the recorded build first (the stepper would clamp it).
+        if (state.accel.type != "bvh") return Error{"the build-step view needs a BVH (--accel bvh)"};
+        frame_state.build_step.active = true;
+        Session& session = (*app)->session();
+        session.build_stepper.update(frame_state, session.scene, true);
+        const BuildTrace* trace = session.build_stepper.trace();
+        if (!trace) return Error{"the build-step view needs a BVH (--accel bvh)"};
+        if (trace->steps.empty()) return Error{"the scene has no triangles: the BVH build made no decisions to step"};
+        if (state.build_step.step < 0 || size_t(state.build_step.step) >= trace->steps.size())
+            return Error{"--step " + std::to_string(state.build_step.step) + " is out of range: the build made " +
+                         std::to_string(trace->steps.size()) + " decisions (0.." +
+                         std::to_string(trace->steps.size() - 1) + ")"};
+    }
     const int count = std::max(frames, input.draw_ui ? 2 : 1);
     FrameLayout layout;
     for (int i = 0; i < count; ++i) {

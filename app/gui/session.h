@@ -11,6 +11,7 @@
 
 #include "app/gl/renderer.h"
 #include "app/gui/app_state.h"
+#include "app/gui/build_stepper.h"
 #include "app/gui/panels.h"
 #include "app/gui/ray_cast_view.h"
 #include "app/gui/scene_loader.h"
@@ -56,6 +57,9 @@ struct Session {
 
     /// The CPU ray caster's picture for the split view.
     RayCastView ray_cast;
+
+    /// The construction stepper: the recorded BVH build and the SAH chart of the step shown.
+    BuildStepper build_stepper;
 
     UiStyle style;
     bool dragging_view = false;  ///< a mouse drag that started in the 3D view

@@ -57,6 +57,7 @@ int run_window(AppState state) {
             Session session;
             session.loader.on_finished = [] { GlfwWindow::wake_up(); };
             session.ray_cast.set_on_finished([] { GlfwWindow::wake_up(); });
+            session.build_stepper.set_on_finished([] { GlfwWindow::wake_up(); });
             session.open_scene(state, state.scene, /*keep_camera=*/state.camera.has_value());
 
             // 4. The loop. It sleeps until something happens: an input or window

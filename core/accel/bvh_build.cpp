@@ -607,7 +607,8 @@ Bvh build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecorder* recor
             BuildStep* step = recorder ? &step_data : nullptr;
             SplitChoice choice;
             const BuildDecision decision =
-                decide(*splitter, range, task.depth, bounds, centroid_bounds, config, model, choice, step);
+                decide(*splitter, range, task.depth, bounds, centroid_bounds, config, model, choice,
+                       step && recorder->record_candidates ? step : nullptr);
             ++stats.decisions[size_t(decision)];
 
             if (is_leaf(decision)) {

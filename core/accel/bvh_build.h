@@ -43,6 +43,9 @@ struct BuildStep {
 /// children, depth first, left before right).
 struct BuildRecorder {
     std::vector<BuildStep> steps;
+    /// false: the steps' candidate lists stay empty (a big mesh's candidates take
+    /// hundreds of bytes per node; the stepper recomputes one node's with sah_chart.h).
+    bool record_candidates = true;
 };
 
 /// Builds a BVH over `mesh`. `config` must pass validate() (out-of-range values are

@@ -1,0 +1,484 @@
+#include "app/gui/build_stepper.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <span>
+#include <tuple>
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>  // key codes only: ImGui 1.86 indexes io.KeysDown by the GLFW backend's codes
+#include <imgui.h>
+
+#include "core/accel/accelerator.h"
+
+namespace accelviz {
+
+namespace {
+
+// [SECTION] Colours: the same in the chart, its legend and the 3D view
+
+constexpr Rgba8 kNodeBox{255, 255, 255, 255};
+constexpr Rgba8 kLeftColour{255, 150, 40, 255};   ///< left child: box, triangles, chart side
+constexpr Rgba8 kRightColour{70, 160, 255, 255};  ///< right child
+constexpr Rgb kLeafTriangles{240, 210, 80};
+constexpr Rgb kDimMesh{92, 92, 98};
+constexpr Rgba8 kPlaneColour{80, 225, 110, 80};   ///< the split plane (the chart's green)
+
+ImU32 im(Rgba8 c) { return IM_COL32(c.r, c.g, c.b, c.a); }
+constexpr ImU32 kPlotBg = IM_COL32(28, 30, 36, 255);
+constexpr ImU32 kPlotFrame = IM_COL32(110, 110, 120, 255);
+constexpr ImU32 kCurve = IM_COL32(235, 235, 235, 255);
+constexpr ImU32 kEmpty = IM_COL32(140, 140, 150, 255);
+constexpr ImU32 kBest = IM_COL32(80, 225, 110, 255);
+constexpr ImU32 kLeafLine = IM_COL32(255, 90, 70, 255);
+constexpr ImU32 kMedian = IM_COL32(235, 110, 235, 255);
+constexpr ImU32 kMidpoint = IM_COL32(90, 215, 235, 255);
+constexpr ImU32 kAxisText = IM_COL32(220, 220, 225, 255);
+
+const char* kAxisNames[3] = {"x", "y", "z"};
+
+std::string fmt(const char* format, double value) {
+    char text[64];
+    std::snprintf(text, sizeof text, format, value);
+    return text;
+}
+
+/// A cost for a label: whole numbers from 1000 on (no exponents on a projector).
+std::string cost_text(double cost) { return std::abs(cost) >= 1000.0 ? fmt("%.0f", cost) : fmt("%.4g", cost); }
+
+bool is_sah(BvhBuilder b) { return b == BvhBuilder::SahBinned || b == BvhBuilder::SahSweep; }
+
+/// A coloured square in the text flow (legend keys).
+void swatch(ImU32 colour) {
+    const float size = ImGui::GetTextLineHeight() * 0.8f;
+    const ImVec2 p = ImGui::GetCursorScreenPos();
+    const float dy = (ImGui::GetTextLineHeight() - size) * 0.5f;
+    ImGui::GetWindowDrawList()->AddRectFilled(ImVec2(p.x, p.y + dy), ImVec2(p.x + size, p.y + dy + size), colour);
+    ImGui::Dummy(ImVec2(size, ImGui::GetTextLineHeight()));
+    ImGui::SameLine();
+}
+
+}  // namespace
+
+// [SECTION] Recording
+
+BvhConfig chart_config(const BvhConfig& built, const BuildStepSettings& settings) {
+    BvhConfig c = built;
+    if (settings.bins) c.bins = std::clamp(*settings.bins, 2, 64);
+    if (settings.cost_trav) c.cost_trav = std::max(0.0f, *settings.cost_trav);
+    if (settings.cost_isect && *settings.cost_isect > 0.0f) c.cost_isect = *settings.cost_isect;
+    return c;
+}
+
+std::shared_ptr<const BuildTrace> record_build(std::shared_ptr<const LoadedScene> scene) {
+    if (!scene || !scene->accel || !scene->mesh) return nullptr;
+    const auto* bvh = dynamic_cast<const AcceleratorFor<Bvh>*>(scene->accel.get());
+    if (!bvh) return nullptr;
+    auto trace = std::make_shared<BuildTrace>();
+    trace->config = bvh->structure().build_config;
+    BuildRecorder recorder;
+    recorder.record_candidates = false;  // the chart recomputes one node's (sah_chart.h)
+    const auto start = std::chrono::steady_clock::now();
+    trace->bvh = build_bvh(*scene->mesh, trace->config, &recorder);
+    trace->build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    trace->steps = std::move(recorder.steps);
+    trace->scene = std::move(scene);
+    return trace;
+}
+
+BuildStepper::BuildStepper() = default;
+BuildStepper::~BuildStepper() = default;
+
+// [SECTION] Per frame: recording and charts on workers
+
+void BuildStepper::update(AppState& state, const std::shared_ptr<const LoadedScene>& scene, bool wait) {
+    if (!state.build_step.active || !scene) return;
+    if (trace_requested_ != scene.get()) {
+        trace_requested_ = scene.get();
+        trace_.reset();
+        chart_.reset();
+        chart_requested_ = {};
+        trace_job_.submit([scene] { return record_build(scene); });
+    }
+    if (wait) trace_job_.wait();
+    if (auto done = trace_job_.take()) trace_ = std::move(*done);
+    if (!trace_ || trace_->steps.empty()) return;
+
+    BuildStepSettings& s = state.build_step;
+    s.step = std::clamp(s.step, 0, int(trace_->steps.size()) - 1);
+    const ChartKey key{trace_.get(), s.step, chart_config(trace_->config, s)};
+    if (!(key == chart_requested_)) {
+        chart_requested_ = key;
+        std::shared_ptr<const BuildTrace> trace = trace_;
+        chart_job_.submit([key, trace] {
+            const BuildStep& step = trace->steps[size_t(key.step)];
+            const auto prims = std::span<const uint32_t>(trace->bvh.prim_ids).subspan(step.first, step.count);
+            // A sweep on a big node lists the cheapest of each run of candidates: a
+            // chart cannot show more points than it has pixels.
+            return ChartResult{key, trace, compute_sah_chart(*trace->scene->mesh, prims, key.config, {.max_points = 600})};
+        });
+    }
+    if (wait) chart_job_.wait();
+    if (auto done = chart_job_.take()) chart_ = std::move(*done);
+}
+
+void BuildStepper::handle_keys(AppState& state) {
+    if (!state.build_step.active || !trace_ || trace_->steps.empty()) return;
+    int& step = state.build_step.step;
+    const int last = int(trace_->steps.size()) - 1;
+    if (ImGui::IsKeyPressed(GLFW_KEY_RIGHT, true)) step = std::min(step + 1, last);
+    if (ImGui::IsKeyPressed(GLFW_KEY_LEFT, true)) step = std::max(step - 1, 0);
+    if (ImGui::IsKeyPressed(GLFW_KEY_HOME, false)) step = 0;
+    if (ImGui::IsKeyPressed(GLFW_KEY_END, false)) step = last;
+}
+
+bool BuildStepper::shows_3d(const AppState& state) const {
+    return state.build_step.active && trace_ && !trace_->steps.empty();
+}
+
+// [SECTION] Sidebar
+
+bool BuildStepper::draw_sidebar(AppState& state) {
+    if (!ImGui::CollapsingHeader("Construction", ImGuiTreeNodeFlags_DefaultOpen)) return false;
+    if (state.accel.type != "bvh") {
+        ImGui::TextDisabled("Step the build of a BVH split by split.");
+        if (!ImGui::Button("Use a BVH")) return false;
+        state.accel.type = "bvh";
+        state.build_step.active = true;
+        return true;
+    }
+    ImGui::Checkbox("Step the BVH build", &state.build_step.active);
+    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+    ImGui::TextWrapped("%s", state.build_step.active ? "Left/Right step, Home/End jump (the camera: mouse)."
+                                                     : "The SAH chart of every split, with live sliders.");
+    ImGui::PopStyleColor();
+    return false;
+}
+
+// [SECTION] The Construction panel
+
+void BuildStepper::draw_panel(AppState& state, float x, float y, float w, float h) {
+    ImGui::SetNextWindowPos(ImVec2(x, y), ImGuiCond_Always);
+    ImGui::SetNextWindowSize(ImVec2(w, h), ImGuiCond_Always);
+    const ImGuiWindowFlags flags = ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoCollapse |
+                                   ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoBringToFrontOnFocus;
+    bool open = true;
+    if (!ImGui::Begin("Construction (BVH build)", &open, flags)) {
+        ImGui::End();
+        return;
+    }
+    if (!open) state.build_step.active = false;
+    if (!trace_) {
+        ImGui::TextWrapped("%s", state.accel.type == "bvh" ? "Recording the build ..."
+                                                           : "The construction stepper needs a BVH (Structure: bvh).");
+        ImGui::End();
+        return;
+    }
+    if (trace_->steps.empty()) {
+        ImGui::TextWrapped("The scene has no triangles: the build made no decisions.");
+        ImGui::End();
+        return;
+    }
+    BuildStepSettings& s = state.build_step;
+    const int last = int(trace_->steps.size()) - 1;
+    s.step = std::clamp(s.step, 0, last);
+    const BuildStep& step = trace_->steps[size_t(s.step)];
+
+    // Timeline: |< < > >| and the scrubber.
+    if (ImGui::Button("|<")) s.step = 0;
+    ImGui::SameLine();
+    if (ImGui::Button("<")) s.step = std::max(0, s.step - 1);
+    ImGui::SameLine();
+    if (ImGui::Button(">")) s.step = std::min(last, s.step + 1);
+    ImGui::SameLine();
+    if (ImGui::Button(">|")) s.step = last;
+    ImGui::SameLine();
+    // The next/previous split, skipping leaves.
+    if (ImGui::Button("next split")) {
+        for (int k = s.step + 1; k <= last; ++k)
+            if (trace_->bvh.nodes[trace_->steps[size_t(k)].node].count == 0) {
+                s.step = k;
+                break;
+            }
+    }
+    ImGui::SetNextItemWidth(-FLT_MIN);
+    const std::string scrub_format = "decision %d (of 0.." + std::to_string(last) + ")";
+    ImGui::SliderInt("##scrub", &s.step, 0, last, scrub_format.c_str(), ImGuiSliderFlags_AlwaysClamp);
+
+    // The node and the builder's decision.
+    const bool leaf = trace_->bvh.nodes[step.node].is_leaf();
+    ImGui::Text("Node %u, depth %u: %u triangles (%s, %s)", step.node, step.depth, step.count,
+                std::string(to_string(trace_->config.builder)).c_str(), leaf ? "leaf" : "split");
+    ImGui::PushTextWrapPos(0.0f);
+    ImGui::TextUnformatted(explain(step.decision, trace_->config.max_leaf_size).c_str());
+    if (!leaf) {
+        swatch(im(kLeftColour));
+        ImGui::Text("left %u", step.left_count);
+        ImGui::SameLine();
+        swatch(im(kRightColour));
+        ImGui::Text("right %u", step.count - step.left_count);
+        ImGui::SameLine();
+        if (step.axis >= 0)
+            ImGui::Text("  at %s = %.4g, cost %s", kAxisNames[step.axis], double(step.split_position),
+                        cost_text(step.split_cost).c_str());
+        else
+            ImGui::Text("  by index, cost %s", cost_text(step.split_cost).c_str());
+    }
+    ImGui::PopTextWrapPos();
+    ImGui::Separator();
+
+    // The chart (the last one computed; marked while a newer one is on its way).
+    const bool chart_current = chart_ && chart_->key == chart_requested_;
+    if (chart_) {
+        draw_chart(chart_->chart, step, ImGui::GetContentRegionAvail().x);
+        if (!chart_current) ImGui::TextDisabled("updating ...");
+    } else {
+        ImGui::TextDisabled("computing the chart ...");
+    }
+
+    // Live sliders: the chart's parameters (the tree stays as built).
+    ImGui::Separator();
+    const BvhConfig built = trace_->config;
+    BvhConfig c = chart_config(built, s);
+    ImGui::PushItemWidth(ImGui::GetContentRegionAvail().x * 0.5f);
+    if (c.builder == BvhBuilder::SahSweep) {
+        ImGui::TextDisabled("sah-sweep: every centroid is a candidate (no B)");
+    } else if (ImGui::SliderInt("B (bins)", &c.bins, 2, 64, "%d", ImGuiSliderFlags_AlwaysClamp)) {
+        s.bins = c.bins;
+    }
+    if (ImGui::SliderFloat("C_trav", &c.cost_trav, 0.0f, 10.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp))
+        s.cost_trav = c.cost_trav;
+    if (ImGui::SliderFloat("C_isect", &c.cost_isect, 0.05f, 10.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp))
+        s.cost_isect = c.cost_isect;
+    ImGui::PopItemWidth();
+    const bool differs = !(chart_config(built, s) == built);
+    if (differs) {
+        if (ImGui::Button("Back to the tree's parameters")) {
+            s.bins.reset();
+            s.cost_trav.reset();
+            s.cost_isect.reset();
+        }
+        ImGui::TextDisabled("The sliders change the chart only; the tree stays as built.");
+    } else {
+        ImGui::TextDisabled("Tree built with B = %d, C_trav = %.2f, C_isect = %.2f", built.bins, double(built.cost_trav),
+                            double(built.cost_isect));
+    }
+    ImGui::End();
+}
+
+void BuildStepper::draw_chart(const SahChart& chart, const BuildStep& step, float width) {
+    ImGui::PushTextWrapPos(0.0f);
+    // What the candidates are.
+    const char* what = chart.sweep ? "every centroid" : "the B - 1 bucket boundaries";
+    if (chart.sweep)
+        ImGui::Text("SAH cost of each plane (%s) per axis", what);
+    else
+        ImGui::Text("SAH cost of each plane (B = %d: %d per axis)", chart.bins, chart.bins - 1);
+    if (!is_sah(chart.builder))
+        ImGui::TextDisabled("(%s does not use the SAH; the chart shows what binned SAH would weigh)",
+                            std::string(to_string(chart.builder)).c_str());
+    // The verdict under these parameters, first: the chart's point in one sentence.
+    const bool light = ImGui::GetStyle().Colors[ImGuiCol_WindowBg].x > 0.5f;  // the light theme: darker text
+    const ImU32 split_colour = light ? IM_COL32(20, 120, 40, 255) : kBest;
+    const ImU32 leaf_colour = light ? IM_COL32(170, 80, 0, 255) : IM_COL32(255, 190, 90, 255);
+    ImGui::PushStyleColor(ImGuiCol_Text,
+                          ImGui::ColorConvertU32ToFloat4(chart.verdict == ChartVerdict::Split ? split_colour : leaf_colour));
+    ImGui::TextUnformatted(chart.verdict_text.c_str());
+    ImGui::PopStyleColor();
+
+    // One y range for the three axes, so their curves compare: from the cheapest
+    // value shown to the dearest (the leaf line always in view).
+    float y_lo = chart.leaf_cost, y_hi = chart.leaf_cost;
+    for (const SahChartAxis& a : chart.axes)
+        for (float c : a.costs)
+            if (std::isfinite(c)) {
+                y_lo = std::min(y_lo, c);
+                y_hi = std::max(y_hi, c);
+            }
+    for (const HeuristicCut* cut : {&chart.median, &chart.midpoint})
+        if (cut->valid && std::isfinite(cut->cost)) {
+            y_lo = std::min(y_lo, cut->cost);
+            y_hi = std::max(y_hi, cut->cost);
+        }
+    if (!(y_hi > y_lo)) {
+        y_hi = y_lo + std::max(1.0f, std::abs(y_lo) * 0.1f);
+        y_lo -= std::max(1.0f, std::abs(y_lo) * 0.1f) * 0.5f;
+    }
+    const float pad = 0.08f * (y_hi - y_lo);
+    y_lo -= pad;
+    y_hi += pad;
+
+    const float font = ImGui::GetFontSize();
+    const float label_w = ImGui::CalcTextSize("00000.0").x + 0.5f * font;
+    const float plot_h = 3.8f * font;
+    ImDrawList* draw = ImGui::GetWindowDrawList();
+    for (int axis = 0; axis < 3; ++axis) {
+        const SahChartAxis& a = chart.axes[size_t(axis)];
+        ImGui::Text("%s axis", kAxisNames[axis]);
+        if (a.subsampled) {
+            ImGui::SameLine();
+            ImGui::TextDisabled("(%zu of %zu planes shown: the cheapest of every %zu)", a.positions.size(), a.candidates,
+                                a.stride);
+        }
+        const ImVec2 origin = ImGui::GetCursorScreenPos();
+        const ImVec2 p0(origin.x + label_w, origin.y), p1(origin.x + width - 0.5f * font, origin.y + plot_h);
+        ImGui::Dummy(ImVec2(width, plot_h + 1.1f * ImGui::GetTextLineHeight()));
+        draw->AddRectFilled(p0, p1, kPlotBg);
+        draw->AddRect(p0, p1, kPlotFrame);
+        auto y_of = [&](float cost) { return p1.y - (cost - y_lo) / (y_hi - y_lo) * (p1.y - p0.y); };
+        // Cost labels at the left: the top and bottom of the range.
+        draw->AddText(ImVec2(origin.x, p0.y), kAxisText, cost_text(y_hi - pad).c_str());
+        draw->AddText(ImVec2(origin.x, p1.y - ImGui::GetTextLineHeight()), kAxisText, cost_text(y_lo + pad).c_str());
+        // Leaf cost: a horizontal line across every axis's chart.
+        const float leaf_y = y_of(chart.leaf_cost);
+        draw->AddLine(ImVec2(p0.x, leaf_y), ImVec2(p1.x, leaf_y), kLeafLine, 2.0f);
+        if (!a.usable) {
+            const char* text = "all centroids equal on this axis: no plane";
+            const ImVec2 size = ImGui::CalcTextSize(text);
+            draw->AddText(ImVec2(0.5f * (p0.x + p1.x - size.x), 0.5f * (p0.y + p1.y) - size.y), kAxisText, text);
+            continue;
+        }
+        const float x_lo = a.lo, x_hi = a.hi;
+        auto x_of = [&](float pos) { return p0.x + (pos - x_lo) / (x_hi - x_lo) * (p1.x - p0.x); };
+        // Position labels under the plot: the centroid bounds.
+        const float text_y = p1.y + 0.1f * font;
+        draw->AddText(ImVec2(p0.x, text_y), kAxisText, fmt("%.4g", double(x_lo)).c_str());
+        const std::string hi_text = fmt("%.4g", double(x_hi));
+        draw->AddText(ImVec2(p1.x - ImGui::CalcTextSize(hi_text.c_str()).x, text_y), kAxisText, hi_text.c_str());
+        // Heuristic cuts: vertical lines on the axis they would cut.
+        auto vline = [&](const HeuristicCut& cut, ImU32 colour, const char* label, float label_row) {
+            if (!cut.valid || cut.axis != axis) return;
+            const float x = x_of(cut.position);
+            draw->AddLine(ImVec2(x, p0.y), ImVec2(x, p1.y), colour, 2.0f);
+            draw->AddText(ImVec2(x + 3.0f, p0.y + label_row * ImGui::GetTextLineHeight()), colour, label);
+        };
+        vline(chart.midpoint, kMidpoint, "midpoint", 0.0f);
+        vline(chart.median, kMedian, "median", 1.0f);
+        // The curve: finite costs joined, +inf (a side would be empty) as ticks at the bottom.
+        const bool dots = a.positions.size() <= 80;
+        ImVec2 prev;
+        bool have_prev = false;
+        for (size_t i = 0; i < a.positions.size(); ++i) {
+            const float x = x_of(a.positions[i]);
+            if (!std::isfinite(a.costs[i])) {
+                draw->AddLine(ImVec2(x, p1.y - 0.35f * font), ImVec2(x, p1.y), kEmpty, 1.5f);
+                have_prev = false;
+                continue;
+            }
+            const ImVec2 p(x, y_of(a.costs[i]));
+            if (have_prev) draw->AddLine(prev, p, kCurve, 2.0f);
+            if (dots) draw->AddCircleFilled(p, 0.16f * font, kCurve);
+            prev = p;
+            have_prev = true;
+        }
+        // The cheapest plane under these parameters.
+        if (chart.best_axis == axis) {
+            const float x = x_of(chart.best_position);
+            draw->AddLine(ImVec2(x, p0.y), ImVec2(x, p1.y), kBest, 1.5f);
+            draw->AddCircleFilled(ImVec2(x, y_of(chart.best_cost)), 0.32f * font, kBest);
+        }
+        // The tree's own split, when the sliders moved the cheapest plane elsewhere.
+        if (step.axis == axis && !(chart.best_axis == axis && chart.best_position == step.split_position)) {
+            const float x = x_of(step.split_position);
+            for (float yy = p0.y; yy < p1.y; yy += 0.5f * font)
+                draw->AddLine(ImVec2(x, yy), ImVec2(x, std::min(p1.y, yy + 0.25f * font)), kBest, 2.0f);
+        }
+    }
+
+    // Legend, with the numbers.
+    swatch(kLeafLine);
+    ImGui::Text("leaf: N x C_isect = %s", cost_text(chart.leaf_cost).c_str());
+    swatch(kBest);
+    if (chart.best_axis >= 0)
+        ImGui::Text("cheapest: %s = %.4g, cost %s (%u | %u)", kAxisNames[chart.best_axis], double(chart.best_position),
+                    cost_text(chart.best_cost).c_str(), chart.best_left_count, chart.count - chart.best_left_count);
+    else
+        ImGui::TextUnformatted("cheapest: no plane separates the centroids");
+    for (const auto& [cut, colour, name] : {std::tuple{&chart.median, kMedian, "median"},
+                                           std::tuple{&chart.midpoint, kMidpoint, "midpoint"}}) {
+        swatch(colour);
+        if (cut->valid)
+            ImGui::Text("%s: %s = %.4g, cost %s (%u | %u)%s", name, kAxisNames[cut->axis], double(cut->position),
+                        cost_text(cut->cost).c_str(), cut->left_count, chart.count - cut->left_count,
+                        cut->median_fallback ? ", the median: the middle left a side empty" : "");
+        else
+            ImGui::Text("%s: no plane (all centroids equal)", name);
+    }
+    ImGui::PopTextWrapPos();
+}
+
+// [SECTION] 3D: the node's triangles and boxes
+
+void BuildStepper::upload_step(const BuildStep& step) {
+    const Mesh& mesh = *trace_->scene->mesh;
+    const bool leaf = trace_->bvh.nodes[step.node].is_leaf();
+    const uint32_t left_end = leaf ? step.first + step.count : step.first + step.left_count;
+    auto subset = [&](uint32_t begin, uint32_t end) {
+        Mesh part;
+        part.positions = mesh.positions;
+        part.indices.reserve(end - begin);
+        for (uint32_t k = begin; k < end; ++k) part.indices.push_back(mesh.indices[trace_->bvh.prim_ids[k]]);
+        return part;
+    };
+    if (!left_tris_) left_tris_ = std::make_unique<MeshBuffer>();
+    if (!right_tris_) right_tris_ = std::make_unique<MeshBuffer>();
+    if (!boxes_) boxes_ = std::make_unique<BoxBuffer>();
+    left_tris_->upload(subset(step.first, left_end));
+    right_tris_->upload(subset(left_end, step.first + step.count));
+    // The node's box a little larger than it is: its edges would otherwise lie on its
+    // children's and be hidden by them.
+    const Vec3 grow = step.bounds.extent() * 0.015f;
+    std::vector<BoxInstance> boxes = {{step.bounds.lo - grow, step.bounds.hi + grow, kNodeBox}};
+    std::vector<ColouredQuad> quads;
+    if (!leaf && step.axis >= 0) {
+        // The split plane across the node's box, translucent.
+        const int a = step.axis, b = (a + 1) % 3, d = (a + 2) % 3;
+        ColouredQuad quad;
+        const float us[4] = {step.bounds.lo[b], step.bounds.hi[b], step.bounds.hi[b], step.bounds.lo[b]};
+        const float vs[4] = {step.bounds.lo[d], step.bounds.lo[d], step.bounds.hi[d], step.bounds.hi[d]};
+        for (int k = 0; k < 4; ++k) {
+            quad.corners[k][a] = step.split_position;
+            quad.corners[k][b] = us[k];
+            quad.corners[k][d] = vs[k];
+        }
+        quad.colour = kPlaneColour;
+        quads.push_back(quad);
+    }
+    if (!plane_) plane_ = std::make_unique<ColouredBuffer>();
+    plane_->upload_quads(quads);
+    if (!leaf) {
+        const BvhNode& node = trace_->bvh.nodes[step.node];
+        const Aabb& l = trace_->bvh.nodes[node.first].bounds;
+        const Aabb& r = trace_->bvh.nodes[node.first + 1].bounds;
+        boxes.push_back({l.lo, l.hi, kLeftColour});
+        boxes.push_back({r.lo, r.hi, kRightColour});
+    }
+    boxes_->upload(boxes);
+}
+
+void BuildStepper::draw_3d(Renderer& renderer, const MeshBuffer& mesh, int step_index) {
+    if (!trace_ || trace_->steps.empty()) {
+        renderer.draw_mesh(mesh, {});
+        return;
+    }
+    shown_step_ = std::clamp(step_index, 0, int(trace_->steps.size()) - 1);
+    if (uploaded_trace_ != trace_.get() || uploaded_step_ != shown_step_) {
+        upload_step(trace_->steps[size_t(shown_step_)]);
+        uploaded_trace_ = trace_.get();
+        uploaded_step_ = shown_step_;
+    }
+    const BuildStep& step = trace_->steps[size_t(shown_step_)];
+    const bool leaf = trace_->bvh.nodes[step.node].is_leaf();
+    // The node's triangles first, in their side's colour; then the whole mesh dimmed:
+    // with the same vertices and shader it lands on the same depths, fails the depth
+    // test there, and fills in only the triangles of other nodes.
+    renderer.draw_mesh(*left_tris_, {.base_colour = leaf ? kLeafTriangles : Rgb{kLeftColour.r, kLeftColour.g, kLeftColour.b}});
+    renderer.draw_mesh(*right_tris_, {.base_colour = Rgb{kRightColour.r, kRightColour.g, kRightColour.b}});
+    renderer.draw_mesh(mesh, {.base_colour = kDimMesh});
+    renderer.draw_quads(*plane_);
+    renderer.draw_boxes(*boxes_);
+}
+
+}  // namespace accelviz

@@ -1,0 +1,106 @@
+#pragma once
+/// The construction stepper (issue 6, "Construction stepper (BVH)"): the BVH build
+/// replayed decision by decision. The builder runs once with a BuildRecorder (on a
+/// worker: the UI thread never builds), and its decisions become a timeline; the
+/// window shows, for the decision at the scrubber, the node being split (its box,
+/// its triangles, the two children's boxes and triangles in two colours) and its
+/// SAH chart (core/accel/sah_chart.h), recomputed on a worker when the sliders
+/// for B, C_trav or C_isect move.
+///
+/// Keys: Left/Right step, Home/End jump, while AppState::build_step.active (the
+/// active stepper owns the arrows; the camera then orbits with the mouse only).
+
+#include <functional>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "app/gl/renderer.h"
+#include "app/gui/app_state.h"
+#include "app/gui/latest_job.h"
+#include "app/gui/scene_loader.h"
+#include "core/accel/bvh_build.h"
+#include "core/accel/sah_chart.h"
+
+namespace accelviz {
+
+/// A recorded build: the tree and its decisions, made from one scene.
+struct BuildTrace {
+    std::shared_ptr<const LoadedScene> scene;  ///< what it was recorded from (keeps the mesh alive)
+    BvhConfig config;                          ///< the tree's own (clamped) build parameters
+    Bvh bvh;                                   ///< the recorded build's tree (the same as the scene's)
+    std::vector<BuildStep> steps;              ///< one per node, in the builder's order (no candidate lists)
+    double build_ms = 0;
+};
+
+/// The chart parameters for `settings` over a tree built with `built`.
+BvhConfig chart_config(const BvhConfig& built, const BuildStepSettings& settings);
+
+/// Records the build of `scene`'s BVH (null if the scene's structure is not a BVH).
+std::shared_ptr<const BuildTrace> record_build(std::shared_ptr<const LoadedScene> scene);
+
+class BuildStepper {
+public:
+    BuildStepper();
+    ~BuildStepper();
+    BuildStepper(const BuildStepper&) = delete;
+    BuildStepper& operator=(const BuildStepper&) = delete;
+
+    /// Once per frame on the UI thread, before the panels: records the build when
+    /// the scene changed (while active), takes finished work, asks for the chart
+    /// of the step shown. `wait`: block until both are done (headless renders).
+    void update(AppState& state, const std::shared_ptr<const LoadedScene>& scene, bool wait);
+    /// The sidebar's "Construction" section: the switch, and a hint. True when the
+    /// user asked for a BVH (the caller rebuilds the structure).
+    bool draw_sidebar(AppState& state);
+    /// The Construction panel (a fixed window at x, y of w x h): the timeline
+    /// controls, the node, the SAH chart and its sliders.
+    void draw_panel(AppState& state, float x, float y, float w, float h);
+    /// Left/Right/Home/End (call when ImGui does not want the keyboard).
+    void handle_keys(AppState& state);
+    /// True if the 3D view shows the stepper's picture instead of the structure overlay.
+    bool shows_3d(const AppState& state) const;
+    /// The 3D part of the step shown: its triangles over the dimmed mesh, then the
+    /// node's and children's boxes (GL thread, inside the 3D view).
+    void draw_3d(Renderer& renderer, const MeshBuffer& mesh, int step);
+
+    bool busy() const { return trace_job_.busy() || chart_job_.busy(); }
+    bool has_result() const { return trace_job_.has_result() || chart_job_.has_result(); }
+    void set_on_finished(const std::function<void()>& callback) {
+        trace_job_.on_finished = callback;
+        chart_job_.on_finished = callback;
+    }
+    const BuildTrace* trace() const { return trace_.get(); }
+
+private:
+    struct ChartKey {
+        const BuildTrace* trace = nullptr;
+        int step = -1;
+        BvhConfig config;
+        bool operator==(const ChartKey&) const = default;
+    };
+    struct ChartResult {
+        ChartKey key;
+        std::shared_ptr<const BuildTrace> trace;  ///< keeps key.trace alive
+        SahChart chart;
+    };
+    void draw_chart(const SahChart& chart, const BuildStep& step, float width);
+    void upload_step(const BuildStep& step);
+
+    LatestJob<std::shared_ptr<const BuildTrace>> trace_job_;
+    const LoadedScene* trace_requested_ = nullptr;  ///< the scene recording was asked for
+    std::shared_ptr<const BuildTrace> trace_;
+    LatestJob<ChartResult> chart_job_;
+    ChartKey chart_requested_;
+    std::optional<ChartResult> chart_;
+
+    // GPU copies of the step shown (made on the GL thread in draw_3d).
+    const BuildTrace* uploaded_trace_ = nullptr;
+    int uploaded_step_ = -1;
+    std::unique_ptr<MeshBuffer> left_tris_, right_tris_;
+    std::unique_ptr<BoxBuffer> boxes_;
+    std::unique_ptr<ColouredBuffer> plane_;
+    int shown_step_ = -1;  ///< the step draw_3d shows (clamped)
+};
+
+}  // namespace accelviz

@@ -1,0 +1,108 @@
+// The construction stepper in the window frame (headless, OSMesa): golden images of
+// the SAH chart on the bunny and on a tricky scene, and its errors.
+#include <gtest/gtest.h>
+#include <imgui.h>
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>  // key codes: ImGui 1.86 indexes io.KeysDown by the GLFW backend's codes
+
+#include "app/gui/headless.h"
+#include "app/gui/session.h"
+#include "golden.h"
+
+namespace accelviz {
+namespace {
+
+using testing::matches_golden;
+
+std::string bunny() { return std::string(ACCELVIZ_SHARED_ASSETS) + "/bunny.obj"; }
+
+/// The frame right of the sidebar and above the status bar: the 3D view and the
+/// Construction panel. (The sidebar and the status bar show the mesh's path, which
+/// depends on where the checkout is.)
+Image view_and_panel(const Image& frame) {
+    const int left = 320, bottom = 40;
+    Image out(frame.width - left, frame.height - bottom);
+    for (int y = 0; y < out.height; ++y)
+        for (int x = 0; x < out.width; ++x) out.at(x, y) = frame.at(x + left, y);
+    return out;
+}
+
+AppState build_step_state(const std::string& scene, BvhBuilder builder, int step) {
+    AppState state;
+    state.scene = scene;
+    state.accel.type = "bvh";
+    state.accel.bvh.builder = builder;
+    state.build_step.active = true;
+    state.build_step.step = step;
+    return state;
+}
+
+TEST(BuildStepGolden, BunnyBinnedSahEarlySplit) {
+    // Decision 1: the root's left child, split by binned SAH (B = 16).
+    auto image = render_gui_view_headless(build_step_state(bunny(), BvhBuilder::SahBinned, 1), "build-step", 1280, 800);
+    ASSERT_TRUE(image) << image.error();
+    EXPECT_TRUE(matches_golden(view_and_panel(*image), "bunny_build_step_binned"));
+}
+
+TEST(BuildStepGolden, SameBoxChartShowsNoSplitHelps) {
+    // Every triangle has the same box: every plane costs C_trav + N C_isect, above the leaf line.
+    AppState state = build_step_state("builtin:same-box?n=40", BvhBuilder::SahBinned, 0);
+    state.build_step.bins = 8;  // the chart's own B (live slider), not the tree's
+    auto image = render_gui_view_headless(state, "build-step", 1280, 800);
+    ASSERT_TRUE(image) << image.error();
+    EXPECT_TRUE(matches_golden(*image, "same_box_build_step"));
+}
+
+TEST(BuildStepHeadless, StepOutOfRangeIsAnErrorWithTheRange) {
+    auto image = render_gui_view_headless(build_step_state("builtin:cube", BvhBuilder::SahBinned, 999), "build-step", 64, 64);
+    ASSERT_FALSE(image);
+    EXPECT_NE(image.error().find("out of range"), std::string::npos) << image.error();
+    EXPECT_NE(image.error().find("0.."), std::string::npos) << image.error();
+}
+
+TEST(BuildStepHeadless, NeedsABvh) {
+    AppState state = build_step_state("builtin:cube", BvhBuilder::SahBinned, 0);
+    state.accel.type = "grid";
+    auto image = render_gui_view_headless(state, "build-step", 64, 64);
+    ASSERT_FALSE(image);
+    EXPECT_NE(image.error().find("BVH"), std::string::npos) << image.error();
+}
+
+TEST(BuildStepHeadless, KeysStepForwardAndBackAndTheStateRoundTrips) {
+    auto app = HeadlessApp::create(320, 240);
+    ASSERT_TRUE(app) << app.error();
+    AppState state = build_step_state("builtin:teapot?n=2", BvhBuilder::SahBinned, 0);
+    LoadResult loaded = load_and_build(state.scene, state.accel);
+    ASSERT_TRUE(loaded) << loaded.error();
+    (*app)->session().set_scene(state, std::move(*loaded), false);
+    (*app)->draw(state, {});
+    const BuildTrace* trace = (*app)->session().build_stepper.trace();
+    ASSERT_TRUE(trace);
+    EXPECT_EQ(trace->steps.size(), trace->bvh.nodes.size());
+    auto press = [&](int key) {
+        ImGuiIO& io = ImGui::GetIO();
+        io.KeysDown[key] = true;
+        (*app)->draw(state, {});
+        io.KeysDown[key] = false;
+        (*app)->draw(state, {});
+    };
+    press(GLFW_KEY_RIGHT);
+    press(GLFW_KEY_RIGHT);
+    EXPECT_EQ(state.build_step.step, 2);
+    press(GLFW_KEY_LEFT);
+    EXPECT_EQ(state.build_step.step, 1);
+    press(GLFW_KEY_END);
+    EXPECT_EQ(state.build_step.step, int(trace->steps.size()) - 1);
+    press(GLFW_KEY_HOME);
+    EXPECT_EQ(state.build_step.step, 0);
+    // The chart's parameters and the step survive a preset.
+    state.build_step.step = 3;
+    state.build_step.cost_trav = 2.5f;
+    auto back = app_state_from_json(to_json(state));
+    ASSERT_TRUE(back) << back.error();
+    EXPECT_EQ(back->build_step, state.build_step);
+    EXPECT_FALSE(app_state_from_json(nlohmann::json::parse(R"({"build_step": {"bins": 1}})")));
+}
+
+}  // namespace
+}  // namespace accelviz
