@@ -19,7 +19,11 @@ namespace {
 
 // [SECTION] Colours: the same in the chart, its legend and the 3D view
 
-constexpr Rgba8 kNodeBox{255, 255, 255, 255};
+/// The node's box: white on a dark background, near-black on a light one.
+Rgba8 node_box_colour(Rgb background) {
+    const int luma = (299 * background.r + 587 * background.g + 114 * background.b) / 1000;
+    return luma > 128 ? Rgba8{20, 20, 24, 255} : Rgba8{255, 255, 255, 255};
+}
 constexpr Rgba8 kLeftColour{255, 150, 40, 255};   ///< left child: box, triangles, chart side
 constexpr Rgba8 kRightColour{70, 160, 255, 255};  ///< right child
 constexpr Rgb kLeafTriangles{240, 210, 80};
@@ -209,7 +213,7 @@ void BuildStepper::draw_panel(AppState& state, float x, float y, float w, float 
 
     // The node and the builder's decision.
     const bool leaf = trace_->bvh.nodes[step.node].is_leaf();
-    ImGui::Text("Node %u, depth %u: %u triangles (%s, %s)", step.node, step.depth, step.count,
+    ImGui::TextWrapped("Node %u, depth %u: %u triangles (%s, %s)", step.node, step.depth, step.count,
                 std::string(to_string(trace_->config.builder)).c_str(), leaf ? "leaf" : "split");
     ImGui::PushTextWrapPos(0.0f);
     ImGui::TextUnformatted(explain(step.decision, trace_->config.max_leaf_size).c_str());
@@ -219,12 +223,11 @@ void BuildStepper::draw_panel(AppState& state, float x, float y, float w, float 
         ImGui::SameLine();
         swatch(im(kRightColour));
         ImGui::Text("right %u", step.count - step.left_count);
-        ImGui::SameLine();
         if (step.axis >= 0)
-            ImGui::Text("  at %s = %.4g, cost %s", kAxisNames[step.axis], double(step.split_position),
+            ImGui::Text("split at %s = %.4g, cost %s", kAxisNames[step.axis], double(step.split_position),
                         cost_text(step.split_cost).c_str());
         else
-            ImGui::Text("  by index, cost %s", cost_text(step.split_cost).c_str());
+            ImGui::Text("split by index, cost %s", cost_text(step.split_cost).c_str());
     }
     ImGui::PopTextWrapPos();
     ImGui::Separator();
@@ -314,6 +317,8 @@ void BuildStepper::draw_chart(const SahChart& chart, const BuildStep& step, floa
     const float label_w = ImGui::CalcTextSize("00000.0").x + 0.5f * font;
     const float plot_h = 3.8f * font;
     ImDrawList* draw = ImGui::GetWindowDrawList();
+    const ImU32 label_colour = ImGui::GetColorU32(ImGuiCol_Text);  // labels outside the (always dark) plot
+    const float line = std::max(2.0f, 0.125f * font);               // thicker with the UI scale (projectors)
     for (int axis = 0; axis < 3; ++axis) {
         const SahChartAxis& a = chart.axes[size_t(axis)];
         ImGui::Text("%s axis", kAxisNames[axis]);
@@ -329,11 +334,11 @@ void BuildStepper::draw_chart(const SahChart& chart, const BuildStep& step, floa
         draw->AddRect(p0, p1, kPlotFrame);
         auto y_of = [&](float cost) { return p1.y - (cost - y_lo) / (y_hi - y_lo) * (p1.y - p0.y); };
         // Cost labels at the left: the top and bottom of the range.
-        draw->AddText(ImVec2(origin.x, p0.y), kAxisText, cost_text(y_hi - pad).c_str());
-        draw->AddText(ImVec2(origin.x, p1.y - ImGui::GetTextLineHeight()), kAxisText, cost_text(y_lo + pad).c_str());
+        draw->AddText(ImVec2(origin.x, p0.y), label_colour, cost_text(y_hi - pad).c_str());
+        draw->AddText(ImVec2(origin.x, p1.y - ImGui::GetTextLineHeight()), label_colour, cost_text(y_lo + pad).c_str());
         // Leaf cost: a horizontal line across every axis's chart.
         const float leaf_y = y_of(chart.leaf_cost);
-        draw->AddLine(ImVec2(p0.x, leaf_y), ImVec2(p1.x, leaf_y), kLeafLine, 2.0f);
+        draw->AddLine(ImVec2(p0.x, leaf_y), ImVec2(p1.x, leaf_y), kLeafLine, line);
         if (!a.usable) {
             const char* text = "all centroids equal on this axis: no plane";
             const ImVec2 size = ImGui::CalcTextSize(text);
@@ -344,14 +349,14 @@ void BuildStepper::draw_chart(const SahChart& chart, const BuildStep& step, floa
         auto x_of = [&](float pos) { return p0.x + (pos - x_lo) / (x_hi - x_lo) * (p1.x - p0.x); };
         // Position labels under the plot: the centroid bounds.
         const float text_y = p1.y + 0.1f * font;
-        draw->AddText(ImVec2(p0.x, text_y), kAxisText, fmt("%.4g", double(x_lo)).c_str());
+        draw->AddText(ImVec2(p0.x, text_y), label_colour, fmt("%.4g", double(x_lo)).c_str());
         const std::string hi_text = fmt("%.4g", double(x_hi));
-        draw->AddText(ImVec2(p1.x - ImGui::CalcTextSize(hi_text.c_str()).x, text_y), kAxisText, hi_text.c_str());
+        draw->AddText(ImVec2(p1.x - ImGui::CalcTextSize(hi_text.c_str()).x, text_y), label_colour, hi_text.c_str());
         // Heuristic cuts: vertical lines on the axis they would cut.
         auto vline = [&](const HeuristicCut& cut, ImU32 colour, const char* label, float label_row) {
             if (!cut.valid || cut.axis != axis) return;
             const float x = x_of(cut.position);
-            draw->AddLine(ImVec2(x, p0.y), ImVec2(x, p1.y), colour, 2.0f);
+            draw->AddLine(ImVec2(x, p0.y), ImVec2(x, p1.y), colour, line);
             draw->AddText(ImVec2(x + 3.0f, p0.y + label_row * ImGui::GetTextLineHeight()), colour, label);
         };
         vline(chart.midpoint, kMidpoint, "midpoint", 0.0f);
@@ -363,12 +368,12 @@ void BuildStepper::draw_chart(const SahChart& chart, const BuildStep& step, floa
         for (size_t i = 0; i < a.positions.size(); ++i) {
             const float x = x_of(a.positions[i]);
             if (!std::isfinite(a.costs[i])) {
-                draw->AddLine(ImVec2(x, p1.y - 0.35f * font), ImVec2(x, p1.y), kEmpty, 1.5f);
+                draw->AddLine(ImVec2(x, p1.y - 0.35f * font), ImVec2(x, p1.y), kEmpty, 0.75f * line);
                 have_prev = false;
                 continue;
             }
             const ImVec2 p(x, y_of(a.costs[i]));
-            if (have_prev) draw->AddLine(prev, p, kCurve, 2.0f);
+            if (have_prev) draw->AddLine(prev, p, kCurve, line);
             if (dots) draw->AddCircleFilled(p, 0.16f * font, kCurve);
             prev = p;
             have_prev = true;
@@ -376,14 +381,14 @@ void BuildStepper::draw_chart(const SahChart& chart, const BuildStep& step, floa
         // The cheapest plane under these parameters.
         if (chart.best_axis == axis) {
             const float x = x_of(chart.best_position);
-            draw->AddLine(ImVec2(x, p0.y), ImVec2(x, p1.y), kBest, 1.5f);
+            draw->AddLine(ImVec2(x, p0.y), ImVec2(x, p1.y), kBest, 0.75f * line);
             draw->AddCircleFilled(ImVec2(x, y_of(chart.best_cost)), 0.32f * font, kBest);
         }
         // The tree's own split, when the sliders moved the cheapest plane elsewhere.
         if (step.axis == axis && !(chart.best_axis == axis && chart.best_position == step.split_position)) {
             const float x = x_of(step.split_position);
             for (float yy = p0.y; yy < p1.y; yy += 0.5f * font)
-                draw->AddLine(ImVec2(x, yy), ImVec2(x, std::min(p1.y, yy + 0.25f * font)), kBest, 2.0f);
+                draw->AddLine(ImVec2(x, yy), ImVec2(x, std::min(p1.y, yy + 0.25f * font)), kBest, line);
         }
     }
 
@@ -411,7 +416,7 @@ void BuildStepper::draw_chart(const SahChart& chart, const BuildStep& step, floa
 
 // [SECTION] 3D: the node's triangles and boxes
 
-void BuildStepper::upload_step(const BuildStep& step) {
+void BuildStepper::upload_step(const BuildStep& step, Rgb background) {
     const Mesh& mesh = *trace_->scene->mesh;
     const bool leaf = trace_->bvh.nodes[step.node].is_leaf();
     const uint32_t left_end = leaf ? step.first + step.count : step.first + step.left_count;
@@ -430,7 +435,7 @@ void BuildStepper::upload_step(const BuildStep& step) {
     // The node's box a little larger than it is: its edges would otherwise lie on its
     // children's and be hidden by them.
     const Vec3 grow = step.bounds.extent() * 0.015f;
-    std::vector<BoxInstance> boxes = {{step.bounds.lo - grow, step.bounds.hi + grow, kNodeBox}};
+    std::vector<BoxInstance> boxes = {{step.bounds.lo - grow, step.bounds.hi + grow, node_box_colour(background)}};
     std::vector<ColouredQuad> quads;
     if (!leaf && step.axis >= 0) {
         // The split plane across the node's box, translucent.
@@ -458,16 +463,17 @@ void BuildStepper::upload_step(const BuildStep& step) {
     boxes_->upload(boxes);
 }
 
-void BuildStepper::draw_3d(Renderer& renderer, const MeshBuffer& mesh, int step_index) {
+void BuildStepper::draw_3d(Renderer& renderer, const MeshBuffer& mesh, int step_index, Rgb background) {
     if (!trace_ || trace_->steps.empty()) {
         renderer.draw_mesh(mesh, {});
         return;
     }
     shown_step_ = std::clamp(step_index, 0, int(trace_->steps.size()) - 1);
-    if (uploaded_trace_ != trace_.get() || uploaded_step_ != shown_step_) {
-        upload_step(trace_->steps[size_t(shown_step_)]);
+    if (uploaded_trace_ != trace_.get() || uploaded_step_ != shown_step_ || !(uploaded_background_ == background)) {
+        upload_step(trace_->steps[size_t(shown_step_)], background);
         uploaded_trace_ = trace_.get();
         uploaded_step_ = shown_step_;
+        uploaded_background_ = background;
     }
     const BuildStep& step = trace_->steps[size_t(shown_step_)];
     const bool leaf = trace_->bvh.nodes[step.node].is_leaf();

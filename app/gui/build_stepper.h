@@ -62,7 +62,7 @@ public:
     bool shows_3d(const AppState& state) const;
     /// The 3D part of the step shown: its triangles over the dimmed mesh, then the
     /// node's and children's boxes (GL thread, inside the 3D view).
-    void draw_3d(Renderer& renderer, const MeshBuffer& mesh, int step);
+    void draw_3d(Renderer& renderer, const MeshBuffer& mesh, int step, Rgb background);
 
     bool busy() const { return trace_job_.busy() || chart_job_.busy(); }
     bool has_result() const { return trace_job_.has_result() || chart_job_.has_result(); }
@@ -85,7 +85,7 @@ private:
         SahChart chart;
     };
     void draw_chart(const SahChart& chart, const BuildStep& step, float width);
-    void upload_step(const BuildStep& step);
+    void upload_step(const BuildStep& step, Rgb background);
 
     LatestJob<std::shared_ptr<const BuildTrace>> trace_job_;
     const LoadedScene* trace_requested_ = nullptr;  ///< the scene recording was asked for
@@ -97,6 +97,7 @@ private:
     // GPU copies of the step shown (made on the GL thread in draw_3d).
     const BuildTrace* uploaded_trace_ = nullptr;
     int uploaded_step_ = -1;
+    Rgb uploaded_background_;
     std::unique_ptr<MeshBuffer> left_tris_, right_tris_;
     std::unique_ptr<BoxBuffer> boxes_;
     std::unique_ptr<ColouredBuffer> plane_;

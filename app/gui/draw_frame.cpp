@@ -37,7 +37,7 @@ Layout compute_layout(int width, int height, bool ui, bool split, bool right_pan
         layout.status_height = std::floor(ImGui::GetTextLineHeight() + 2.0f * ImGui::GetStyle().FramePadding.y + 4.0f);
         if (right_panel)
             layout.right_panel_width =
-                std::floor(std::min(30.0f * font, 0.5f * std::max(0.0f, float(width) - layout.sidebar_width)));
+                std::floor(std::min(30.0f * font, 0.6f * std::max(0.0f, float(width) - layout.sidebar_width)));
     }
     const int left = int(layout.sidebar_width);
     const int right = int(layout.right_panel_width);
@@ -350,7 +350,8 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
         if (build_step_3d) {
             // The construction stepper's picture replaces the structure overlay
             // (and the scene's bounds: the root's box is the first step's).
-            session.build_stepper.draw_3d(renderer, *session.mesh_buffer, state.build_step.step);
+            session.build_stepper.draw_3d(renderer, *session.mesh_buffer, state.build_step.step,
+                                          state.view.background);
         } else {
             if (mesh_style.opacity >= 1.0f) renderer.draw_mesh(*session.mesh_buffer, mesh_style);
             draw_overlay();
