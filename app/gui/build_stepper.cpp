@@ -11,6 +11,7 @@
 #include <GLFW/glfw3.h>  // key codes only: ImGui 1.86 indexes io.KeysDown by the GLFW backend's codes
 #include <imgui.h>
 
+#include "app/gui/camera_control.h"
 #include "core/accel/accelerator.h"
 
 namespace accelviz {
@@ -98,7 +99,16 @@ BuildStepper::~BuildStepper() = default;
 // [SECTION] Per frame: recording and charts on workers
 
 void BuildStepper::update(AppState& state, const std::shared_ptr<const LoadedScene>& scene, bool wait) {
-    if (!state.build_step.active || !scene) return;
+    if (!state.build_step.active || !scene) {
+        // Off: let go of a recording of another scene (a big mesh's takes ~230 bytes a node).
+        if (trace_ && trace_->scene != scene) {
+            trace_.reset();
+            chart_.reset();
+            chart_requested_ = {};
+            trace_requested_ = nullptr;
+        }
+        return;
+    }
     if (trace_requested_ != scene.get()) {
         trace_requested_ = scene.get();
         trace_.reset();
@@ -163,7 +173,7 @@ bool BuildStepper::draw_sidebar(AppState& state) {
 
 // [SECTION] The Construction panel
 
-void BuildStepper::draw_panel(AppState& state, float x, float y, float w, float h) {
+void BuildStepper::draw_panel(AppState& state, float x, float y, float w, float h, double view_aspect) {
     ImGui::SetNextWindowPos(ImVec2(x, y), ImGuiCond_Always);
     ImGui::SetNextWindowSize(ImVec2(w, h), ImGuiCond_Always);
     const ImGuiWindowFlags flags = ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoCollapse |
@@ -207,6 +217,9 @@ void BuildStepper::draw_panel(AppState& state, float x, float y, float w, float 
                 break;
             }
     }
+    ImGui::SameLine();
+    // Deep nodes are small: bring the camera to this one (F brings back the whole scene).
+    if (ImGui::Button("frame node") && state.camera) frame_bounds(*state.camera, step.bounds, view_aspect);
     ImGui::SetNextItemWidth(-FLT_MIN);
     const std::string scrub_format = "decision %d (of 0.." + std::to_string(last) + ")";
     ImGui::SliderInt("##scrub", &s.step, 0, last, scrub_format.c_str(), ImGuiSliderFlags_AlwaysClamp);

@@ -54,8 +54,9 @@ public:
     /// user asked for a BVH (the caller rebuilds the structure).
     bool draw_sidebar(AppState& state);
     /// The Construction panel (a fixed window at x, y of w x h): the timeline
-    /// controls, the node, the SAH chart and its sliders.
-    void draw_panel(AppState& state, float x, float y, float w, float h);
+    /// controls, the node, the SAH chart and its sliders. `view_aspect`: the 3D
+    /// view's, for framing the node.
+    void draw_panel(AppState& state, float x, float y, float w, float h, double view_aspect);
     /// Left/Right/Home/End (call when ImGui does not want the keyboard).
     void handle_keys(AppState& state);
     /// True if the 3D view shows the stepper's picture instead of the structure overlay.

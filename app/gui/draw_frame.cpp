@@ -304,7 +304,9 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
         ImGui::End();
         if (layout.right_panel_width > 0)
             session.build_stepper.draw_panel(state, float(input.width) - layout.right_panel_width, 0,
-                                             layout.right_panel_width, float(layout.view.height));
+                                             layout.right_panel_width, float(layout.view.height),
+                                             layout.gl_view.height > 0 ? double(layout.gl_view.width) / layout.gl_view.height
+                                                                       : 1.0);
 
         ImGui::SetNextWindowPos(ImVec2(0, float(input.height) - layout.status_height), ImGuiCond_Always);
         ImGui::SetNextWindowSize(ImVec2(float(input.width), layout.status_height), ImGuiCond_Always);

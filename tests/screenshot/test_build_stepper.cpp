@@ -104,5 +104,35 @@ TEST(BuildStepHeadless, KeysStepForwardAndBackAndTheStateRoundTrips) {
     EXPECT_FALSE(app_state_from_json(nlohmann::json::parse(R"({"build_step": {"bins": 1}})")));
 }
 
+TEST(BuildStepHeadless, RecordingFollowsTheSceneAndIsReleasedWhenOff) {
+    auto app = HeadlessApp::create(320, 240);
+    ASSERT_TRUE(app) << app.error();
+    AppState state = build_step_state("builtin:teapot?n=2", BvhBuilder::SahBinned, 5);
+    LoadResult loaded = load_and_build(state.scene, state.accel);
+    ASSERT_TRUE(loaded) << loaded.error();
+    (*app)->session().set_scene(state, std::move(*loaded), false);
+    (*app)->draw(state, {});
+    const BuildTrace* first = (*app)->session().build_stepper.trace();
+    ASSERT_TRUE(first);
+    EXPECT_EQ(first->scene, (*app)->session().scene);
+    // A rebuild with another builder (a new scene object): recorded again, the step kept.
+    state.accel.bvh.builder = BvhBuilder::Median;
+    LoadResult rebuilt = rebuild(*(*app)->session().scene, state.accel);
+    ASSERT_TRUE(rebuilt) << rebuilt.error();
+    (*app)->session().set_scene(state, std::move(*rebuilt), true);
+    (*app)->draw(state, {});
+    const BuildTrace* second = (*app)->session().build_stepper.trace();
+    ASSERT_TRUE(second);
+    EXPECT_EQ(second->config.builder, BvhBuilder::Median);
+    EXPECT_EQ(state.build_step.step, 5);
+    // Off, and the scene changes: the recording is let go.
+    state.build_step.active = false;
+    LoadResult again = rebuild(*(*app)->session().scene, state.accel);
+    ASSERT_TRUE(again) << again.error();
+    (*app)->session().set_scene(state, std::move(*again), true);
+    (*app)->draw(state, {});
+    EXPECT_EQ((*app)->session().build_stepper.trace(), nullptr);
+}
+
 }  // namespace
 }  // namespace accelviz
