@@ -3,7 +3,10 @@
 namespace accelviz::cli {
 
 void add_accel_flags(CLI::App& command, AccelConfig& config) {
-    command.add_option("--accel", config.type, "Acceleration structure")
+    // The command line's default is the BVH: naive is the lecture's O(N) baseline,
+    // minutes per frame on a real mesh, so it is asked for by name.
+    config.type = "bvh";
+    command.add_option("--accel", config.type, "Acceleration structure (naive = the O(N) baseline: every triangle per ray)")
         ->check(CLI::IsMember(accel_types()))
         ->capture_default_str();
 
