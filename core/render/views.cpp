@@ -89,9 +89,10 @@ Image split_view(const Frame& raster, const Frame& ray, const WorkSummary& work)
                     with_commas(work.ray_work.triangle_tests) + " triangle tests";
     draw_label(out, w + pad, h - 24 * s, ray_text, s);
     const DepthAgreement agree = compare_depths(raster, ray);
-    draw_label(out, w + pad, h - 14 * s,
-               fmt("depth agrees (1e-4 rel) on %.3f%% of shared pixels", agree.agreeing_percent()) +
-                   fmt(", coverage differs on %.3f%%", agree.coverage_differs_percent()),
+    // The verdict concerns both halves: a line under each, short enough for 320-pixel halves.
+    draw_label(out, pad, h - 14 * s, fmt("depths agree on %.3f%% of shared pixels (1e-4 rel.)", agree.agreeing_percent()),
+               s);
+    draw_label(out, w + pad, h - 14 * s, fmt("coverage differs on %.3f%% of pixels", agree.coverage_differs_percent()),
                s);
     return out;
 }
