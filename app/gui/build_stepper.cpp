@@ -391,6 +391,23 @@ void BuildStepper::draw_chart(const SahChart& chart, const BuildStep& step, floa
             prev = p;
             have_prev = true;
         }
+        // Hover: the nearest plane's numbers.
+        const ImVec2 mouse = ImGui::GetIO().MousePos;
+        if (!a.positions.empty() && ImGui::IsWindowHovered() && mouse.x >= p0.x && mouse.x <= p1.x && mouse.y >= p0.y &&
+            mouse.y <= p1.y) {
+            size_t nearest = 0;
+            for (size_t i = 1; i < a.positions.size(); ++i)
+                if (std::abs(x_of(a.positions[i]) - mouse.x) < std::abs(x_of(a.positions[nearest]) - mouse.x)) nearest = i;
+            const float x = x_of(a.positions[nearest]);
+            draw->AddLine(ImVec2(x, p0.y), ImVec2(x, p1.y), kAxisText, 1.0f);
+            const uint32_t left = a.left_counts[nearest];
+            if (std::isfinite(a.costs[nearest]))
+                ImGui::SetTooltip("%s = %.4g: cost %s (%u left | %u right)", kAxisNames[axis], double(a.positions[nearest]),
+                                  cost_text(a.costs[nearest]).c_str(), left, chart.count - left);
+            else
+                ImGui::SetTooltip("%s = %.4g: one side would be empty (or the plane falls between equal centroids)",
+                                  kAxisNames[axis], double(a.positions[nearest]));
+        }
         // The cheapest plane under these parameters.
         if (chart.best_axis == axis) {
             const float x = x_of(chart.best_position);
