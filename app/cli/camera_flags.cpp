@@ -1,5 +1,7 @@
 #include "app/cli/camera_flags.h"
 
+#include <cstdio>
+
 namespace accelviz::cli {
 
 void CameraFlags::add_to(CLI::App& command) {
@@ -21,6 +23,11 @@ Expected<CameraParams> CameraFlags::resolve(const Aabb& scene_bounds) const {
     if (fov) p.fov_deg = *fov;
     if (auto err = validate(p)) return *err;
     return p;
+}
+
+bool parse_pixel(const std::string& text, int& x, int& y) {
+    char rest = 0;
+    return std::sscanf(text.c_str(), "%d,%d%c", &x, &y, &rest) == 2;
 }
 
 }  // namespace accelviz::cli

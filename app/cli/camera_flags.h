@@ -19,4 +19,7 @@ struct CameraFlags {
     Expected<CameraParams> resolve(const Aabb& scene_bounds) const;
 };
 
+/// "X,Y" -> two integers (the --pixel flag of trace and render --view step).
+bool parse_pixel(const std::string& text, int& x, int& y);
+
 }  // namespace accelviz::cli

@@ -7,6 +7,7 @@
 #include "app/cli/camera_flags.h"
 #include "app/cli/commands.h"
 #include "app/gui/headless.h"
+#include "app/gui/stepper_panel.h"
 #include "core/geometry/scene.h"
 #include "core/render/ray_caster.h"
 #include "core/render/views.h"
@@ -24,12 +25,13 @@ struct RenderOptions {
     double heat_max = 0;
     CameraFlags camera;
     AccelConfig accel;
-    int step = -1;              ///< build-step: the decision to show
+    int step = -1;              ///< build-step: the decision to show; step: events applied (-1: not given)
+    std::string pixel;          ///< step: the pixel whose ray is stepped
     bool accel_given = false;   ///< --accel was on the command line
 };
 
 const std::vector<std::string> kViews = {"raycast",   "raster",    "split",     "depth-diff",
-                                         "heat-nodes", "heat-tris", "build-step"};
+                                         "heat-nodes", "heat-tris", "build-step", "step"};
 
 double ms_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -70,10 +72,46 @@ int run_build_step(const RenderOptions& opt) {
     return 0;
 }
 
+/// `--view step`: the window's frame (OSMesa) with the stepper open at step K on
+/// the ray of pixel X,Y of a width x height image under the camera flags (the ray
+/// `trace --pixel X,Y` prints), the 3D view looking at it from the side.
+int run_render_step(const RenderOptions& opt) {
+    auto fail = [](const std::string& message) {
+        std::cerr << "accelviz render: " << message << "\n";
+        return 1;
+    };
+    if (opt.pixel.empty()) return fail("--view step needs --pixel X,Y (the ray to step)");
+    int x = 0, y = 0;
+    if (!parse_pixel(opt.pixel, x, y)) return fail("--pixel: expected X,Y (two integers), got '" + opt.pixel + "'");
+    if (x < 0 || x >= opt.width || y < 0 || y >= opt.height)
+        return fail("--pixel " + opt.pixel + " is outside the " + std::to_string(opt.width) + "x" +
+                    std::to_string(opt.height) + " image");
+    auto mesh = load_scene(opt.scene);
+    if (!mesh) return fail(mesh.error());
+    auto camera_params = opt.camera.resolve(mesh->bounds());
+    if (!camera_params) return fail(camera_params.error());
+    AppState state;
+    state.scene = opt.scene;
+    state.accel = opt.accel;
+    const Ray ray = Camera(*camera_params, opt.width, opt.height).ray(x, y);
+    state.camera = stepper_side_view(*camera_params, ray);
+    state.overlay.mesh_opacity = 0.5f;  // as the window does when the stepper opens: the boxes lie inside the mesh
+    state.stepper.open = true;
+    state.stepper.ray = ray;
+    state.stepper.pixel = std::array<int, 2>{x, y};
+    state.stepper.step = opt.step < 0 ? 0 : size_t(opt.step);
+    auto image = render_gui_view_headless(state, "step", opt.width, opt.height);
+    if (!image) return fail(image.error());
+    if (auto err = write_png(*image, opt.out)) return fail(err->message);
+    std::cout << opt.out << "\n";
+    return 0;
+}
+
 int run_render(const RenderOptions& opt) {
     if (opt.view == "build-step") return run_build_step(opt);
-    if (opt.step >= 0) {
-        std::cerr << "accelviz render: --step needs --view build-step\n";
+    if (opt.view == "step") return run_render_step(opt);
+    if (opt.step >= 0 || !opt.pixel.empty()) {
+        std::cerr << "accelviz render: --step is for --view build-step or step, --pixel for --view step\n";
         return 1;
     }
     using clock = std::chrono::steady_clock;
@@ -145,7 +183,9 @@ Command register_render(CLI::App& app) {
     sub->add_option("--out,-o", opt->out, "Output PNG file")->required();
     sub->add_option("--view", opt->view,
                     "raycast | raster | split (raster left, ray cast right, each --width wide) | depth-diff | "
-                    "heat-nodes | heat-tris | build-step (the window with the BVH construction stepper at --step)")
+                    "heat-nodes | heat-tris | build-step (the window with the BVH construction stepper at --step) | "
+                    "step (the window with the traversal stepper at --step K on the ray of --pixel X,Y, the 3D view "
+                    "turned 35 degrees about the ray to see it from the side)")
         ->check(CLI::IsMember(kViews))
         ->capture_default_str();
     sub->add_option("--width", opt->width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
@@ -156,8 +196,13 @@ Command register_render(CLI::App& app) {
                     "Also write the ray-cast depth (hit distance t, +inf on a miss) as a PFM file");
     sub->add_option("--heat-max", opt->heat_max, "Top of the heat-map scale (default: the image's maximum)")
         ->check(CLI::NonNegativeNumber);
-    sub->add_option("--step", opt->step, "build-step: which decision of the BVH build to show (0 = the root's)")
+    sub->add_option("--step", opt->step,
+                    "build-step: which decision of the BVH build to show (0 = the root's); step: events applied "
+                    "(0 = before the first, the default; past the end = the final state)")
         ->check(CLI::NonNegativeNumber);
+    sub->add_option("--pixel", opt->pixel,
+                    "step: pixel X,Y (0,0 = top left) of the --width x --height image whose ray is stepped "
+                    "(the ray `trace --pixel X,Y` prints)");
     opt->camera.add_to(*sub);
     add_accel_flags(*sub, opt->accel);
     return {sub, [opt, sub] {

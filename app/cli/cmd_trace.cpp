@@ -25,21 +25,6 @@ struct TraceOptions {
     AccelConfig accel;
 };
 
-/// "X,Y" → two integers.
-bool parse_pixel(const std::string& text, int& x, int& y) {
-    char rest = 0;
-    return std::sscanf(text.c_str(), "%d,%d%c", &x, &y, &rest) == 2;
-}
-
-/// One event as a line of text: kind, then its fields.
-std::string describe(const TraversalEvent& e) {
-    const nlohmann::json j = to_json(e);
-    std::string line = j["kind"].get<std::string>();
-    for (const auto& [key, value] : j.items())
-        if (key != "kind") line += "  " + key + "=" + (value.is_string() ? value.get<std::string>() : value.dump());
-    return line;
-}
-
 int run_trace(const TraceOptions& opt) {
     auto fail = [](const std::string& message) {
         std::cerr << "accelviz trace: " << message << "\n";

@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/traversal/event_json.h"
+
 namespace accelviz {
 
 int font_pixels(float ui_scale) { return std::clamp(int(std::lround(16.0f * ui_scale)), 8, 64); }
@@ -36,6 +38,17 @@ auto read_enum(const nlohmann::json& j, const char* field, Parse parse) {
     auto value = parse(name);
     if (!value) throw std::runtime_error(std::string(field) + ": unknown value '" + name + "'");
     return *value;
+}
+
+/// A float written by float_to_json: a number, or "inf", "-inf", "nan".
+float read_float(const nlohmann::json& j, const char* field) {
+    if (j.is_number()) return j.get<float>();
+    if (j.is_string()) {
+        const std::string text = j.get<std::string>();
+        if (text == "inf") return kInfinity;
+        if (text == "-inf") return -kInfinity;
+    }
+    throw std::runtime_error(std::string(field) + ": expected a number, \"inf\" or \"-inf\"");
 }
 
 }  // namespace
@@ -145,6 +158,16 @@ nlohmann::json to_json(const AppState& s) {
     if (s.build_step.cost_trav) b["cost_trav"] = *s.build_step.cost_trav;
     if (s.build_step.cost_isect) b["cost_isect"] = *s.build_step.cost_isect;
     j["build_step"] = b;
+    nlohmann::json stepper = {{"open", s.stepper.open}, {"step", s.stepper.step}};
+    if (s.stepper.ray)
+        stepper["ray"] = {{"origin", {s.stepper.ray->origin.x, s.stepper.ray->origin.y, s.stepper.ray->origin.z}},
+                          {"dir", {s.stepper.ray->dir.x, s.stepper.ray->dir.y, s.stepper.ray->dir.z}},
+                          {"t_min", float_to_json(s.stepper.ray->t_min)},
+                          {"t_max", float_to_json(s.stepper.ray->t_max)}};
+    else
+        stepper["ray"] = nullptr;
+    if (s.stepper.pixel) stepper["pixel"] = {(*s.stepper.pixel)[0], (*s.stepper.pixel)[1]};
+    j["stepper"] = stepper;
     return j;
 }
 
@@ -206,6 +229,33 @@ Expected<AppState> app_state_from_json(const nlohmann::json& j) {
             if (bs.bins && (*bs.bins < 2 || *bs.bins > 64)) return Error{"build_step.bins: must be between 2 and 64"};
             if (bs.cost_trav && !(*bs.cost_trav >= 0.0f)) return Error{"build_step.cost_trav: must be 0 or more"};
             if (bs.cost_isect && !(*bs.cost_isect > 0.0f)) return Error{"build_step.cost_isect: must be more than 0"};
+        }
+        if (j.contains("stepper")) {
+            const auto& st = j["stepper"];
+            s.stepper.open = st.value("open", s.stepper.open);
+            s.stepper.step = st.value("step", s.stepper.step);
+            if (st.contains("ray") && !st["ray"].is_null()) {
+                const auto& r = st["ray"];
+                Ray ray;
+                const Vec3d o = read_vec3(r.at("origin"), "stepper.ray.origin");
+                const Vec3d d = read_vec3(r.at("dir"), "stepper.ray.dir");
+                ray.origin = {float(o.x), float(o.y), float(o.z)};
+                ray.dir = {float(d.x), float(d.y), float(d.z)};
+                if (r.contains("t_min")) ray.t_min = read_float(r["t_min"], "stepper.ray.t_min");
+                if (r.contains("t_max")) ray.t_max = read_float(r["t_max"], "stepper.ray.t_max");
+                if (!(std::isfinite(ray.origin.x) && std::isfinite(ray.origin.y) && std::isfinite(ray.origin.z)))
+                    return Error{"stepper.ray.origin: must be finite"};
+                if (!(ray.dir.x != 0 || ray.dir.y != 0 || ray.dir.z != 0) ||
+                    !(std::isfinite(ray.dir.x) && std::isfinite(ray.dir.y) && std::isfinite(ray.dir.z)))
+                    return Error{"stepper.ray.dir: must be a finite, non-zero vector"};
+                if (!(ray.t_min <= ray.t_max)) return Error{"stepper.ray: t_min must not exceed t_max"};
+                s.stepper.ray = ray;
+            }
+            if (st.contains("pixel") && !st["pixel"].is_null()) {
+                const auto& p = st["pixel"];
+                if (!p.is_array() || p.size() != 2) return Error{"stepper.pixel: expected [x, y]"};
+                s.stepper.pixel = std::array<int, 2>{p[0].get<int>(), p[1].get<int>()};
+            }
         }
     } catch (const std::exception& e) {  // nlohmann type errors and ours
         return Error{std::string("state: ") + e.what()};

@@ -5,6 +5,7 @@
 /// it alone, so the same AppState gives the same picture in both.
 /// Runtime things (the loaded mesh, GPU buffers, error messages) live in Session.
 
+#include <array>
 #include <optional>
 #include <string>
 
@@ -74,6 +75,24 @@ inline AccelConfig bvh_config_default() {
     return config;
 }
 
+/// The traversal stepper (issue 6): one ray, recorded once through the current
+/// structure, stepped event by event. The ray and the step are state (presets
+/// and `render --view step` reproduce them); playing is not (no animation in a
+/// saved or headless frame).
+struct StepperSettings {
+    bool open = false;             ///< the Stepper panel is shown and its ray drawn in the 3D view
+    std::optional<Ray> ray;        ///< the ray stepped (none: click a pixel or type one)
+    size_t step = 0;               ///< events applied (0: before the first; past the end: the final state)
+    std::optional<std::array<int, 2>> pixel;  ///< where the ray was picked (for the panel's caption), if by a pixel
+    bool operator==(const StepperSettings& o) const {
+        auto same_ray = [](const std::optional<Ray>& a, const std::optional<Ray>& b) {
+            if (a.has_value() != b.has_value()) return false;
+            return !a || (a->origin == b->origin && a->dir == b->dir && a->t_min == b->t_min && a->t_max == b->t_max);
+        };
+        return open == o.open && same_ray(ray, o.ray) && step == o.step && pixel == o.pixel;
+    }
+};
+
 struct AppState {
     std::string scene = "builtin:cube";  ///< "builtin:NAME?k=v" or an OBJ path
     /// The structure and its build parameters; the window starts with a BVH
@@ -86,6 +105,7 @@ struct AppState {
     std::optional<CameraParams> camera;
     ViewSettings view;
     BuildStepSettings build_step;
+    StepperSettings stepper;
 };
 
 /// The structure part of the JSON form (what AppState's "structure" holds).

@@ -26,18 +26,23 @@ struct Layout {
     ViewRect view;      ///< the whole area of the view (mouse and keys act here)
     ViewRect gl_view;   ///< where OpenGL draws the scene: `view`, or its left half when split
     ViewRect ray_view;  ///< split: the right half, the ray caster's picture (same size as gl_view)
-    float right_panel_width = 0;  ///< the construction stepper's panel, right of the view (0: none)
+    float right_panel_width = 0;  ///< a stepper's panel, right of the view (0: none)
 };
 
-Layout compute_layout(int width, int height, bool ui, bool split, bool right_panel) {
+/// Which stepper's panel sits right of the view (one at a time).
+enum class RightPanel { None, Build, Stepper };
+
+Layout compute_layout(int width, int height, bool ui, bool split, RightPanel right_panel) {
     Layout layout;
     if (ui) {
         const float font = ImGui::GetFontSize();
         layout.sidebar_width = std::floor(std::min(19.0f * font, 0.45f * float(width)));
         layout.status_height = std::floor(ImGui::GetTextLineHeight() + 2.0f * ImGui::GetStyle().FramePadding.y + 4.0f);
-        if (right_panel)
+        if (right_panel == RightPanel::Build)
             layout.right_panel_width =
                 std::floor(std::min(30.0f * font, 0.6f * std::max(0.0f, float(width) - layout.sidebar_width)));
+        else if (right_panel == RightPanel::Stepper)
+            layout.right_panel_width = std::floor(std::min(26.0f * font, 0.4f * float(width)));
     }
     const int left = int(layout.sidebar_width);
     const int right = int(layout.right_panel_width);
@@ -60,11 +65,16 @@ constexpr ImGuiWindowFlags kFixedPanel = ImGuiWindowFlags_NoTitleBar | ImGuiWind
 
 /// Mouse and keys move the camera, unless ImGui wants them (a panel is hovered
 /// or a text field is being typed in).
-void handle_view_input(AppState& state, Session& session, const ViewRect& rect, const ViewRect& gl_rect) {
+void handle_view_input(AppState& state, Session& session, const Layout& layout) {
+    const ViewRect& rect = layout.view;
+    const ViewRect& gl_rect = layout.gl_view;
     const ImGuiIO& io = ImGui::GetIO();
-    // The active stepper owns the arrow keys (the camera keeps the mouse and Shift+arrows).
+    // The active stepper owns the arrow keys (the camera keeps the mouse and Shift+arrows;
+    // the traversal stepper leaves Up / Down to the camera).
     const bool stepper_keys = state.build_step.active;
+    const bool stepping = state.stepper.open && state.stepper.ray.has_value();
     if (!io.WantCaptureKeyboard) session.build_stepper.handle_keys(state);
+    if (!io.WantCaptureKeyboard && state.stepper.open) session.stepper.handle_keys(state);
 
     if (!io.WantCaptureKeyboard) {
         if (ImGui::IsKeyPressed(GLFW_KEY_F1, false)) state.view.show_help = !state.view.show_help;
@@ -85,6 +95,8 @@ void handle_view_input(AppState& state, Session& session, const ViewRect& rect, 
         const double up = ImGui::IsKeyDown(GLFW_KEY_UP), down = ImGui::IsKeyDown(GLFW_KEY_DOWN);
         if (shift)
             pan(camera, (right - left) * slide, (up - down) * slide);
+        else if (stepping)
+            orbit(camera, 0.0, (down - up) * turn);
         else if (!stepper_keys)
             orbit(camera, (left - right) * turn, (down - up) * turn);
         if (ImGui::IsKeyDown(GLFW_KEY_EQUAL) || ImGui::IsKeyDown(GLFW_KEY_KP_ADD)) dolly(camera, std::pow(0.3, step));
@@ -102,6 +114,15 @@ void handle_view_input(AppState& state, Session& session, const ViewRect& rect, 
     const bool any_down = ImGui::IsMouseDown(0) || ImGui::IsMouseDown(1) || ImGui::IsMouseDown(2);
     if (hovered && (ImGui::IsMouseClicked(0) || ImGui::IsMouseClicked(1) || ImGui::IsMouseClicked(2)))
         session.dragging_view = true;
+    // The stepper open: a click (press and release without moving) picks the ray of
+    // that pixel, in the 3D view or in the ray-cast half of the split view.
+    if (state.stepper.open && session.dragging_view && ImGui::IsMouseReleased(0) &&
+        io.MouseDragMaxDistanceSqr[0] < 9.0f) {
+        const double mx = io.MouseClickedPos[0].x, my = io.MouseClickedPos[0].y;
+        for (const ViewRect& r : {gl_rect, layout.ray_view})
+            if (!r.empty() && r.contains(mx, my))
+                StepperPanel::pick(state, camera, r.width, r.height, int(mx) - r.x, int(my) - r.y);
+    }
     if (!any_down) session.dragging_view = false;
     if (session.dragging_view && (io.MouseDelta.x != 0 || io.MouseDelta.y != 0)) {
         const double dx = io.MouseDelta.x, dy = io.MouseDelta.y;
@@ -269,15 +290,25 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
     // 3. Layout, then the 3D view's input (ImGui's capture flags are from this NewFrame).
     const bool ui = input.draw_ui && state.view.show_ui;
     const bool split = state.view.mode == "split";
+    // One stepper at a time: the one switched on last wins.
+    if (state.stepper.open && state.build_step.active) {
+        if (session.stepper.was_open) state.stepper.open = false;
+        else state.build_step.active = false;
+    }
+    session.stepper.was_open = state.stepper.open;
     // The construction stepper: its recorded build and chart (on workers; headless waits).
     session.build_stepper.update(state, session.scene, input.deterministic);
     const bool build_panel = state.build_step.active && state.accel.type == "bvh";
-    const Layout layout = compute_layout(input.width, input.height, ui, split, build_panel);
+    const RightPanel right_panel =
+        build_panel ? RightPanel::Build : state.stepper.open ? RightPanel::Stepper : RightPanel::None;
+    const Layout layout = compute_layout(input.width, input.height, ui, split, right_panel);
+    const bool stepping = state.stepper.open && state.stepper.ray.has_value();
     if (session.frame_pending && session.scene && state.camera && !layout.gl_view.empty()) {
         frame_bounds(*state.camera, session.scene->bounds, double(layout.gl_view.width) / layout.gl_view.height);
         session.frame_pending = false;
     }
-    if (input.draw_ui) handle_view_input(state, session, layout.view, layout.gl_view);
+    if (input.draw_ui) handle_view_input(state, session, layout);
+    session.stepper.update(state, session, input.deterministic ? 0.0 : ImGui::GetIO().DeltaTime, input.deterministic);
 
     // Split view: the ray caster's picture of this frame's camera (on the worker;
     // headless waits for it so the frame is complete).
@@ -296,13 +327,24 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
             ImGui::TextDisabled("accelviz");
             session.scene_panel.draw(state, session);
             session.structure_panel.draw(state, session);
+            if (ImGui::CollapsingHeader("Stepper", ImGuiTreeNodeFlags_DefaultOpen)) {
+                // Opening it makes the mesh translucent (once): the boxes a ray visits lie inside it.
+                if (ImGui::Checkbox("Step one ray", &state.stepper.open) && state.stepper.open &&
+                    state.overlay.mesh_opacity >= 1.0f)
+                    state.overlay.mesh_opacity = 0.5f;
+                if (state.stepper.open && !state.stepper.ray) {
+                    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+                    ImGui::TextWrapped("Click a pixel in the view to pick its ray.");
+                    ImGui::PopStyleColor();
+                }
+            }
             session.view_panel.draw(state, session,
                                     layout.view.height > 0 ? double(layout.view.width) / layout.view.height : 1.0);
             if (session.build_stepper.draw_sidebar(state)) session.rebuild_structure(state);
             session.stats_panel.draw(state, session);
         }
         ImGui::End();
-        if (layout.right_panel_width > 0)
+        if (right_panel == RightPanel::Build)
             session.build_stepper.draw_panel(state, float(input.width) - layout.right_panel_width, 0,
                                              layout.right_panel_width, float(layout.view.height),
                                              layout.gl_view.height > 0 ? double(layout.gl_view.width) / layout.gl_view.height
@@ -317,11 +359,21 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
         ImGui::End();
         ImGui::PopStyleVar();
 
+        if (right_panel == RightPanel::Stepper) {
+            ImGui::SetNextWindowPos(ImVec2(float(input.width) - layout.right_panel_width, 0), ImGuiCond_Always);
+            ImGui::SetNextWindowSize(ImVec2(layout.right_panel_width, float(input.height) - layout.status_height),
+                                     ImGuiCond_Always);
+            if (ImGui::Begin("##stepper", nullptr, kFixedPanel)) session.stepper.draw(state, session);
+            ImGui::End();
+        }
         draw_view_messages(session, layout.view, input.deterministic);
-        if (state.overlay.show_structure && !session.build_stepper.shows_3d(state)) draw_legend(session, layout.gl_view);
+        if (state.overlay.show_structure && !session.build_stepper.shows_3d(state) && !stepping)
+            draw_legend(session, layout.gl_view);
         if (split) draw_split_labels(state, session, layout, input.deterministic);
         session.help_window.draw(state);
     }
+    if (state.stepper.open && session.scene && state.camera && !layout.gl_view.empty())
+        session.stepper.draw_labels(make_view3d(*state.camera, layout.gl_view, session.scene->bounds));
     ImGui::Render();
 
     // 5. GL: background, 3D view, panels on top.
@@ -333,9 +385,11 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
         out.view = make_view3d(*state.camera, layout.gl_view, session.scene->bounds);
         renderer.begin_view(out.view);
         renderer.set_line_width(state.view.line_width);
-        const bool overlay = state.overlay.show_structure;
+        // While a ray is stepped, the step's own boxes replace the whole structure's.
+        const bool overlay = state.overlay.show_structure && !stepping;
         auto draw_overlay = [&] {
             if (state.view.show_bounds) renderer.draw_boxes(*session.bounds_buffer);
+            if (stepping) session.stepper.draw_3d(renderer, state.view.line_width);
             if (!overlay) return;
             renderer.draw_quads(*session.overlay_quads);
             renderer.draw_boxes(*session.overlay_boxes);

@@ -12,7 +12,7 @@
 namespace accelviz {
 
 const std::vector<std::string>& headless_gui_views() {
-    static const std::vector<std::string> views = {"structure", "gui", "build-step"};
+    static const std::vector<std::string> views = {"structure", "gui", "build-step", "step"};
     return views;
 }
 
@@ -73,7 +73,8 @@ Expected<HeadlessRender> render_headless(const AppState& state, const std::strin
                                          int frames) {
     const auto& views = headless_gui_views();
     if (std::find(views.begin(), views.end(), view) == views.end())
-        return Error{"unknown view '" + view + "' (the window's views are: structure, gui, build-step)"};
+        return Error{"unknown view '" + view + "' (the window's views are: structure, gui, build-step, step)"};
+    if (view == "step" && !state.stepper.ray) return Error{"view step: no ray to step (pick a pixel)"};
 
     LoadResult loaded = load_and_build(state.scene, state.accel);
     if (!loaded) return Error{loaded.error()};
@@ -85,7 +86,7 @@ Expected<HeadlessRender> render_headless(const AppState& state, const std::strin
     AppState frame_state = state;
     (*app)->session().set_scene(frame_state, std::move(*loaded), state.camera.has_value());
     FrameInput input;
-    input.draw_ui = view == "gui" || view == "build-step";
+    input.draw_ui = view == "gui" || view == "build-step" || view == "step";
     if (view == "build-step") {
         // The whole window with the construction stepper at build_step.step: check
         // the step against the recorded build first (the stepper would clamp it).
@@ -101,7 +102,13 @@ Expected<HeadlessRender> render_headless(const AppState& state, const std::strin
                          std::to_string(trace->steps.size()) + " decisions (0.." +
                          std::to_string(trace->steps.size() - 1) + ")"};
     }
-    const int count = std::max(frames, input.draw_ui ? 2 : 1);
+    if (view == "step") {
+        frame_state.stepper.open = true;
+        frame_state.build_step.active = false;  // one stepper at a time
+    }
+    // gui: auto-sized windows appear on the second frame; step: the event list
+    // scrolls to the current event on the frame after it is laid out.
+    const int count = std::max(frames, view == "step" ? 3 : input.draw_ui ? 2 : 1);
     FrameLayout layout;
     for (int i = 0; i < count; ++i) {
         const auto start = std::chrono::steady_clock::now();

@@ -24,7 +24,8 @@ struct Session;
 /// The views render_gui_view_headless knows: "structure" (the 3D view alone,
 /// over the whole image), "gui" (the whole window frame, panels included) and
 /// "build-step" (the whole frame with the construction stepper at
-/// state.build_step.step, which must be one of the recorded build's decisions).
+/// state.build_step.step, which must be one of the recorded build's decisions)
+/// and "step" (the whole frame with the traversal stepper open on state.stepper.ray).
 const std::vector<std::string>& headless_gui_views();
 
 /// Renders `view` of `state` at width x height through an OSMesa context

@@ -15,6 +15,7 @@
 #include "app/gui/panels.h"
 #include "app/gui/ray_cast_view.h"
 #include "app/gui/scene_loader.h"
+#include "app/gui/stepper_panel.h"
 #include "app/gui/structure_overlay.h"
 #include "app/gui/ui_style.h"
 
@@ -70,6 +71,7 @@ struct Session {
     ViewPanel view_panel;
     StatsBar stats_bar;
     HelpWindow help_window;
+    StepperPanel stepper;  ///< last: its worker may hold the scene's mesh
 
     /// Starts loading `source` with the state's structure (on the worker).
     void open_scene(const AppState& state, const std::string& source, bool keep_camera = false);

@@ -105,9 +105,10 @@ private:
     };
 
     /// Tests the triangles of `leaf` against `ray` (whose t_max is the closest
-    /// hit so far, inclusive), updating `best` and `ray.t_max`.
+    /// hit so far, inclusive), updating `best` and `ray.t_max`. `interval`: the
+    /// leaf box's [t_enter, t_exit], reported with the Leaf event.
     template <class Observer>
-    void intersect_leaf(const BvhNode& leaf, Ray& ray, Hit& best, Observer& obs) const;
+    void intersect_leaf(const BvhNode& leaf, const SlabResult& interval, Ray& ray, Hit& best, Observer& obs) const;
 
     /// The ray spends time in the box within [t_min, t_max]: the clipped interval is
     /// not empty. (SlabResult::hit() also asks for t_exit >= 0, which is the same for
@@ -133,8 +134,10 @@ private:
 // ---------------------------------------------------------------------------
 
 template <class Observer>
-[[gnu::always_inline]] inline void Bvh::intersect_leaf(const BvhNode& leaf, Ray& ray, Hit& best, Observer& obs) const {
-    obs.on({.kind = EventKind::Leaf, .node = uint32_t(&leaf - nodes.data()), .first = leaf.first, .count = leaf.count});
+[[gnu::always_inline]] inline void Bvh::intersect_leaf(const BvhNode& leaf, const SlabResult& interval, Ray& ray, Hit& best,
+                                Observer& obs) const {
+    obs.on({.kind = EventKind::Leaf, .node = uint32_t(&leaf - nodes.data()), .first = leaf.first, .count = leaf.count,
+            .t_enter = interval.t_enter, .t_exit = interval.t_exit});
     const uint32_t end = leaf.first + leaf.count;
     for (uint32_t k = leaf.first; k < end; ++k) {
         const TriangleTest test = intersect_triangle(triangles[k], ray);
@@ -169,7 +172,7 @@ Hit Bvh::unordered(const Ray& ray, Observer& obs) const {
         } else {
             obs.on({.kind = EventKind::VisitNode, .node = node, .t_enter = box.t_enter, .t_exit = box.t_exit});
             if (n.is_leaf()) {
-                intersect_leaf(n, shrinking, best, obs);
+                intersect_leaf(n, box, shrinking, best, obs);
             } else {
                 // Left now, right later. The right box is not tested yet: the stack
                 // entry carries this node's interval, a bound on the child's.
@@ -210,7 +213,7 @@ Hit Bvh::ordered(const Ray& ray, Observer& obs) const {
                 .t_exit = current.t_exit});
         const BvhNode& n = nodes[current.node];
         if (n.is_leaf()) {
-            intersect_leaf(n, shrinking, best, obs);
+            intersect_leaf(n, {current.t_enter, current.t_exit}, shrinking, best, obs);
         } else {
             // find_hit_order (lecture): test both children; keep those the ray enters
             // no later than the closest hit so far; go to the nearer, defer the other.
@@ -287,7 +290,8 @@ bool Bvh::any_hit(const Ray& ray, Observer& obs) const {
                 .t_exit = current.t_exit});
         const BvhNode& n = nodes[current.node];
         if (n.is_leaf()) {
-            obs.on({.kind = EventKind::Leaf, .node = current.node, .first = n.first, .count = n.count});
+            obs.on({.kind = EventKind::Leaf, .node = current.node, .first = n.first, .count = n.count,
+                    .t_enter = current.t_enter, .t_exit = current.t_exit});
             for (uint32_t k = n.first; k < n.first + n.count; ++k) {
                 const TriangleTest test = intersect_triangle(triangles[k], ray);
                 obs.on({.kind = EventKind::TriangleTest, .hit = test.hit, .tri = prim_ids[k], .t = test.t,

@@ -48,6 +48,7 @@ nlohmann::json to_json(const TraversalEvent& e) {
             j["node"] = e.node;
             j["first"] = e.first;
             j["count"] = e.count;
+            interval();
             break;
         case EventKind::TriangleTest:
             hit_values();
@@ -78,6 +79,14 @@ nlohmann::json to_json(const TraversalEvent& e) {
             break;
     }
     return j;
+}
+
+std::string describe(const TraversalEvent& e) {
+    const nlohmann::json j = to_json(e);
+    std::string line = j["kind"].get<std::string>();
+    for (const auto& [key, value] : j.items())
+        if (key != "kind") line += "  " + key + "=" + (value.is_string() ? value.get<std::string>() : value.dump());
+    return line;
 }
 
 nlohmann::json to_json(const std::vector<TraversalEvent>& events) {

@@ -8,6 +8,7 @@
 /// "-inf" and "nan" (e.g. t of a miss, or t_enter of a box the ray never enters).
 /// A missing triangle id (Hit::kNoHit) is written as null.
 
+#include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -22,6 +23,10 @@ nlohmann::json float_to_json(float value);
 nlohmann::json to_json(const TraversalEvent& event);
 nlohmann::json to_json(const std::vector<TraversalEvent>& events);
 nlohmann::json to_json(const Counters& counters);
+/// One event as one line of text: its kind, then its JSON fields as key=value
+/// (what `trace` prints and the stepper's event list shows).
+std::string describe(const TraversalEvent& event);
+
 /// {"hit": false} for a miss, else {"hit": true, "tri", "t", "u", "v"}.
 nlohmann::json to_json(const Hit& hit);
 

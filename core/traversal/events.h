@@ -9,8 +9,9 @@
 ///                                                  parent's interval, the child's box is tested when popped)
 ///   Pop            node, t_enter, t_exit           node taken off the stack
 ///   Cull           node, reason, t_enter, t_exit   node (and its subtree) skipped
-///   Leaf           node, first, count              a leaf's triangles are about to be tested; KD/octree
-///                                                  also t_enter, t_exit: the leaf's [t_min, t_max] on the ray
+///   Leaf           node, first, count, t_enter, t_exit   a leaf's triangles are about to be tested;
+///                                                  [t_enter, t_exit]: the leaf's interval on the ray (BVH: its
+///                                                  box's; KD/octree: the cell's [t_min, t_max])
 ///   TriangleTest   tri, t, u, v, hit               one Möller–Trumbore test
 ///   NewClosest     tri, t, u, v                    the closest hit so far improved (grid/KD/octree: or a
 ///                                                  deferred hit accepted on entering the cell holding it)

@@ -12,7 +12,10 @@ StepState replay(const std::vector<TraversalEvent>& events, size_t k) {
         s.counters.add(e);
         switch (e.kind) {
             case EventKind::BoxTest: s.last_box_test = e; break;
-            case EventKind::VisitNode: s.visited.push_back(e.node); break;
+            case EventKind::VisitNode:
+                s.visited.push_back(e.node);
+                s.last_visit = e;
+                break;
             case EventKind::Push: s.stack.push_back({e.node, e.t_enter, e.t_exit}); break;
             case EventKind::Pop: {
                 // The popped node is normally the top; search from the top to be safe.
@@ -31,6 +34,7 @@ StepState replay(const std::vector<TraversalEvent>& events, size_t k) {
             case EventKind::EnterCell:
                 s.cells.push_back(e);
                 s.visited.push_back(e.node);
+                s.last_visit = e;
                 break;
             case EventKind::MailboxSkip: break;
             case EventKind::HitOutsideCell: s.rejected.push_back(e); break;

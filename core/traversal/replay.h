@@ -40,6 +40,7 @@ struct StepState {
     std::optional<TraversalEvent> last_box_test;       ///< for the slab inspector
     std::optional<TraversalEvent> last_triangle_test;  ///< for the triangle inspector
     std::optional<TraversalEvent> last_split;          ///< KD/octree plane of the current node
+    std::optional<TraversalEvent> last_visit;          ///< the node or cell being worked on (VisitNode, EnterCell)
     Hit closest;                               ///< closest hit so far
     Counters counters;                         ///< work so far
     bool done = false;

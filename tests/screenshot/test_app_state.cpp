@@ -26,6 +26,25 @@ TEST(AppStateJson, RoundTripKeepsEveryField) {
     EXPECT_EQ(to_json(*back), to_json(s));
 }
 
+TEST(AppStateJson, StepperRayAndStepRoundTripExactly) {
+    AppState s;
+    s.stepper.open = true;
+    Ray ray;
+    ray.origin = {0.1f, -2.5f, 3.0f};
+    ray.dir = {0.267261237f, 0.534522474f, -0.801783681f};
+    s.stepper.ray = ray;
+    s.stepper.step = 17;
+    s.stepper.pixel = std::array<int, 2>{640, 360};
+    auto back = app_state_from_json(nlohmann::json::parse(to_json(s).dump()));
+    ASSERT_TRUE(back) << back.error();
+    EXPECT_TRUE(back->stepper == s.stepper);
+    EXPECT_EQ(back->stepper.ray->dir, ray.dir);  // bit for bit: the same ray, the same events
+    EXPECT_EQ(back->stepper.ray->t_max, kInfinity);
+    auto bad = app_state_from_json(nlohmann::json::parse(R"({"stepper": {"ray": {"origin": [0,0,0], "dir": [0,0,0]}}})"));
+    ASSERT_FALSE(bad);
+    EXPECT_NE(bad.error().find("stepper.ray.dir"), std::string::npos) << bad.error();
+}
+
 TEST(AppStateJson, MissingFieldsKeepDefaultsAndNullCameraMeansSceneDefault) {
     auto s = app_state_from_json(nlohmann::json::parse(R"({"scene": "builtin:cube", "camera": null})"));
     ASSERT_TRUE(s) << s.error();

@@ -55,3 +55,12 @@ TEST(EventJson, ARecordedBvhTraceBecomesAnArrayEndingInDone) {
     const nlohmann::json counters = to_json(recorder.counters());
     EXPECT_EQ(counters["nodes_visited"], recorder.counters().nodes_visited);
 }
+
+TEST(EventJson, LeafCarriesItsIntervalOnTheRay) {
+    const nlohmann::json j = to_json(TraversalEvent{.kind = EventKind::Leaf, .node = 5, .first = 10, .count = 3,
+                                                    .t_enter = 0.5f, .t_exit = 2.0f});
+    EXPECT_EQ(j["kind"], "leaf");
+    EXPECT_EQ(j["count"], 3);
+    EXPECT_EQ(j["t_enter"], 0.5);
+    EXPECT_EQ(j["t_exit"], 2.0);
+}

@@ -1,0 +1,587 @@
+#include "app/gui/stepper_panel.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>  // key codes only (ImGui 1.86 indexes io.KeysDown by the GLFW backend's codes)
+#include <imgui.h>
+
+#include "app/gui/camera_control.h"
+#include "app/gui/session.h"
+#include "core/traversal/event_json.h"
+
+namespace accelviz {
+
+namespace {
+
+ImU32 im_colour(DebugColour c, uint8_t alpha = 255) { return IM_COL32(c.r, c.g, c.b, alpha); }
+ImVec4 im_vec4(DebugColour c) { return ImVec4(c.r / 255.0f, c.g / 255.0f, c.b / 255.0f, 1.0f); }
+Rgba8 rgba(DebugColour c) { return {c.r, c.g, c.b, c.a}; }
+
+bool same_ray(const Ray& a, const Ray& b) {
+    return a.origin == b.origin && a.dir == b.dir && a.t_min == b.t_min && a.t_max == b.t_max;
+}
+
+/// "1.25", "inf", "-inf".
+std::string number(float v) {
+    if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+    if (std::isnan(v)) return "nan";
+    char text[32];
+    std::snprintf(text, sizeof text, "%.4g", v);
+    return text;
+}
+
+void grey_text(const char* text) {
+    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+    ImGui::TextWrapped("%s", text);
+    ImGui::PopStyleColor();
+}
+
+}  // namespace
+
+CameraParams stepper_side_view(const CameraParams& camera, const Ray& ray) {
+    CameraParams side = camera;
+    orbit(side, 35.0 * 3.14159265358979 / 180.0, 15.0 * 3.14159265358979 / 180.0);
+    const Vec3d o(ray.origin.x, ray.origin.y, ray.origin.z), d(ray.dir.x, ray.dir.y, ray.dir.z);
+    const double dd = dot(d, d);
+    if (!(dd > 0)) return side;
+    const double t = std::max(0.0, dot(camera.target - o, d) / dd);
+    const Vec3d focus = o + d * t;
+    const Vec3d offset = side.eye - side.target;
+    side.target = focus;
+    side.eye = focus + offset * 0.6;
+    if (validate(side)) return camera;  // (cannot happen for a valid camera; keep it safe)
+    return side;
+}
+
+void StepperPanel::pick(AppState& state, const CameraParams& camera, int width, int height, int x, int y) {
+    if (width <= 0 || height <= 0) return;
+    const Camera cam(camera, width, height);
+    state.stepper.ray = cam.ray(x, y);
+    state.stepper.pixel = std::array<int, 2>{x, y};
+    state.stepper.step = 0;
+    state.stepper.open = true;
+}
+
+// [SECTION] Update
+
+void StepperPanel::update(AppState& state, Session& session, double delta_seconds, bool wait) {
+    if (!state.stepper.open || !session.scene) return;
+    const bool new_scene = traced_scene != session.scene;
+    const bool new_ray = state.stepper.ray.has_value() != traced_ray.has_value() ||
+                         (state.stepper.ray && !same_ray(*state.stepper.ray, *traced_ray));
+    if (new_scene || new_ray) {
+        if (new_scene) boxes = NodeBoxes(*session.scene->accel);
+        traced_scene = session.scene;
+        traced_ray = state.stepper.ray;
+        trace = state.stepper.ray ? record_ray(*session.scene->accel, *state.stepper.ray) : SteppedRay{};
+        shown_step = size_t(-1);
+        playing = false;
+        scroll_to_current = true;
+    }
+    if (state.stepper.ray && (!edits_of || !same_ray(*edits_of, *state.stepper.ray))) {
+        const Ray& r = *state.stepper.ray;
+        for (int a = 0; a < 3; ++a) {
+            origin_edit[a] = r.origin[a];
+            dir_edit[a] = r.dir[a];
+        }
+        edits_of = r;
+    }
+
+    // Playback: `speed` events per second (the window only).
+    const size_t end = trace.events.size();
+    if (playing && !wait) {
+        play_clock += delta_seconds * speed;
+        while (play_clock >= 1.0 && state.stepper.step < end) {
+            ++state.stepper.step;
+            play_clock -= 1.0;
+            scroll_to_current = true;
+        }
+        if (state.stepper.step >= end) playing = false;
+    }
+    const size_t step = std::min(state.stepper.step, end);
+    if (step != shown_step) {
+        step_state = replay(trace.events, step);
+        shown_step = step;
+        geometry = state.stepper.ray ? step_geometry(trace, step_state, boxes, *session.scene->mesh) : DebugGeometry{};
+        geometry_dirty = true;
+    }
+
+    // The compare table: structures per mesh on the worker, rows per ray (cheap).
+    if (compare_job.has_result()) {
+        auto done = compare_job.take();
+        if (done && done->mesh == session.scene->mesh) {
+            compare = std::move(*done);
+            compare_ray_of.reset();
+        }
+    }
+    if (compare_requested != session.scene->mesh) {
+        compare_requested = session.scene->mesh;
+        compare.reset();
+        compare_rows.clear();
+        compare_ray_of.reset();
+        std::shared_ptr<const Mesh> mesh = session.scene->mesh;
+        compare_job.submit([mesh] {
+            CompareBuild out;
+            out.mesh = mesh;
+            auto set = build_compare_set(*mesh);
+            if (set) out.set = std::make_shared<const CompareSet>(std::move(*set));
+            else out.error = set.error();
+            return out;
+        });
+    }
+    if (wait && !compare) {
+        compare_job.wait();
+        if (auto done = compare_job.take(); done && done->mesh == session.scene->mesh) compare = std::move(*done);
+    }
+    if (compare && compare->set && state.stepper.ray &&
+        (!compare_ray_of || !same_ray(*compare_ray_of, *state.stepper.ray))) {
+        compare_rows = compare_ray(*compare->set, *state.stepper.ray);
+        compare_ray_of = state.stepper.ray;
+    }
+}
+
+void StepperPanel::handle_keys(AppState& state) {
+    if (!state.stepper.open || !traced_ray) return;
+    const size_t end = trace.events.size();
+    size_t& step = state.stepper.step;
+    step = std::min(step, end);
+    const size_t before = step;
+    if (!ImGui::GetIO().KeyShift) {
+        if (ImGui::IsKeyPressed(GLFW_KEY_RIGHT, true) && step < end) ++step;
+        if (ImGui::IsKeyPressed(GLFW_KEY_LEFT, true) && step > 0) --step;
+    }
+    if (ImGui::IsKeyPressed(GLFW_KEY_HOME, false)) step = 0;
+    if (ImGui::IsKeyPressed(GLFW_KEY_END, false)) step = end;
+    if (ImGui::IsKeyPressed(GLFW_KEY_SPACE, false)) {
+        playing = !playing;
+        if (playing && step >= end) step = 0;
+        play_clock = 0;
+    }
+    if (step != before) scroll_to_current = true;
+}
+
+// [SECTION] The panel
+
+void StepperPanel::draw_controls(AppState& state) {
+    const size_t end = trace.events.size();
+    size_t& step = state.stepper.step;
+    step = std::min(step, end);
+    const size_t before = step;
+    if (ImGui::Button("|<")) step = 0;
+    ImGui::SameLine();
+    if (ImGui::Button("<") && step > 0) --step;
+    ImGui::SameLine();
+    if (ImGui::Button(playing ? "Pause" : "Play")) {
+        playing = !playing;
+        if (playing && step >= end) step = 0;
+        play_clock = 0;
+    }
+    ImGui::SameLine();
+    if (ImGui::Button(">") && step < end) ++step;
+    ImGui::SameLine();
+    if (ImGui::Button(">|")) step = end;
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(-FLT_MIN);
+    ImGui::SliderFloat("##speed", &speed, 0.5f, 200.0f, "%.1f events/s", ImGuiSliderFlags_Logarithmic);
+    int k = int(step);
+    ImGui::SetNextItemWidth(-FLT_MIN);
+    if (ImGui::SliderInt("##scrubber", &k, 0, int(end), "step %d", ImGuiSliderFlags_AlwaysClamp)) step = size_t(k);
+    if (step != before) scroll_to_current = true;
+}
+
+void StepperPanel::draw_event_list(AppState& state) {
+    const float height = 7.0f * ImGui::GetTextLineHeightWithSpacing();
+    if (!ImGui::BeginChild("##events", ImVec2(0, height), true)) {
+        ImGui::EndChild();
+        return;
+    }
+    const size_t current = state.stepper.step;  // row i is event i; the current one is events[step - 1]
+    ImGuiListClipper clipper;
+    clipper.Begin(int(trace.events.size()));
+    if (scroll_to_current && current > 0) clipper.ForceDisplayRangeByIndices(int(current) - 1, int(current));
+    while (clipper.Step()) {
+        for (int i = clipper.DisplayStart; i < clipper.DisplayEnd; ++i) {
+            const bool is_current = size_t(i) + 1 == current;
+            char label[320];
+            std::snprintf(label, sizeof label, "%5d  %s", i + 1, describe(trace.events[size_t(i)]).c_str());
+            if (size_t(i) >= current) ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+            if (ImGui::Selectable(label, is_current)) state.stepper.step = size_t(i) + 1;
+            if (size_t(i) >= current) ImGui::PopStyleColor();
+            if (is_current && scroll_to_current) ImGui::SetScrollHereY(0.5f);
+        }
+    }
+    if (scroll_to_current && current == 0) ImGui::SetScrollY(0);
+    scroll_to_current = false;
+    ImGui::EndChild();
+}
+
+/// The lecture's picture: three number lines with each slab's interval, the
+/// intersection below them, and the verdict.
+void StepperPanel::draw_slab_inspector(const SlabInspection& s) const {
+    ImDrawList* draw = ImGui::GetWindowDrawList();
+    const float font = ImGui::GetFontSize();
+    const float width = ImGui::GetContentRegionAvail().x;
+    const float label_w = 2.0f * font;
+    const float line_w = std::max(width - label_w - 0.5f * font, 4.0f * font);
+    const float row_h = 2.2f * font;
+    // The t range drawn: every finite end (zoomed on the intervals, as the lecture draws them).
+    float lo = 0.0f, hi = 0.0f;
+    bool any = false;
+    auto include = [&](float v) {
+        if (!std::isfinite(v)) return;
+        lo = any ? std::min(lo, v) : v;
+        hi = any ? std::max(hi, v) : v;
+        any = true;
+    };
+    for (int a = 0; a < 3; ++a) {
+        include(s.axis_min[a]);
+        include(s.axis_max[a]);
+    }
+    include(s.t_enter);
+    include(s.t_exit);
+    if (!any) include(0.0f);
+    if (!(hi > lo)) hi = lo + std::max(std::abs(lo), 1.0f) * 0.1f;
+    const float pad = 0.08f * (hi - lo);
+    lo -= pad;
+    hi += pad;
+    const ImVec2 origin = ImGui::GetCursorScreenPos();
+    auto x_of = [&](float t) {
+        if (std::isnan(t)) return origin.x + label_w;
+        const float f = std::clamp((t - lo) / (hi - lo), 0.0f, 1.0f);
+        return origin.x + label_w + f * line_w;
+    };
+    const ImU32 text = ImGui::GetColorU32(ImGuiCol_Text);
+    const ImU32 faint = ImGui::GetColorU32(ImGuiCol_TextDisabled);
+    const ImU32 axis_colours[3] = {IM_COL32(235, 90, 80, 255), IM_COL32(90, 200, 90, 255), IM_COL32(90, 140, 255, 255)};
+    const char* names[4] = {"x", "y", "z", "all"};
+    for (int row = 0; row < 4; ++row) {
+        const float y = origin.y + row * row_h + 0.6f * font;
+        draw->AddText(ImVec2(origin.x, y - 0.5f * font), text, names[row]);
+        draw->AddLine(ImVec2(origin.x + label_w, y), ImVec2(origin.x + label_w + line_w, y), faint, 1.0f);
+        float a = 0, b = 0;
+        ImU32 colour;
+        if (row < 3) {
+            a = s.axis_min[row];
+            b = s.axis_max[row];
+            colour = axis_colours[row];
+        } else {
+            a = s.t_enter;
+            b = s.t_exit;
+            colour = s.hit ? im_colour(kStepColours.tested_hit) : im_colour(kStepColours.tested_miss);
+        }
+        const bool empty = !(a <= b);
+        if (!empty) {
+            draw->AddRectFilled(ImVec2(x_of(a), y - 0.3f * font), ImVec2(std::max(x_of(b), x_of(a) + 2.0f), y + 0.3f * font),
+                                colour);
+            if (std::isinf(b)) draw->AddText(ImVec2(x_of(b) - font, y - 1.3f * font), colour, "->");
+            if (std::isinf(a)) draw->AddText(ImVec2(x_of(a), y - 1.3f * font), colour, "<-");
+        } else {
+            // An empty interval: its ends drawn crossed over, in the miss colour.
+            draw->AddLine(ImVec2(x_of(b), y - 0.35f * font), ImVec2(x_of(a), y + 0.35f * font), colour, 2.0f);
+            draw->AddLine(ImVec2(x_of(b), y + 0.35f * font), ImVec2(x_of(a), y - 0.35f * font), colour, 2.0f);
+        }
+        char numbers[96];
+        std::snprintf(numbers, sizeof numbers, "[%s, %s]", number(a).c_str(), number(b).c_str());
+        draw->AddText(ImVec2(origin.x + label_w, y + 0.35f * font), text, numbers);
+    }
+    // The ray's start (t = 0) as a tick on every line, when it is in the range drawn.
+    const float t0 = std::max(s.ray_min, 0.0f);
+    if (t0 >= lo && t0 <= hi) {
+        const float x0 = x_of(t0);
+        draw->AddLine(ImVec2(x0, origin.y), ImVec2(x0, origin.y + 4 * row_h - 0.2f * font), faint, 1.0f);
+    }
+    ImGui::Dummy(ImVec2(width, 4 * row_h));
+    ImGui::PushStyleColor(ImGuiCol_Text, s.hit ? im_vec4(kStepColours.tested_hit) : im_vec4(kStepColours.tested_miss));
+    ImGui::TextWrapped("%s", s.verdict.c_str());
+    ImGui::PopStyleColor();
+    if (s.widened) grey_text("BVH: each plane distance moved outwards by 2^-16 (core/accel/box_test.h)");
+}
+
+void StepperPanel::draw_compare() {
+    if (!compare) {
+        grey_text("building naive, BVH, grid, KD tree and octree ...");
+        return;
+    }
+    if (!compare->error.empty()) {
+        ImGui::TextWrapped("compare: %s", compare->error.c_str());
+        return;
+    }
+    if (compare_rows.empty()) return;
+    const ImGuiTableFlags flags = ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg | ImGuiTableFlags_SizingFixedFit;
+    if (ImGui::BeginTable("##compare", 6, flags)) {
+        ImGui::TableSetupColumn("structure");
+        ImGui::TableSetupColumn("nodes");
+        ImGui::TableSetupColumn("boxes");
+        ImGui::TableSetupColumn("tris");
+        ImGui::TableSetupColumn("mbox");
+        ImGui::TableSetupColumn("result");
+        ImGui::TableHeadersRow();
+        for (const CompareRow& row : compare_rows) {
+            ImGui::TableNextRow();
+            ImGui::TableNextColumn();
+            ImGui::TextUnformatted(row.label.c_str());
+            ImGui::TableNextColumn();
+            ImGui::Text("%llu", (unsigned long long)row.counters.nodes_visited);
+            ImGui::TableNextColumn();
+            ImGui::Text("%llu", (unsigned long long)row.counters.box_tests);
+            ImGui::TableNextColumn();
+            ImGui::Text("%llu", (unsigned long long)row.counters.triangle_tests);
+            ImGui::TableNextColumn();
+            ImGui::Text("%llu", (unsigned long long)row.counters.mailbox_skips);
+            ImGui::TableNextColumn();
+            if (row.hit.found())
+                ImGui::Text("%u, t=%.4g%s", row.hit.tri, row.hit.t, row.agrees_with_naive ? "" : " (differs!)");
+            else
+                ImGui::TextUnformatted("miss");
+        }
+        ImGui::EndTable();
+    }
+}
+
+void StepperPanel::draw_ray_fields(AppState& state, Session& session) {
+    const float font = ImGui::GetFontSize();
+    ImGui::SetNextItemWidth(-5.0f * font);
+    ImGui::InputFloat3("origin", origin_edit, "%.4g");
+    ImGui::SetNextItemWidth(-5.0f * font);
+    ImGui::InputFloat3("direction", dir_edit, "%.4g");
+    if (ImGui::Button("Trace this ray")) {
+        const Vec3 d(dir_edit[0], dir_edit[1], dir_edit[2]);
+        const Vec3 o(origin_edit[0], origin_edit[1], origin_edit[2]);
+        if (!(d.x != 0 || d.y != 0 || d.z != 0) || !std::isfinite(d.x + d.y + d.z) || !std::isfinite(o.x + o.y + o.z)) {
+            session.notify("Stepper: the origin must be finite and the direction a finite, non-zero vector", true);
+        } else {
+            Ray r;
+            r.origin = o;
+            r.dir = d;
+            state.stepper.ray = r;
+            state.stepper.pixel.reset();
+            state.stepper.step = 0;
+        }
+    }
+}
+
+void StepperPanel::draw(AppState& state, Session& session) {
+    const char* structure = session.scene ? session.scene->accel_config.type.c_str() : "?";
+    if (state.stepper.pixel)
+        ImGui::Text("Stepper: %s, ray of pixel (%d, %d)", structure, (*state.stepper.pixel)[0], (*state.stepper.pixel)[1]);
+    else
+        ImGui::Text("Stepper: %s", structure);
+    ImGui::SameLine(ImGui::GetWindowContentRegionMax().x - ImGui::CalcTextSize("Close").x -
+                    2.0f * ImGui::GetStyle().FramePadding.x);
+    if (ImGui::SmallButton("Close")) {
+        state.stepper.open = false;
+        playing = false;
+    }
+    const bool typing = ImGui::CollapsingHeader("Type a ray", state.stepper.ray ? 0 : ImGuiTreeNodeFlags_DefaultOpen);
+    if (typing) draw_ray_fields(state, session);
+    if (!state.stepper.ray) {
+        grey_text("Click a pixel in the 3D view (or in the ray-cast half of the split view) to pick its ray, "
+                  "or type an origin and a direction.");
+        return;
+    }
+
+    draw_controls(state);
+    const size_t end = trace.events.size();
+    const size_t step = std::min(state.stepper.step, end);
+    ImGui::Text("step %zu of %zu", step, end);
+    ImGui::SameLine(ImGui::GetWindowContentRegionMax().x - ImGui::CalcTextSize("View from the side").x -
+                    2.0f * ImGui::GetStyle().FramePadding.x);
+    if (ImGui::SmallButton("View from the side") && state.camera)
+        state.camera = stepper_side_view(*state.camera, *state.stepper.ray);
+    if (const TraversalEvent* e = event_before(trace, step)) {
+        // (The state after the event has the closest hit it was compared with: no event changes both.)
+        ImGui::PushStyleColor(ImGuiCol_Text, im_vec4(kStepColours.interval));
+        ImGui::TextWrapped("%s", explain_event(*e, step_state).c_str());
+        ImGui::PopStyleColor();
+    } else {
+        grey_text("before the first event: press Right (or >) to step");
+    }
+    draw_event_list(state);
+
+    // Counters next to the naive O(N) count.
+    const Counters& c = step_state.counters;
+    const size_t triangles = session.scene ? session.scene->mesh->triangle_count() : 0;
+    ImGui::Text("visited %llu   box tests %llu", (unsigned long long)c.nodes_visited, (unsigned long long)c.box_tests);
+    ImGui::Text("triangle tests %llu of naive %zu   mailbox skips %llu", (unsigned long long)c.triangle_tests,
+                triangles, (unsigned long long)c.mailbox_skips);
+    if (step_state.closest.found())
+        ImGui::TextColored(im_vec4(kStepColours.closest), "closest so far: triangle %u, t = %.5g",
+                           step_state.closest.tri, step_state.closest.t);
+    else
+        ImGui::TextDisabled("closest so far: none");
+
+    // What explains the current event comes first: its inspector, or at the end the comparison.
+    const TraversalEvent* current = event_before(trace, step);
+    if (current && current->kind == EventKind::Done) {
+        if (ImGui::CollapsingHeader("Compare structures", ImGuiTreeNodeFlags_DefaultOpen)) draw_compare();
+        draw_stack();
+        draw_inspectors(current);
+    } else {
+        draw_inspectors(current);
+        draw_stack();
+        if (ImGui::CollapsingHeader("Compare structures", ImGuiTreeNodeFlags_DefaultOpen)) draw_compare();
+    }
+    if (ImGui::CollapsingHeader("Colours")) {
+        const StepColours& k = kStepColours;
+        const std::pair<const char*, DebugColour> legend[] = {
+            {"current node / interval", k.current}, {"box tested: entered", k.tested_hit},
+            {"box tested: missed", k.tested_miss},  {"on the stack", k.stacked},
+            {"visited", k.visited},                 {"culled: missed", k.culled_missed},
+            {"culled: beyond closest", k.culled_beyond}, {"triangle hit", k.triangle_hit},
+            {"triangle missed", k.triangle_miss},   {"closest hit", k.closest},
+            {"hit outside cell", k.rejected},       {"split plane", k.split}};
+        for (const auto& [name, colour] : legend) ImGui::TextColored(im_vec4(colour), "%s", name);
+    }
+}
+
+void StepperPanel::draw_stack() {
+    if (!ImGui::CollapsingHeader("Stack", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    if (step_state.stack.empty()) ImGui::TextDisabled("(empty)");
+    for (size_t i = step_state.stack.size(); i-- > 0;) {
+        const auto& x = step_state.stack[i];
+        ImGui::TextColored(im_vec4(kStepColours.stacked), "%s node %u   t_enter %s",
+                           i + 1 == step_state.stack.size() ? "top" : "   ", x.node, number(x.t_enter).c_str());
+    }
+}
+
+/// The inspectors, the one of the current event's kind first.
+void StepperPanel::draw_inspectors(const TraversalEvent* current) {
+    const size_t step = std::min(step_state.steps, trace.events.size());
+    auto slab = [&] {
+        if (!step_state.last_box_test || !ImGui::CollapsingHeader("Slab inspector", ImGuiTreeNodeFlags_DefaultOpen))
+            return;
+        const bool now = current && current->kind == EventKind::BoxTest;
+        ImGui::Text("%s box test, node %u", now ? "this" : "last", step_state.last_box_test->node);
+        if (auto s = inspect_box_test(trace, boxes, *step_state.last_box_test)) draw_slab_inspector(*s);
+    };
+    auto triangle = [&] {
+        if (!step_state.last_triangle_test ||
+            !ImGui::CollapsingHeader("Triangle inspector", ImGuiTreeNodeFlags_DefaultOpen))
+            return;
+        size_t index = 0;
+        for (size_t i = step; i-- > 0;)
+            if (trace.events[i].kind == EventKind::TriangleTest) {
+                index = i;
+                break;
+            }
+        const TriangleInspection t = inspect_triangle_test(trace, index);
+        const bool now = current && current->kind == EventKind::TriangleTest;
+        ImGui::Text("%s triangle test: triangle %u", now ? "this" : "last", t.tri);
+        ImGui::Text("u = %s   v = %s   1-u-v = %s", number(t.u).c_str(), number(t.v).c_str(), number(t.w).c_str());
+        ImGui::Text("t = %s   accepted range [%s, %s]", number(t.t).c_str(), number(trace.ray.t_min).c_str(),
+                    number(t.t_max).c_str());
+        ImGui::PushStyleColor(ImGuiCol_Text,
+                              t.hit ? im_vec4(kStepColours.triangle_hit) : im_vec4(kStepColours.tested_miss));
+        ImGui::TextWrapped("%s", t.verdict.c_str());
+        ImGui::PopStyleColor();
+    };
+    auto split = [&] {
+        if (!step_state.last_split || !ImGui::CollapsingHeader("Split plane", ImGuiTreeNodeFlags_DefaultOpen)) return;
+        const TraversalEvent& e = *step_state.last_split;
+        const char* axis = e.axis == 0 ? "x" : e.axis == 1 ? "y" : "z";
+        ImGui::Text("node %u: %s = %s", e.node, axis, number(e.split).c_str());
+        ImGui::Text("t_split = %s, near side: %s", number(e.t).c_str(), e.near_first ? "lower" : "upper");
+    };
+    auto cells = [&] {
+        if (step_state.cells.empty() || !boxes.is_grid() ||
+            !ImGui::CollapsingHeader("Cells walked", ImGuiTreeNodeFlags_DefaultOpen))
+            return;
+        const size_t n = step_state.cells.size();
+        for (size_t i = n > 6 ? n - 6 : 0; i < n; ++i) {
+            const TraversalEvent& e = step_state.cells[i];
+            ImGui::Text("(%d, %d, %d)  t_in %s  t_out %s", e.cell[0], e.cell[1], e.cell[2], number(e.t_enter).c_str(),
+                        number(e.t_exit).c_str());
+        }
+        if (n > 6) ImGui::TextDisabled("(%zu earlier)", n - 6);
+    };
+    auto rejected = [&] {
+        if (step_state.rejected.empty() ||
+            !ImGui::CollapsingHeader("Hits outside the cell", ImGuiTreeNodeFlags_DefaultOpen))
+            return;
+        for (const TraversalEvent& e : step_state.rejected)
+            ImGui::TextColored(im_vec4(kStepColours.rejected), "triangle %u at t = %s > cell end %s", e.tri,
+                               number(e.t).c_str(), number(e.t_exit).c_str());
+        ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+        ImGui::TextWrapped("A hit beyond the current cell may hide behind a closer triangle of a later cell: it "
+                           "counts only once the walk reaches the cell that holds it.");
+        ImGui::PopStyleColor();
+    };
+    const EventKind kind = current ? current->kind : EventKind::Done;
+    if (kind == EventKind::HitOutsideCell) rejected();
+    if (kind == EventKind::TriangleTest || kind == EventKind::NewClosest || kind == EventKind::MailboxSkip) triangle();
+    if (kind == EventKind::SplitPlane) split();
+    if (kind == EventKind::EnterCell) cells();
+    slab();
+    if (!(kind == EventKind::TriangleTest || kind == EventKind::NewClosest || kind == EventKind::MailboxSkip)) triangle();
+    if (kind != EventKind::SplitPlane) split();
+    if (kind != EventKind::EnterCell) cells();
+    if (kind != EventKind::HitOutsideCell) rejected();
+}
+
+// [SECTION] 3D view
+
+void StepperPanel::draw_3d(Renderer& renderer, float line_width) {
+    if (!traced_ray) return;
+    if (geometry_dirty) {
+        if (!gpu_boxes) gpu_boxes = std::make_unique<BoxBuffer>();
+        if (!gpu_segments) gpu_segments = std::make_unique<ColouredBuffer>();
+        if (!gpu_quads) gpu_quads = std::make_unique<ColouredBuffer>();
+        std::vector<BoxInstance> boxes_out;
+        for (const DebugBox& b : geometry.boxes) boxes_out.push_back({b.box.lo, b.box.hi, rgba(b.colour)});
+        std::vector<ColouredVertex> ends;
+        for (const DebugSegment& s : geometry.segments) {
+            ends.push_back({s.a, rgba(s.colour)});
+            ends.push_back({s.b, rgba(s.colour)});
+        }
+        std::vector<ColouredQuad> quads;
+        for (const DebugQuad& q : geometry.quads) quads.push_back({{q.corners[0], q.corners[1], q.corners[2], q.corners[3]}, rgba(q.colour)});
+        for (const DebugTriangle& t : geometry.triangles) quads.push_back({{t.p[0], t.p[1], t.p[2], t.p[2]}, rgba(t.colour)});
+        gpu_boxes->upload(boxes_out);
+        gpu_segments->upload_segments(ends);
+        gpu_quads->upload_quads(quads);
+        geometry_dirty = false;
+    }
+    renderer.draw_quads(*gpu_quads);
+    renderer.set_line_width(line_width);
+    renderer.draw_boxes(*gpu_boxes);
+    renderer.set_line_width(std::min(2.5f * line_width, 8.0f));
+    renderer.draw_segments(*gpu_segments);
+    renderer.set_line_width(line_width);
+}
+
+void StepperPanel::draw_labels(const View3D& view) const {
+    if (!traced_ray || view.rect.empty()) return;
+    ImDrawList* draw = ImGui::GetBackgroundDrawList();
+    const auto& m = view.view_projection;
+    const ImU32 shadow = IM_COL32(0, 0, 0, 200);
+    std::vector<ImVec4> placed;  // (x0, y0, x1, y1) of the labels drawn: later ones move down to clear them
+    for (const DebugLabel& label : geometry.labels) {
+        const Vec3 p = label.at;
+        const float x = m[0] * p.x + m[4] * p.y + m[8] * p.z + m[12];
+        const float y = m[1] * p.x + m[5] * p.y + m[9] * p.z + m[13];
+        const float w = m[3] * p.x + m[7] * p.y + m[11] * p.z + m[15];
+        if (!(w > 0.0f)) continue;
+        const float sx = float(view.rect.x) + (0.5f * x / w + 0.5f) * float(view.rect.width);
+        const float sy = float(view.rect.y) + (0.5f - 0.5f * y / w) * float(view.rect.height);
+        if (!view.rect.contains(sx, sy)) continue;
+        ImVec2 at(sx + 6.0f, sy - ImGui::GetFontSize() - 2.0f);
+        const ImVec2 size = ImGui::CalcTextSize(label.text.c_str());
+        for (int tries = 0; tries < 8; ++tries) {
+            bool clear = true;
+            for (const ImVec4& r : placed)
+                if (at.x < r.z && at.x + size.x > r.x && at.y < r.w && at.y + size.y > r.y) {
+                    at.y = r.w + 1.0f;
+                    clear = false;
+                }
+            if (clear) break;
+        }
+        placed.push_back(ImVec4(at.x, at.y, at.x + size.x, at.y + size.y));
+        draw->AddText(ImVec2(at.x + 1, at.y + 1), shadow, label.text.c_str());
+        draw->AddText(at, im_colour(label.colour), label.text.c_str());
+    }
+}
+
+}  // namespace accelviz
