@@ -185,7 +185,8 @@ Command register_render(CLI::App& app) {
                     "raycast | raster | split (raster left, ray cast right, each --width wide) | depth-diff | "
                     "heat-nodes | heat-tris | build-step (the window with the BVH construction stepper at --step) | "
                     "step (the window with the traversal stepper at --step K on the ray of --pixel X,Y, the 3D view "
-                    "turned 35 degrees about the ray to see it from the side)")
+                    "seeing the ray from the side: the camera turned 35 degrees about up and 15 higher, aimed at the "
+                    "ray's point nearest its target, at 0.6 times its distance)")
         ->check(CLI::IsMember(kViews))
         ->capture_default_str();
     sub->add_option("--width", opt->width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();

@@ -5,6 +5,8 @@
 #include <thread>
 
 #include <gtest/gtest.h>
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>  // key codes (ImGui 1.86 indexes io.KeysDown by them)
 #include <imgui.h>
 
 #include "app/gui/headless.h"
@@ -80,6 +82,49 @@ TEST_F(InputFixture, DragOnAWindowOverTheViewLeavesTheCameraAlone) {
     frame(500, 200, false);
     EXPECT_EQ(state.camera->eye.x, before.eye.x);
     EXPECT_EQ(state.camera->eye.z, before.eye.z);
+}
+
+// [SECTION] The traversal stepper: a click picks a pixel's ray, keys step it.
+
+TEST_F(InputFixture, StepperClickPicksThatPixelsRayAndKeysStepIt) {
+    state.stepper.open = true;
+    FrameLayout layout = app->draw(state, {});
+    layout = app->draw(state, {});  // laid out with the stepper's panel
+    const ViewRect view = layout.view_rect;
+    ASSERT_FALSE(view.empty());
+    const CameraParams camera = *state.camera;
+    const float x = float(view.x) + 0.4f * float(view.width), y = float(view.y) + 0.6f * float(view.height);
+    frame(x, y, false);
+    frame(x, y, true);
+    frame(x, y, false);  // press and release without moving: a click
+    ASSERT_TRUE(state.stepper.ray.has_value()) << "the click picked a ray";
+    const Ray expected = Camera(camera, view.width, view.height).ray(int(x) - view.x, int(y) - view.y);
+    EXPECT_EQ(state.stepper.ray->origin, expected.origin);
+    EXPECT_EQ(state.stepper.ray->dir, expected.dir);
+    EXPECT_EQ(state.camera->eye.x, camera.eye.x) << "a click does not orbit";
+    EXPECT_EQ(state.stepper.step, 0u);
+    const size_t events = app->session().stepper.trace.events.size();
+    ASSERT_GT(events, 2u);
+
+    ImGuiIO& io = ImGui::GetIO();
+    auto press = [&](int key) {
+        io.KeysDown[key] = true;
+        app->draw(state, {});
+        io.KeysDown[key] = false;
+        app->draw(state, {});
+    };
+    press(GLFW_KEY_RIGHT);
+    press(GLFW_KEY_RIGHT);
+    EXPECT_EQ(state.stepper.step, 2u);
+    press(GLFW_KEY_LEFT);
+    EXPECT_EQ(state.stepper.step, 1u);
+    press(GLFW_KEY_END);
+    EXPECT_EQ(state.stepper.step, events);
+    press(GLFW_KEY_RIGHT);
+    EXPECT_EQ(state.stepper.step, events) << "no step past the end";
+    press(GLFW_KEY_HOME);
+    EXPECT_EQ(state.stepper.step, 0u);
+    EXPECT_EQ(app->session().stepper.step_state.steps, 0u);
 }
 
 }  // namespace
