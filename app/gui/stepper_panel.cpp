@@ -255,7 +255,9 @@ void StepperPanel::draw_slab_inspector(const SlabInspection& s) const {
     };
     const ImU32 text = ImGui::GetColorU32(ImGuiCol_Text);
     const ImU32 faint = ImGui::GetColorU32(ImGuiCol_TextDisabled);
-    const ImU32 axis_colours[3] = {IM_COL32(235, 90, 80, 255), IM_COL32(90, 200, 90, 255), IM_COL32(90, 140, 255, 255)};
+    // Per-axis colours apart from the verdict's green (entered) and red (missed).
+    const ImU32 axis_colours[3] = {IM_COL32(220, 140, 60, 255), IM_COL32(185, 120, 235, 255),
+                                   IM_COL32(90, 150, 255, 255)};
     const char* names[4] = {"x", "y", "z", "all"};
     for (int row = 0; row < 4; ++row) {
         const float y = origin.y + row * row_h + 0.6f * font;
