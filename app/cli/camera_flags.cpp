@@ -12,7 +12,10 @@ void CameraFlags::add_to(CLI::App& command) {
 }
 
 Expected<CameraParams> CameraFlags::resolve(const Aabb& scene_bounds) const {
-    CameraParams p = default_camera(scene_bounds);
+    return resolve(default_camera(scene_bounds));
+}
+
+Expected<CameraParams> CameraFlags::resolve(CameraParams p) const {
     struct Field { const std::string& text; Vec3d& out; const char* flag; };
     for (Field f : {Field{eye, p.eye, "--eye"}, Field{target, p.target, "--target"}, Field{up, p.up, "--up"}}) {
         if (f.text.empty()) continue;

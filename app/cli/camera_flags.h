@@ -17,6 +17,10 @@ struct CameraFlags {
     void add_to(CLI::App& command);
     /// The camera the flags describe; flags not given take the scene's default view.
     Expected<CameraParams> resolve(const Aabb& scene_bounds) const;
+    /// The same over another starting camera (a preset's): flags given replace its fields.
+    Expected<CameraParams> resolve(CameraParams base) const;
+    /// True when at least one camera flag was given.
+    bool any() const { return !eye.empty() || !target.empty() || !up.empty() || fov.has_value(); }
 };
 
 /// "X,Y" -> two integers (the --pixel flag of trace and render --view step).

@@ -1,13 +1,22 @@
-// `accelviz render SCENE --out FILE.png`: the CPU views, rendered headless.
+// `accelviz render [SCENE] --out FILE.png [--preset FILE]`: the CPU views, and
+// the window's own views (structure, gui) through OSMesa, rendered headless.
+//
+// What is rendered is an AppState: the preset's (--preset), or the defaults,
+// with the command line's scene, structure flags and camera flags laid over it
+// where they were given.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 
 #include "app/cli/accel_flags.h"
 #include "app/cli/camera_flags.h"
 #include "app/cli/commands.h"
+#include "app/gui/app_state.h"
 #include "app/gui/headless.h"
 #include "app/gui/stepper_panel.h"
+#include "app/gui/scene_loader.h"
 #include "core/geometry/scene.h"
 #include "core/render/ray_caster.h"
 #include "core/render/views.h"
@@ -17,6 +26,8 @@ namespace {
 
 struct RenderOptions {
     std::string scene;
+    std::optional<AppState> preset;  ///< --preset, read while parsing (before the structure flags apply)
+    std::string preset_error;        ///< why --preset could not be read
     std::string out;
     std::string view = "split";
     std::string depth_out;
@@ -30,56 +41,64 @@ struct RenderOptions {
     bool accel_given = false;   ///< --accel was on the command line
 };
 
-const std::vector<std::string> kViews = {"raycast",   "raster",    "split",     "depth-diff",
-                                         "heat-nodes", "heat-tris", "build-step", "step"};
+/// The CPU views (core/render), and then the window's views (headless_gui_views()).
+const std::vector<std::string> kCpuViews = {"raycast", "raster", "split", "depth-diff", "heat-nodes", "heat-tris"};
+
+std::vector<std::string> all_views() {
+    std::vector<std::string> views = kCpuViews;
+    for (const std::string& view : headless_gui_views()) views.push_back(view);
+    return views;
+}
+
+int fail(const std::string& message) {
+    std::cerr << "accelviz render: " << message << "\n";
+    return 1;
+}
 
 double ms_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-/// `--view build-step --step K`: the window's frame (OSMesa) with the construction
+/// `structure`, `gui` or `build-step`: draw_frame() through OSMesa, as the window draws it.
+int run_window_view(const RenderOptions& opt, AppState state) {
+    auto loaded = load_and_build(state.scene, state.accel);
+    if (!loaded) return fail(loaded.error());
+    if (opt.camera.any()) {  // over the preset's camera, or the scene's default view
+        auto params = state.camera ? opt.camera.resolve(*state.camera) : opt.camera.resolve((*loaded)->bounds);
+        if (!params) return fail(params.error());
+        state.camera = *params;
+    }
+    const double build_ms = (*loaded)->build_seconds * 1e3;
+    auto render = render_headless(state, std::move(*loaded), opt.view, opt.width, opt.height);
+    if (!render) return fail(render.error());
+    std::fprintf(stderr, "%s view of %s (%s): build %.1f ms, frame %.1f ms (%s)\n", opt.view.c_str(),
+                 state.scene.c_str(), state.accel.type.c_str(), build_ms, render->frame_ms,
+                 render->gl_description.c_str());
+    if (auto err = write_png(render->colour, opt.out)) return fail(err->message);
+    std::cout << opt.out << "\n";
+    return 0;
+}
+
+/// `--view build-step --step K`: the window's frame with the construction
 /// stepper at decision K of the BVH build.
-int run_build_step(const RenderOptions& opt) {
-    if (opt.step < 0) {
-        std::cerr << "accelviz render: --view build-step needs --step K (the build decision to show, 0 = the root)\n";
-        return 1;
-    }
-    AppState state;
-    state.scene = opt.scene;
-    state.accel = opt.accel;
-    if (!opt.accel_given) state.accel.type = "bvh";
-    if (state.accel.type != "bvh") {
-        std::cerr << "accelviz render: --view build-step steps a BVH build (--accel bvh, not " << state.accel.type << ")\n";
-        return 1;
-    }
+int run_build_step(const RenderOptions& opt, AppState state) {
+    if (opt.step < 0) return fail("--view build-step needs --step K (the build decision to show, 0 = the root)");
+    if (!opt.preset && !opt.accel_given) state.accel.type = "bvh";
+    if (state.accel.type != "bvh")
+        return fail("--view build-step steps a BVH build (--accel bvh, not " + state.accel.type + ")");
     // The shared flags (--leaf-size, --cost-*) as the tree and the chart take them.
     if (state.accel.leaf_size) state.accel.bvh.max_leaf_size = *state.accel.leaf_size;
     if (state.accel.cost_trav) state.accel.bvh.cost_trav = *state.accel.cost_trav;
     if (state.accel.cost_isect) state.accel.bvh.cost_isect = *state.accel.cost_isect;
     state.build_step.active = true;
     state.build_step.step = opt.step;
-    if (!opt.camera.eye.empty() || !opt.camera.target.empty() || !opt.camera.up.empty() || opt.camera.fov) {
-        auto mesh = load_scene(opt.scene);
-        if (!mesh) { std::cerr << "accelviz render: " << mesh.error() << "\n"; return 1; }
-        auto camera = opt.camera.resolve(mesh->bounds());
-        if (!camera) { std::cerr << "accelviz render: " << camera.error() << "\n"; return 1; }
-        state.camera = *camera;
-    }
-    auto image = render_gui_view_headless(state, "build-step", opt.width, opt.height);
-    if (!image) { std::cerr << "accelviz render: " << image.error() << "\n"; return 1; }
-    if (auto err = write_png(*image, opt.out)) { std::cerr << "accelviz render: " << err->message << "\n"; return 1; }
-    std::cout << opt.out << "\n";
-    return 0;
+    return run_window_view(opt, std::move(state));
 }
 
 /// `--view step`: the window's frame (OSMesa) with the stepper open at step K on
 /// the ray of pixel X,Y of a width x height image under the camera flags (the ray
 /// `trace --pixel X,Y` prints), the 3D view looking at it from the side.
 int run_render_step(const RenderOptions& opt) {
-    auto fail = [](const std::string& message) {
-        std::cerr << "accelviz render: " << message << "\n";
-        return 1;
-    };
     if (opt.pixel.empty()) return fail("--view step needs --pixel X,Y (the ray to step)");
     int x = 0, y = 0;
     if (!parse_pixel(opt.pixel, x, y)) return fail("--pixel: expected X,Y (two integers), got '" + opt.pixel + "'");
@@ -108,17 +127,27 @@ int run_render_step(const RenderOptions& opt) {
 }
 
 int run_render(const RenderOptions& opt) {
-    if (opt.view == "build-step") return run_build_step(opt);
     if (opt.view == "step") return run_render_step(opt);
-    if (opt.step >= 0 || !opt.pixel.empty()) {
-        std::cerr << "accelviz render: --step is for --view build-step or step, --pixel for --view step\n";
-        return 1;
-    }
+    if ((opt.step >= 0 && opt.view != "build-step") || !opt.pixel.empty())
+        return fail("--step is for --view build-step or step, --pixel for --view step");
     using clock = std::chrono::steady_clock;
-    auto mesh = load_scene(opt.scene);
-    if (!mesh) { std::cerr << "accelviz render: " << mesh.error() << "\n"; return 1; }
-    auto camera_params = opt.camera.resolve(mesh->bounds());
-    if (!camera_params) { std::cerr << "accelviz render: " << camera_params.error() << "\n"; return 1; }
+    if (!opt.preset_error.empty()) return fail("--preset: " + opt.preset_error);
+    // The state: the preset's, then what the command line gave.
+    AppState state = opt.preset.value_or(AppState{});
+    if (!opt.scene.empty()) state.scene = opt.scene;
+    else if (!opt.preset) return fail("no scene: give SCENE (an OBJ file or builtin:NAME) or --preset FILE");
+    state.accel = opt.accel;  // already the preset's structure with the flags given applied on top
+    if (opt.view == "build-step") return run_build_step(opt, std::move(state));
+    const auto& window_views = headless_gui_views();
+    if (std::find(window_views.begin(), window_views.end(), opt.view) != window_views.end()) {
+        if (!opt.depth_out.empty()) return fail("--depth-out: only the CPU views write a depth file, not --view " + opt.view);
+        return run_window_view(opt, std::move(state));
+    }
+
+    auto mesh = load_scene(state.scene);
+    if (!mesh) return fail(mesh.error());
+    auto camera_params = state.camera ? opt.camera.resolve(*state.camera) : opt.camera.resolve(mesh->bounds());
+    if (!camera_params) return fail(camera_params.error());
     const Camera camera(*camera_params, opt.width, opt.height);
 
     const bool needs_raster = opt.view == "raster" || opt.view == "split" || opt.view == "depth-diff";
@@ -127,15 +156,15 @@ int run_render(const RenderOptions& opt) {
 
     Frame ray_frame, raster_frame;
     WorkSummary work;
-    work.accel_name = opt.accel.type;
+    work.accel_name = state.accel.type;
     if (needs_ray) {
         auto start = clock::now();
-        auto accel = build_accelerator(*mesh, opt.accel);
-        if (!accel) { std::cerr << "accelviz render: " << accel.error() << "\n"; return 1; }
+        auto accel = build_accelerator(*mesh, state.accel);
+        if (!accel) return fail(accel.error());
         const double build_ms = ms_since(start);
         start = clock::now();
         ray_frame = ray_cast(**accel, make_triangles(*mesh), camera, {.threads = opt.threads, .count_work = count_work});
-        std::fprintf(stderr, "ray cast (%s): build %.1f ms, frame %.1f ms\n", opt.accel.type.c_str(), build_ms,
+        std::fprintf(stderr, "ray cast (%s): build %.1f ms, frame %.1f ms\n", state.accel.type.c_str(), build_ms,
                      ms_since(start));
         work.ray_work = ray_frame.work;
         work.ray_work_counted = count_work;
@@ -152,11 +181,11 @@ int run_render(const RenderOptions& opt) {
     else if (opt.view == "split") image = split_view(raster_frame, ray_frame, work);
     else if (opt.view == "depth-diff") image = depth_diff_view(raster_frame, ray_frame);
     else if (opt.view == "heat-nodes")
-        image = heat_view(ray_frame.nodes, opt.width, opt.height, "Nodes visited per pixel (" + opt.accel.type + ")", opt.heat_max);
+        image = heat_view(ray_frame.nodes, opt.width, opt.height, "Nodes visited per pixel (" + state.accel.type + ")", opt.heat_max);
     else if (opt.view == "heat-tris")
-        image = heat_view(ray_frame.tests, opt.width, opt.height, "Triangles tested per pixel (" + opt.accel.type + ")", opt.heat_max);
+        image = heat_view(ray_frame.tests, opt.width, opt.height, "Triangles tested per pixel (" + state.accel.type + ")", opt.heat_max);
 
-    if (auto err = write_png(image, opt.out)) { std::cerr << "accelviz render: " << err->message << "\n"; return 1; }
+    if (auto err = write_png(image, opt.out)) return fail(err->message);
     std::cout << opt.out << "\n";
     if (needs_raster && needs_ray) {
         const DepthAgreement a = compare_depths(raster_frame, ray_frame);
@@ -164,10 +193,7 @@ int run_render(const RenderOptions& opt) {
                      a.agreeing_percent(), a.covered_by_both, a.max_relative_error, a.coverage_differs_percent());
     }
     if (!opt.depth_out.empty()) {
-        if (auto err = write_pfm(ray_frame.depth, opt.width, opt.height, opt.depth_out)) {
-            std::cerr << "accelviz render: " << err->message << "\n";
-            return 1;
-        }
+        if (auto err = write_pfm(ray_frame.depth, opt.width, opt.height, opt.depth_out)) return fail(err->message);
         std::cout << opt.depth_out << "\n";
     }
     return 0;
@@ -177,25 +203,47 @@ int run_render(const RenderOptions& opt) {
 
 Command register_render(CLI::App& app) {
     auto opt = std::make_shared<RenderOptions>();
-    CLI::App* sub = app.add_subcommand("render", "Render a view of a scene to a PNG file (no window needed)");
-    sub->add_option("scene", opt->scene, "OBJ file, or builtin:NAME (e.g. builtin:teapot, builtin:soup?n=1000&seed=7)")
-        ->required();
+    CLI::App* sub = app.add_subcommand(
+        "render", "Render a view of a scene to a PNG file (no window needed; the window's views through OSMesa)");
+    sub->add_option("scene", opt->scene,
+                    "OBJ file, or builtin:NAME (e.g. builtin:teapot, builtin:soup?n=1000&seed=7); "
+                    "optional with --preset, and replaces the preset's scene when given");
+    // Before the structure flags: CLI11 runs option callbacks in the order the
+    // options were added, so the flags given apply on top of the preset's structure.
+    sub->add_option_function<std::string>(
+        "--preset",
+        [opt](const std::string& path) {
+            auto state = load_app_state_file(path);
+            if (!state) {
+                opt->preset_error = state.error();
+                return;
+            }
+            opt->accel = state->accel;
+            opt->preset = std::move(*state);
+        },
+        "Start from this saved window state (JSON, e.g. assets/presets/*.json): scene, structure, camera, "
+        "overlay and view settings. SCENE, the structure flags and the camera flags given replace its values. "
+        "A relative OBJ path in it is relative to the preset's directory if the file is there");
     sub->add_option("--out,-o", opt->out, "Output PNG file")->required();
     sub->add_option("--view", opt->view,
                     "raycast | raster | split (raster left, ray cast right, each --width wide) | depth-diff | "
-                    "heat-nodes | heat-tris | build-step (the window with the BVH construction stepper at --step) | "
-                    "step (the window with the traversal stepper at --step K on the ray of --pixel X,Y, the 3D view "
-                    "seeing the ray from the side: the camera turned 35 degrees about up and 15 higher, aimed at the "
-                    "ray's point nearest its target, at 0.6 times its distance)")
-        ->check(CLI::IsMember(kViews))
+                    "heat-nodes | heat-tris: the CPU renderers; structure (the window's 3D view with the "
+                    "structure overlay) | gui (the whole window frame, panels included) | build-step (the window "
+                    "with the BVH construction stepper at --step) | step (the window with the traversal stepper "
+                    "at --step K on the ray of --pixel X,Y, the 3D view seeing the ray from the side: the camera "
+                    "turned 35 degrees about up and 15 higher, aimed at the ray's point nearest its target, at 0.6 "
+                    "times its distance): the window's OpenGL renderer through OSMesa. Without a preset or camera "
+                    "flags, structure/gui frame the scene like the window does")
+        ->check(CLI::IsMember(all_views()))
         ->capture_default_str();
     sub->add_option("--width", opt->width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
     sub->add_option("--height", opt->height, "Image height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
     sub->add_option("--threads", opt->threads, "Ray-casting threads (0 = all cores)")->check(CLI::Range(0, 1024))
         ->capture_default_str();
     sub->add_option("--depth-out", opt->depth_out,
-                    "Also write the ray-cast depth (hit distance t, +inf on a miss) as a PFM file");
-    sub->add_option("--heat-max", opt->heat_max, "Top of the heat-map scale (default: the image's maximum)")
+                    "CPU views: also write the ray-cast depth (hit distance t, +inf on a miss) as a PFM file");
+    sub->add_option("--heat-max", opt->heat_max,
+                    "heat-nodes, heat-tris: top of the heat-map scale (default: the image's maximum)")
         ->check(CLI::NonNegativeNumber);
     sub->add_option("--step", opt->step,
                     "build-step: which decision of the BVH build to show (0 = the root's); step: events applied "

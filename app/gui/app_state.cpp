@@ -1,7 +1,11 @@
 #include "app/gui/app_state.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <stdexcept>
 #include <string>
 
@@ -89,6 +93,9 @@ namespace {
 
 void read_accel(const nlohmann::json& j, AccelConfig& a) {
     a.type = j.value("type", a.type);
+    const std::vector<std::string>& types = accel_types();
+    if (std::find(types.begin(), types.end(), a.type) == types.end())
+        throw std::runtime_error("structure.type: unknown value '" + a.type + "'");
     if (j.contains("bvh")) {
         const auto& b = j["bvh"];
         if (b.contains("builder")) a.bvh.builder = read_enum(b["builder"], "structure.bvh.builder", parse_bvh_builder);
@@ -261,6 +268,31 @@ Expected<AppState> app_state_from_json(const nlohmann::json& j) {
         return Error{std::string("state: ") + e.what()};
     }
     return s;
+}
+
+Expected<AppState> load_app_state_file(const std::string& path) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (fs::is_directory(path, ec)) return Error{path + ": is a directory, not a JSON file"};
+    std::ifstream in(path);
+    if (!in) return Error{path + ": cannot read (" + std::strerror(errno) + ")"};
+    nlohmann::json json;
+    try {
+        json = nlohmann::json::parse(in);
+    } catch (const nlohmann::json::parse_error& e) {
+        // "[json.exception.parse_error.101] parse error at line 3, column 5: ..." without the tag.
+        std::string what = e.what();
+        if (const size_t tag = what.find("] "); tag != std::string::npos) what = what.substr(tag + 2);
+        return Error{path + ": not valid JSON: " + what};
+    }
+    auto state = app_state_from_json(json);
+    if (!state) return Error{path + ": " + state.error()};
+    const std::string& scene = state->scene;
+    if (scene.rfind("builtin:", 0) != 0 && fs::path(scene).is_relative()) {
+        const fs::path beside = fs::path(path).parent_path() / scene;
+        if (fs::is_regular_file(beside, ec)) state->scene = beside.lexically_normal().string();
+    }
+    return state;
 }
 
 }  // namespace accelviz

@@ -116,4 +116,13 @@ nlohmann::json to_json(const AppState& state);
 /// Reads a state; errors are one line naming the field.
 Expected<AppState> app_state_from_json(const nlohmann::json& json);
 
+/// Reads a state (a preset, a saved view) from a JSON file. Errors are one line
+/// naming the file and the problem: cannot read, not JSON (with line and
+/// column), or the field that is wrong.
+/// A relative OBJ path in "scene" is taken relative to the file's directory when
+/// a file exists there (a preset can name a mesh beside the repository, e.g.
+/// "../../../shared/assets/bunny.obj" from assets/presets/); otherwise it is kept
+/// as written (relative to the working directory). Built-ins are unchanged.
+Expected<AppState> load_app_state_file(const std::string& path);
+
 }  // namespace accelviz

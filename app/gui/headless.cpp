@@ -78,13 +78,22 @@ Expected<HeadlessRender> render_headless(const AppState& state, const std::strin
 
     LoadResult loaded = load_and_build(state.scene, state.accel);
     if (!loaded) return Error{loaded.error()};
+    return render_headless(state, std::move(*loaded), view, width, height, frames);
+}
+
+Expected<HeadlessRender> render_headless(const AppState& state, std::shared_ptr<const LoadedScene> scene,
+                                         const std::string& view, int width, int height, int frames) {
+    const auto& views = headless_gui_views();
+    if (std::find(views.begin(), views.end(), view) == views.end())
+        return Error{"unknown view '" + view + "' (the window's views are: structure, gui, build-step)"};
+    if (!scene) return Error{"no scene to render"};
     auto app = HeadlessApp::create(width, height);
     if (!app) return Error{app.error()};
 
     HeadlessRender out;
     out.gl_description = (*app)->gl_description();
     AppState frame_state = state;
-    (*app)->session().set_scene(frame_state, std::move(*loaded), state.camera.has_value());
+    (*app)->session().set_scene(frame_state, std::move(scene), state.camera.has_value());
     FrameInput input;
     input.draw_ui = view == "gui" || view == "build-step" || view == "step";
     if (view == "build-step") {

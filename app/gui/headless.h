@@ -19,6 +19,7 @@ namespace accelviz {
 
 class OsMesaContext;
 class Renderer;
+struct LoadedScene;
 struct Session;
 
 /// The views render_gui_view_headless knows: "structure" (the 3D view alone,
@@ -50,6 +51,10 @@ struct HeadlessRender {
 /// itself on its first frame.
 Expected<HeadlessRender> render_headless(const AppState& state, const std::string& view, int width, int height,
                                          int frames = 1);
+/// The same with the scene already loaded and built (`scene` must be
+/// state.scene built with state.accel), e.g. when the caller needed its bounds.
+Expected<HeadlessRender> render_headless(const AppState& state, std::shared_ptr<const LoadedScene> scene,
+                                         const std::string& view, int width, int height, int frames = 1);
 
 /// A window without a window: an OSMesa context, a Renderer, its own ImGui
 /// context and a Session, drawing with draw_frame() like the window loop does.

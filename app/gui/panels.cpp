@@ -310,14 +310,8 @@ void ViewPanel::draw(AppState& state, Session& session, double view_aspect) {
     }
     ImGui::SameLine();
     if (ImGui::Button("Load")) {
-        std::ifstream in(state_path);
-        const nlohmann::json json = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
-        if (!in && json.is_discarded()) {
-            session.notify(state_path + ": cannot read", true);
-        } else if (json.is_discarded()) {
-            session.notify(state_path + ": not valid JSON", true);
-        } else if (auto loaded = app_state_from_json(json); !loaded) {
-            session.notify(state_path + ": " + loaded.error(), true);
+        if (auto loaded = load_app_state_file(state_path); !loaded) {
+            session.notify(loaded.error(), true);
         } else {
             session.apply_state(state, *loaded);
         }

@@ -1,5 +1,7 @@
 // AppState <-> JSON and the camera controls: plain functions, no GL.
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 
 #include <gtest/gtest.h>
 
@@ -62,6 +64,41 @@ TEST(AppStateJson, BadValuesAreOneLineErrorsNamingTheField) {
     auto scale = app_state_from_json(nlohmann::json::parse(R"({"view": {"ui_scale": 9}})"));
     ASSERT_FALSE(scale);
     EXPECT_NE(scale.error().find("ui_scale"), std::string::npos);
+}
+
+TEST(AppStateFile, RelativeObjPathIsTakenFromThePresetsDirectoryWhenTheFileIsThere) {
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::path(ACCELVIZ_SCREENSHOT_OUT) / "preset_paths";
+    fs::create_directories(dir / "meshes");
+    std::ofstream(dir / "meshes" / "tri.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    std::ofstream(dir / "beside.json") << R"({"scene": "meshes/tri.obj"})";
+    std::ofstream(dir / "elsewhere.json") << R"({"scene": "no/such/mesh.obj"})";
+    std::ofstream(dir / "builtin.json") << R"({"scene": "builtin:cube"})";
+
+    auto beside = load_app_state_file((dir / "beside.json").string());
+    ASSERT_TRUE(beside) << beside.error();
+    EXPECT_EQ(fs::path(beside->scene), (dir / "meshes" / "tri.obj").lexically_normal());
+    auto elsewhere = load_app_state_file((dir / "elsewhere.json").string());
+    ASSERT_TRUE(elsewhere) << elsewhere.error();
+    EXPECT_EQ(elsewhere->scene, "no/such/mesh.obj");  // kept: relative to the working directory
+    auto builtin = load_app_state_file((dir / "builtin.json").string());
+    ASSERT_TRUE(builtin) << builtin.error();
+    EXPECT_EQ(builtin->scene, "builtin:cube");
+}
+
+TEST(AppStateFile, ErrorsNameTheFileAndTheProblem) {
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::path(ACCELVIZ_SCREENSHOT_OUT) / "preset_errors";
+    fs::create_directories(dir);
+    std::ofstream(dir / "truncated.json") << "{\"scene\": \n";
+    auto missing = load_app_state_file((dir / "missing.json").string());
+    ASSERT_FALSE(missing);
+    EXPECT_NE(missing.error().find("missing.json: cannot read"), std::string::npos) << missing.error();
+    auto truncated = load_app_state_file((dir / "truncated.json").string());
+    ASSERT_FALSE(truncated);
+    EXPECT_NE(truncated.error().find("truncated.json: not valid JSON"), std::string::npos) << truncated.error();
+    EXPECT_NE(truncated.error().find("line 2"), std::string::npos) << truncated.error();
+    EXPECT_EQ(truncated.error().find('\n'), std::string::npos);
 }
 
 TEST(CameraControl, OrbitKeepsDistanceToTargetAndStaysOffThePole) {
