@@ -81,8 +81,11 @@ void handle_view_input(AppState& state, Session& session, const Layout& layout) 
         if (ImGui::IsKeyPressed(GLFW_KEY_TAB, false)) state.view.show_ui = !state.view.show_ui;
         if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE, false)) state.view.show_help = false;
         if (ImGui::IsKeyPressed(GLFW_KEY_S, false)) state.view.mode = state.view.mode == "split" ? "3d" : "split";
+        // Presets in lecture order (a presentation clicker sends these keys).
+        if (ImGui::IsKeyPressed(GLFW_KEY_PAGE_DOWN, false)) session.presets.step(+1, state, session);
+        if (ImGui::IsKeyPressed(GLFW_KEY_PAGE_UP, false)) session.presets.step(-1, state, session);
     }
-    if (!state.camera || rect.empty()) return;
+    if (!state.camera || rect.empty()) return;  // a preset may have just cleared the camera
     CameraParams& camera = *state.camera;
     const double aspect = gl_rect.height > 0 ? double(gl_rect.width) / gl_rect.height : 1.0;
 
@@ -178,6 +181,24 @@ void draw_view_messages(Session& session, const ViewRect& rect, bool determinist
         ImGui::End();
         ImGui::PopStyleColor(2);
     }
+}
+
+/// The preset just loaded (PageDown / PageUp), for a few seconds at the top right of the view.
+void draw_preset_caption(const Session& session, const ViewRect& rect) {
+    const float margin = ImGui::GetFontSize();
+    const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
+                                   ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoMove |
+                                   ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav |
+                                   ImGuiWindowFlags_NoInputs;
+    ImGui::SetNextWindowPos(ImVec2(float(rect.x + rect.width) - margin, float(rect.y) + margin), ImGuiCond_Always,
+                            ImVec2(1.0f, 0.0f));
+    ImGui::SetNextWindowBgAlpha(0.85f);
+    if (ImGui::Begin("##preset_caption", nullptr, flags)) {
+        ImGui::PushTextWrapPos(0.6f * float(rect.width));
+        ImGui::TextUnformatted(session.presets.caption().c_str());
+        ImGui::PopTextWrapPos();
+    }
+    ImGui::End();
 }
 
 /// Split view: what each half is, and the work each renderer did.
@@ -367,6 +388,7 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
             ImGui::End();
         }
         draw_view_messages(session, layout.view, input.deterministic);
+        if (session.presets.caption_fresh()) draw_preset_caption(session, layout.view);
         if (state.overlay.show_structure && !session.build_stepper.shows_3d(state) && !stepping)
             draw_legend(session, layout.gl_view);
         if (split) draw_split_labels(state, session, layout, input.deterministic);

@@ -40,6 +40,7 @@ Expected<std::unique_ptr<HeadlessApp>> HeadlessApp::create(int width, int height
     if (!renderer) return Error{renderer.error()};
     app->renderer_ = std::move(*renderer);
     app->session_ = std::make_unique<Session>();
+    app->session_->presets.set_dir("");  // a frame's pixels do not depend on the files in assets/presets
     return app;
 }
 

@@ -99,6 +99,20 @@ void ScenePanel::draw(AppState& state, Session& session) {
     if ((ImGui::Button("Open") || entered) && !source_text.empty()) session.open_scene(state, source_text);
     hint("Or drop an .obj file on the window.");
 
+    // The lecture's presets, in order (PageDown / PageUp step through them).
+    const std::vector<PresetInfo>& presets = session.presets.entries();
+    if (!presets.empty() && ImGui::TreeNodeEx("Presets", ImGuiTreeNodeFlags_DefaultOpen)) {
+        for (size_t i = 0; i < presets.size(); ++i) {
+            ImGui::PushID(int(i));
+            if (ImGui::Selectable(presets[i].title.c_str(), int(i) == session.presets.current()))
+                session.presets.load(int(i), state, session);
+            if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", presets[i].path.c_str());
+            ImGui::PopID();
+        }
+        hint("PageDown / PageUp: next / previous preset.");
+        ImGui::TreePop();
+    }
+
     if (session.loader.busy()) {
         ImGui::TextUnformatted((session.loader.activity() + " ...").c_str());
     }
@@ -351,6 +365,7 @@ void StatsBar::draw(const AppState& state, const Session& session, double frame_
         line += text;
     }
     if (session.loader.busy()) line += "  |  " + session.loader.activity() + " ...";
+    if (const std::string caption = session.presets.caption(); !caption.empty()) line = caption + "  |  " + line;
     ImGui::TextUnformatted(line.c_str());
     ImGui::SameLine(ImGui::GetWindowContentRegionMax().x - ImGui::CalcTextSize("F1: help").x);
     ImGui::TextDisabled("F1: help");
@@ -376,6 +391,7 @@ void HelpWindow::draw(AppState& state) {
             {"F", "frame the scene"},
             {"R", "reset to the default view"},
             {"S", "raster | ray cast side by side"},
+            {"PageDown / PageUp", "next / previous preset (assets/presets)"},
             {"Tab", "hide / show the panels"},
             {"Click (ray stepper open)", "step the ray of that pixel"},
             {"Right / Left, Home / End (a stepper open)", "next / previous, first / last step"},

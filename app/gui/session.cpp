@@ -66,8 +66,8 @@ void Session::notify(std::string text, bool is_error) {
 }
 
 bool Session::has_pending_work() const {
-    return loader.busy() || loader.has_result() || ray_cast.busy() || ray_cast.has_result() || build_stepper.busy() ||
-           build_stepper.has_result() || stepper.has_pending_work();
+    return loader.busy() || loader.has_result() || presets.caption_fresh() || ray_cast.busy() || ray_cast.has_result() ||
+           build_stepper.busy() || build_stepper.has_result() || stepper.has_pending_work();
 }
 
 void Session::upload_to_gpu(const OverlaySettings& settings) {

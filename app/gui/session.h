@@ -13,6 +13,7 @@
 #include "app/gui/app_state.h"
 #include "app/gui/build_stepper.h"
 #include "app/gui/panels.h"
+#include "app/gui/presets.h"
 #include "app/gui/ray_cast_view.h"
 #include "app/gui/scene_loader.h"
 #include "app/gui/stepper_panel.h"
@@ -71,6 +72,8 @@ struct Session {
     ViewPanel view_panel;
     StatsBar stats_bar;
     HelpWindow help_window;
+    /// assets/presets: PageDown / PageUp and the Scene panel's list.
+    PresetList presets;
     StepperPanel stepper;  ///< last: its worker may hold the scene's mesh
 
     /// Starts loading `source` with the state's structure (on the worker).

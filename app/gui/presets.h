@@ -1,0 +1,60 @@
+#pragma once
+/// Presets: saved AppStates (JSON) in assets/presets/, named so that they sort
+/// in lecture order ("01-naive-cost.json", ...). PageDown / PageUp step through
+/// them (a presentation clicker sends those keys); the Scene panel lists them.
+/// A preset may carry a "title" (shown when it loads); AppState ignores it.
+
+#include <string>
+#include <vector>
+
+#include "app/gui/app_state.h"
+
+namespace accelviz {
+
+struct Session;
+
+struct PresetInfo {
+    std::string path;   ///< the JSON file
+    std::string name;   ///< file name without ".json" ("01-naive-cost")
+    std::string title;  ///< its "title", or the name
+};
+
+/// Where the shipped presets are: <source dir>/assets/presets (ACCELVIZ_SOURCE_DIR,
+/// the checkout the binary was built from), else assets/presets next to the
+/// binary or one or two directories up. Empty if none exists.
+std::string find_presets_dir();
+
+/// The *.json files of `dir`, sorted by file name.
+std::vector<PresetInfo> list_presets(const std::string& dir);
+
+/// The window's presets: the list (read once) and which one is on.
+class PresetList {
+public:
+    /// Reads the directory the first time (find_presets_dir() unless set_dir was called).
+    const std::vector<PresetInfo>& entries();
+    /// Lists `dir` instead (empty: no presets; headless frames use that, so that
+    /// golden images do not change when a preset is added).
+    void set_dir(std::string dir);
+    const std::string& dir() const { return dir_; }
+    /// Loads entry `index` (through Session::apply_state: the scene loads and the
+    /// structure builds on the worker). A bad file: a message, nothing changes.
+    void load(int index, AppState& state, Session& session);
+    /// The next (+1, PageDown) or previous (-1, PageUp) preset; from none, the first / last.
+    void step(int delta, AppState& state, Session& session);
+    /// The preset last loaded (-1: none).
+    int current() const { return current_; }
+    /// "Preset 3/11: title" (empty when none is loaded).
+    std::string caption() const;
+    /// True for a few seconds after a preset loaded: its caption is shown over the view.
+    bool caption_fresh() const;
+
+private:
+    bool scanned_ = false;
+    bool dir_set_ = false;
+    std::string dir_;
+    std::vector<PresetInfo> entries_;
+    int current_ = -1;
+    double loaded_at_ = -1e9;  ///< steady clock, seconds
+};
+
+}  // namespace accelviz

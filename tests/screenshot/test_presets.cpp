@@ -1,0 +1,104 @@
+// The shipped presets (assets/presets): each one loads and renders headless, they
+// sort in lecture order, PageDown / PageUp step through a list, and one preset
+// has a golden image.
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "app/gui/headless.h"
+#include "app/gui/presets.h"
+#include "app/gui/session.h"
+#include "golden.h"
+
+namespace accelviz {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kPresetDir = std::string(ACCELVIZ_SOURCE_DIR) + "/assets/presets";
+
+TEST(Presets, ShippedOnesAreFoundAndSortInLectureOrder) {
+    EXPECT_EQ(fs::path(find_presets_dir()), fs::path(kPresetDir).lexically_normal());
+    const std::vector<PresetInfo> presets = list_presets(kPresetDir);
+    ASSERT_GE(presets.size(), 10u);
+    for (size_t i = 0; i < presets.size(); ++i) {
+        // "NN-name": two digits, numbered from 01 without gaps, so that file order is lecture order.
+        char number[32];
+        std::snprintf(number, sizeof number, "%02zu-", i + 1);
+        EXPECT_EQ(presets[i].name.rfind(number, 0), 0u) << presets[i].name;
+        EXPECT_NE(presets[i].title, presets[i].name) << presets[i].path << " has no \"title\"";
+    }
+}
+
+TEST(Presets, EveryShippedPresetLoadsAndRendersHeadless) {
+    for (const PresetInfo& preset : list_presets(kPresetDir)) {
+        SCOPED_TRACE(preset.path);
+        auto state = load_app_state_file(preset.path);
+        ASSERT_TRUE(state) << state.error();
+        auto image = render_gui_view_headless(*state, "gui", 320, 200);
+        ASSERT_TRUE(image) << image.error();
+        // The 3D view (right of the sidebar) shows something besides the background.
+        std::set<uint32_t> colours;
+        for (int y = 0; y < image->height; y += 2)
+            for (int x = image->width / 2; x < image->width; x += 2) {
+                const Rgb c = image->at(x, y);
+                colours.insert(uint32_t(c.r) << 16 | uint32_t(c.g) << 8 | c.b);
+            }
+        EXPECT_GT(colours.size(), 20u);
+    }
+}
+
+TEST(Presets, PageDownAndPageUpStepThroughTheListAndStopAtItsEnds) {
+    const fs::path dir = fs::path(ACCELVIZ_SCREENSHOT_OUT) / "preset_list";
+    fs::create_directories(dir);
+    std::ofstream(dir / "02-second.json") << R"({"title": "Second", "scene": "builtin:cube", "structure": {"type": "grid"}})";
+    std::ofstream(dir / "01-first.json") << R"({"title": "First", "scene": "builtin:cube", "structure": {"type": "bvh"}})";
+    std::ofstream(dir / "notes.txt") << "not a preset";
+    Session session;
+    PresetList& list = session.presets;
+    list.set_dir(dir.string());
+    ASSERT_EQ(list.entries().size(), 2u);
+    EXPECT_EQ(list.entries()[0].title, "First");
+    AppState state;
+    list.step(+1, state, session);
+    EXPECT_EQ(list.current(), 0);
+    EXPECT_EQ(state.accel.type, "bvh");
+    list.step(+1, state, session);
+    EXPECT_EQ(list.current(), 1);
+    EXPECT_EQ(state.accel.type, "grid");
+    EXPECT_EQ(list.caption(), "Preset 2/2: Second");
+    list.step(+1, state, session);  // the last one stays
+    EXPECT_EQ(list.current(), 1);
+    list.step(-1, state, session);
+    EXPECT_EQ(list.current(), 0);
+    EXPECT_EQ(state.accel.type, "bvh");
+    while (session.loader.busy()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+}
+
+TEST(Presets, ABadPresetFileIsAMessageAndChangesNothing) {
+    const fs::path dir = fs::path(ACCELVIZ_SCREENSHOT_OUT) / "preset_list_bad";
+    fs::create_directories(dir);
+    std::ofstream(dir / "01-broken.json") << R"({"structure": {"type": "bvh", "bvh": {"builder": "best"}}})";
+    Session session;
+    session.presets.set_dir(dir.string());
+    AppState state;
+    state.accel.type = "kd";
+    session.presets.step(+1, state, session);
+    EXPECT_EQ(session.presets.current(), -1);
+    EXPECT_EQ(state.accel.type, "kd");
+    EXPECT_NE(session.message.find("01-broken.json: state: structure.bvh.builder"), std::string::npos) << session.message;
+}
+
+TEST(GoldenImage, PresetBvhSahGuiFrame) {
+    auto state = load_app_state_file(kPresetDir + "/04-bvh-sah.json");
+    ASSERT_TRUE(state) << state.error();
+    auto image = render_gui_view_headless(*state, "gui", 800, 450);
+    ASSERT_TRUE(image) << image.error();
+    EXPECT_TRUE(testing::matches_golden(*image, "preset_04_bvh_sah_gui"));
+}
+
+}  // namespace
+}  // namespace accelviz
