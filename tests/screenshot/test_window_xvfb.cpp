@@ -40,6 +40,7 @@ Expected<WindowFrame> render_in_window(const AppState& initial, bool draw_ui, in
         auto loaded = load_and_build(state.scene, state.accel);
         if (!loaded) return Error{loaded.error()};
         Session session;
+        session.presets.set_dir("");  // as headless frames: no preset list in the sidebar
         session.set_scene(state, std::move(*loaded), state.camera.has_value());
         FrameInput input;
         input.width = width;
