@@ -1,6 +1,7 @@
 #include "app/gui/app_state.h"
 
 #include <algorithm>
+#include <iterator>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -159,6 +160,7 @@ nlohmann::json to_json(const AppState& s) {
                  {"background", rgb_json(s.view.background)}, {"show_ui", s.view.show_ui},
                  {"show_help", s.view.show_help}, {"show_bounds", s.view.show_bounds},
                  {"mode", s.view.mode},           {"right_view", s.view.right_view},
+                 {"left_view", s.view.left_view}, {"heat_same_scale", s.view.heat_same_scale},
                  {"line_width", s.view.line_width}};
     nlohmann::json b = {{"active", s.build_step.active}, {"step", s.build_step.step}};
     if (s.build_step.bins) b["bins"] = *s.build_step.bins;
@@ -221,8 +223,12 @@ Expected<AppState> app_state_from_json(const nlohmann::json& j) {
             s.view.mode = v.value("mode", s.view.mode);
             if (s.view.mode != "3d" && s.view.mode != "split") return Error{"view.mode: must be \"3d\" or \"split\""};
             s.view.right_view = v.value("right_view", s.view.right_view);
-            if (s.view.right_view != "raycast" && s.view.right_view != "heat-nodes" && s.view.right_view != "heat-tris")
-                return Error{"view.right_view: must be raycast, heat-nodes or heat-tris"};
+            if (std::find(std::begin(kRightViews), std::end(kRightViews), s.view.right_view) == std::end(kRightViews))
+                return Error{"view.right_view: must be raycast, heat-nodes, heat-tris, depth or depth-diff"};
+            s.view.left_view = v.value("left_view", s.view.left_view);
+            if (std::find(std::begin(kLeftViews), std::end(kLeftViews), s.view.left_view) == std::end(kLeftViews))
+                return Error{"view.left_view: must be opengl, raster or raster-depth"};
+            s.view.heat_same_scale = v.value("heat_same_scale", s.view.heat_same_scale);
         }
         if (j.contains("build_step")) {
             const auto& b = j["build_step"];

@@ -18,6 +18,10 @@
 
 namespace accelviz {
 
+/// What the halves of the split view can show (ViewSettings::right_view, left_view).
+inline constexpr const char* kRightViews[] = {"raycast", "heat-nodes", "heat-tris", "depth", "depth-diff"};
+inline constexpr const char* kLeftViews[] = {"opengl", "raster", "raster-depth"};
+
 /// How the window looks; the lecture-hall settings.
 struct ViewSettings {
     float ui_scale = 1.0f;          ///< panels and text; 1 = 16 px text, 1.5 to 2.5 for a projector
@@ -31,8 +35,17 @@ struct ViewSettings {
     /// next to the CPU ray caster's picture of the same camera (right).
     std::string mode = "3d";
     /// In "split": what the right half shows: "raycast" (shaded), "heat-nodes",
-    /// "heat-tris" (work per pixel through the current structure).
+    /// "heat-tris" (work per pixel through the current structure), "depth" (the
+    /// ray-cast depth as grey, on one scale with the rasterizer's), "depth-diff"
+    /// (where the core rasterizer's and the ray caster's depths disagree).
     std::string right_view = "raycast";
+    /// In "split": what the left half shows: "opengl" (the live OpenGL view, its
+    /// own z-buffer), "raster" (the core CPU rasterizer's image of the same
+    /// camera), "raster-depth" (its depth as grey, on one scale with the ray cast's).
+    std::string left_view = "opengl";
+    /// Heat maps keep the largest count seen since the scene was loaded as the top
+    /// of their scale, so that switching structures compares like with like.
+    bool heat_same_scale = false;
 };
 
 /// What of the current structure the 3D view draws over the mesh.

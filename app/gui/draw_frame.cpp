@@ -229,8 +229,32 @@ void draw_split_labels(const AppState& state, const Session& session, const Layo
     };
     char text[256];
     const size_t triangles = session.scene ? session.scene->mesh->triangle_count() : 0;
-    std::snprintf(text, sizeof text, "every triangle projected and filled: %zu triangles", triangles);
-    label("##raster_label", layout.gl_view, "Rasterized (OpenGL z-buffer)", text, false);
+    const auto& shown_cast = session.ray_cast.shown();
+    const bool cpu_raster = session.ray_cast.left_texture() != nullptr;
+    if (cpu_raster) {
+        const RasterStats& r = shown_cast->raster_work;
+        std::snprintf(text, sizeof text,
+                      "%llu triangles rasterized, %llu pixel centres tested, %llu fragments, %llu depth writes",
+                      (unsigned long long)r.triangles_rasterized, (unsigned long long)r.pixels_tested,
+                      (unsigned long long)r.fragments, (unsigned long long)r.depth_writes);
+        std::string detail = text;
+        if (state.view.left_view == "raster-depth") {
+            std::snprintf(text, sizeof text, "; grey: t %.3g (light) .. %.3g (dark), same scale as the ray cast's",
+                          shown_cast->t_near, shown_cast->t_far);
+            detail += text;
+        }
+        if (!deterministic) {
+            std::snprintf(text, sizeof text, "  (%.0f ms)", shown_cast->raster_milliseconds);
+            detail += text;
+        }
+        label("##raster_label", layout.gl_view,
+              state.view.left_view == "raster-depth" ? "Rasterized depth (CPU z-buffer, core)"
+                                                     : "Rasterized (CPU z-buffer, core)",
+              detail, false);
+    } else {
+        std::snprintf(text, sizeof text, "every triangle projected and filled: %zu triangles", triangles);
+        label("##raster_label", layout.gl_view, "Rasterized (OpenGL z-buffer)", text, false);
+    }
 
     std::string title = "Ray cast (CPU, " + (session.scene ? session.scene->accel_config.type : std::string("?")) + ")";
     std::string detail = "computing ...";
@@ -238,9 +262,16 @@ void draw_split_labels(const AppState& state, const Session& session, const Layo
         const Counters& w = shown->frame.work;
         const double rays = double(shown->key.width) * shown->key.height;
         std::snprintf(text, sizeof text,
-                      "per ray: %.1f nodes, %.1f box tests, %.1f triangle tests (naive: %zu triangle tests)",
-                      w.nodes_visited / rays, w.box_tests / rays, w.triangle_tests / rays, triangles);
+                      "%.0f rays x (%.1f nodes, %.1f box tests, %.1f triangle tests) (naive: %zu triangle tests per ray)",
+                      rays, w.nodes_visited / rays, w.box_tests / rays, w.triangle_tests / rays, triangles);
         detail = text;
+        if (state.view.right_view == "depth") {
+            std::snprintf(text, sizeof text, "; grey: t %.3g (light) .. %.3g (dark)", shown->t_near, shown->t_far);
+            detail += text;
+        }
+        if ((state.view.right_view == "heat-nodes" || state.view.right_view == "heat-tris") &&
+            state.view.heat_same_scale)
+            detail += "; heat scale shared by all structures (largest since the scene loaded)";
         if (!deterministic) {
             std::snprintf(text, sizeof text, "  (%.0f ms)", shown->milliseconds);
             detail += text;
@@ -249,7 +280,11 @@ void draw_split_labels(const AppState& state, const Session& session, const Layo
     }
     if (state.view.right_view == "heat-nodes") title += ": nodes visited";
     if (state.view.right_view == "heat-tris") title += ": triangle tests";
-    label("##ray_label", layout.ray_view, title, detail, state.view.right_view != "raycast");
+    if (state.view.right_view == "depth") title += ": depth";
+    if (state.view.right_view == "depth-diff") title = "Depth: CPU raster vs ray cast (" +
+                                                       (session.scene ? session.scene->accel_config.type : std::string("?")) + ")";
+    label("##ray_label", layout.ray_view, title, detail,
+          state.view.right_view != "raycast" && state.view.right_view != "depth");
 
     // The divider between the halves.
     const float x = float(layout.ray_view.x) - 1.0f;
@@ -334,9 +369,11 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
     // Split view: the ray caster's picture of this frame's camera (on the worker;
     // headless waits for it so the frame is complete).
     if (split && session.scene && state.camera && !layout.ray_view.empty()) {
+        const bool raster = state.view.left_view != "opengl" || state.view.right_view == "depth" ||
+                            state.view.right_view == "depth-diff";
         session.ray_cast.request(session.scene, *state.camera, layout.ray_view.width, layout.ray_view.height,
-                                 input.deterministic);
-        session.ray_cast.update_texture(state.view.right_view);
+                                 input.deterministic, raster);
+        session.ray_cast.update_texture(state.view);
     }
 
     // 4. Panels.
@@ -436,6 +473,9 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
         }
         out.scene_drawn = true;
         if (split && session.ray_cast.texture()) renderer.draw_image(*session.ray_cast.texture(), layout.ray_view);
+        // The left half from the core CPU rasterizer instead of OpenGL's own picture.
+        if (split && session.ray_cast.left_texture())
+            renderer.draw_image(*session.ray_cast.left_texture(), layout.gl_view);
     }
     if (ui) renderer.draw_imgui(ImGui::GetDrawData());
 

@@ -1,6 +1,7 @@
 #include "app/gui/panels.h"
 
 #include <algorithm>
+#include <iterator>
 #include <cstdio>
 #include <fstream>
 
@@ -193,13 +194,59 @@ void StructurePanel::draw(AppState& state, Session& session) {
 
 // [SECTION] Stats
 
+namespace {
+
+/// The histogram as bars: leaves / cells holding 1, 2, ... triangles (at most
+/// 32 bars; wider bins for larger counts). Empty ones are a number, not a bar:
+/// in a grid or KD tree they would dwarf the rest.
+void draw_histogram(const LeafHistogram& h) {
+    if (h.counts.size() < 2 && (h.counts.empty() || h.counts[0] == 0)) return;
+    const size_t most = h.counts.size() - 1;  // the fullest leaf / cell
+    const size_t bin = most <= 32 ? 1 : (most + 31) / 32;
+    std::vector<float> bars((most + bin - 1) / bin, 0.0f);
+    double sum = 0;
+    for (size_t k = 1; k <= most; ++k) {
+        bars[(k - 1) / bin] += float(h.counts[k]);
+        sum += double(k) * double(h.counts[k]);
+    }
+    const uint64_t total = h.total(), empty = h.counts.empty() ? 0 : h.counts[0];
+    char text[160];
+    std::snprintf(text, sizeof text, "%s by triangle count: %llu (%llu empty), mean %.1f, max %zu", h.what.c_str(),
+                  (unsigned long long)total, (unsigned long long)empty, total > empty ? sum / double(total - empty) : 0.0,
+                  most);
+    ImGui::TextWrapped("%s", text);
+    if (bars.empty()) return;
+    ImGui::PlotHistogram("##leaf_histogram", bars.data(), int(bars.size()), 0, nullptr, 0.0f, FLT_MAX,
+                         ImVec2(ImGui::GetContentRegionAvail().x, 5.0f * ImGui::GetFontSize()));
+    // The x axis: first and last bin.
+    char left[32], right[48];
+    std::snprintf(left, sizeof left, "1");
+    if (bin == 1)
+        std::snprintf(right, sizeof right, "%zu triangles", most);
+    else
+        std::snprintf(right, sizeof right, "%zu (bars of %zu)", most, bin);
+    ImGui::TextDisabled("%s", left);
+    ImGui::SameLine(ImGui::GetWindowContentRegionMax().x - ImGui::CalcTextSize(right).x);
+    ImGui::TextDisabled("%s", right);
+}
+
+}  // namespace
+
 void StatsPanel::draw(const AppState&, const Session& session) {
+    if (open_at_start) ImGui::SetNextItemOpen(true, ImGuiCond_Once);
     if (!ImGui::CollapsingHeader("Stats")) return;
     const LoadedScene* scene = session.scene.get();
     if (!scene) return;
     if (!session.overlay.legend.empty()) {
         hint(session.overlay.legend.c_str());
     }
+    const bool same = !histogram_of.expired() && !histogram_of.owner_before(scene->accel) &&
+                      !scene->accel.owner_before(histogram_of);
+    if (!same) {  // a new structure: count its leaves once
+        histogram = leaf_histogram(*scene->accel);
+        histogram_of = scene->accel;
+    }
+    draw_histogram(histogram);
     const nlohmann::json stats = scene->accel->stats();
     if (!ImGui::BeginTable("stats", 2, ImGuiTableFlags_RowBg | ImGuiTableFlags_SizingStretchProp)) return;
     for (const auto& [key, value] : stats.items()) {
@@ -282,12 +329,23 @@ void ViewPanel::draw(AppState& state, Session& session, double view_aspect) {
     bool split = view.mode == "split";
     if (ImGui::Checkbox("Raster | ray cast (S)", &split)) view.mode = split ? "split" : "3d";
     if (split) {
-        static constexpr const char* kLabels[] = {"shaded", "heat: nodes visited", "heat: triangle tests"};
-        int current = 0;
-        for (int i = 0; i < 3; ++i)
-            if (view.right_view == kRightViews[i]) current = i;
+        static constexpr const char* kLeftLabels[] = {"OpenGL (its z-buffer)", "CPU rasterizer", "CPU raster depth"};
+        static_assert(std::size(kLeftLabels) == std::size(kLeftViews));
+        int left = 0;
+        for (size_t i = 0; i < std::size(kLeftViews); ++i)
+            if (view.left_view == kLeftViews[i]) left = int(i);
         ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);
-        if (ImGui::Combo("Ray cast shows", &current, kLabels, 3)) view.right_view = kRightViews[current];
+        if (ImGui::Combo("Raster shows", &left, kLeftLabels, int(std::size(kLeftLabels))))
+            view.left_view = kLeftViews[left];
+        static constexpr const char* kLabels[] = {"shaded", "heat: nodes visited", "heat: triangle tests", "depth",
+                                                  "depth difference"};
+        static_assert(std::size(kLabels) == std::size(kRightViews));
+        int current = 0;
+        for (size_t i = 0; i < std::size(kRightViews); ++i)
+            if (view.right_view == kRightViews[i]) current = int(i);
+        ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);
+        if (ImGui::Combo("Ray cast shows", &current, kLabels, int(std::size(kLabels)))) view.right_view = kRightViews[current];
+        ImGui::Checkbox("Heat: same scale for all structures", &view.heat_same_scale);
     }
 
     ImGui::Separator();

@@ -3,9 +3,11 @@
 /// sidebar with draw(). They change AppState (what to show) and ask Session for
 /// work (loading); they never load or build on the UI thread themselves.
 
+#include <memory>
 #include <string>
 
 #include "app/gui/app_state.h"
+#include "app/gui/structure_overlay.h"
 
 namespace accelviz {
 
@@ -26,6 +28,10 @@ struct StructurePanel {
 
 /// The current structure's build statistics and what the overlay's colours mean.
 struct StatsPanel {
+    bool open_at_start = false;  ///< the section starts open (headless frames that show it)
+    /// The leaf-size / cell-occupancy histogram of `histogram_of` (remade when the structure changes).
+    std::weak_ptr<const Accelerator> histogram_of;
+    LeafHistogram histogram;
     void draw(const AppState& state, const Session& session);
 };
 

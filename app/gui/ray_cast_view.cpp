@@ -1,7 +1,10 @@
 #include "app/gui/ray_cast_view.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 
+#include "core/render/rasterizer.h"
 #include "core/render/ray_caster.h"
 #include "core/render/views.h"
 
@@ -9,14 +12,15 @@ namespace accelviz {
 
 bool RayCastView::Key::operator==(const Key& o) const {
     auto same = [](Vec3d a, Vec3d b) { return a.x == b.x && a.y == b.y && a.z == b.z; };
-    return scene == o.scene && width == o.width && height == o.height && same(camera.eye, o.camera.eye) &&
+    return scene == o.scene && width == o.width && height == o.height && raster == o.raster &&
+           same(camera.eye, o.camera.eye) &&
            same(camera.target, o.camera.target) && same(camera.up, o.camera.up) && camera.fov_deg == o.camera.fov_deg;
 }
 
 void RayCastView::request(const std::shared_ptr<const LoadedScene>& scene, const CameraParams& camera, int width,
-                          int height, bool wait) {
+                          int height, bool wait, bool raster) {
     if (!scene || width <= 0 || height <= 0) return;
-    const Key key{scene.get(), camera, width, height};
+    const Key key{scene.get(), camera, width, height, raster};
     if (key == requested_) {
         if (wait) job_.wait();
         return;
@@ -32,27 +36,79 @@ void RayCastView::request(const std::shared_ptr<const LoadedScene>& scene, const
         r.frame = ray_cast(*scene->accel, make_triangles(*scene->mesh), Camera(key.camera, key.width, key.height),
                            options);
         r.milliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        // The depth scale both grey images share: the nearest and farthest hit of either.
+        auto widen = [&r](const std::vector<float>& depth) {
+            for (float t : depth)
+                if (std::isfinite(t)) {
+                    r.t_near = std::min(r.t_near, t);
+                    r.t_far = std::max(r.t_far, t);
+                }
+        };
+        r.t_near = INFINITY;
+        r.t_far = 0;
+        widen(r.frame.depth);
+        if (key.raster) {
+            const auto raster_start = std::chrono::steady_clock::now();
+            r.raster = rasterize(*scene->mesh, Camera(key.camera, key.width, key.height), &r.raster_work);
+            r.raster_milliseconds =
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - raster_start).count();
+            widen(r.raster.depth);
+        }
+        if (!(r.t_near <= r.t_far)) r.t_near = r.t_far = 0;
         return r;
     });
     if (wait) job_.wait();
 }
 
-void RayCastView::update_texture(const std::string& right_view) {
+void RayCastView::update_texture(const ViewSettings& view) {
     bool changed = false;
     if (auto result = job_.take()) {
         shown_ = std::move(*result);
         changed = true;
+        const Frame& f = shown_->frame;
+        if (heat_mesh_ != shown_->scene->mesh.get()) {  // another mesh: the remembered scale starts again
+            heat_mesh_ = shown_->scene->mesh.get();
+            heat_max_nodes_ = heat_max_tests_ = 0;
+        }
+        for (uint32_t c : f.nodes) heat_max_nodes_ = std::max(heat_max_nodes_, double(c));
+        for (uint32_t c : f.tests) heat_max_tests_ = std::max(heat_max_tests_, double(c));
     }
-    if (!shown_ || (!changed && right_view == texture_view_ && texture_)) return;
-    if (!texture_) texture_ = std::make_unique<Texture>();
+    if (!shown_) return;
     const Frame& f = shown_->frame;
-    if (right_view == "heat-nodes")
-        texture_->upload(heat_view(f.nodes, f.width, f.height, "Nodes / cells visited per pixel", 0));
-    else if (right_view == "heat-tris")
-        texture_->upload(heat_view(f.tests, f.width, f.height, "Triangle tests per pixel", 0));
-    else
-        texture_->upload(f.colour);
-    texture_view_ = right_view;
+    const bool have_raster = shown_->key.raster && shown_->raster.width == f.width;
+
+    // Right: the ray caster's picture.
+    if (changed || view.right_view != texture_view_ || view.heat_same_scale != texture_same_scale_ || !texture_) {
+        if (!texture_) texture_ = std::make_unique<Texture>();
+        const double nodes_max = view.heat_same_scale ? heat_max_nodes_ : 0;
+        const double tests_max = view.heat_same_scale ? heat_max_tests_ : 0;
+        if (view.right_view == "heat-nodes")
+            texture_->upload(heat_view(f.nodes, f.width, f.height, "Nodes / cells visited per pixel", nodes_max));
+        else if (view.right_view == "heat-tris")
+            texture_->upload(heat_view(f.tests, f.width, f.height, "Triangle tests per pixel", tests_max));
+        else if (view.right_view == "depth")
+            texture_->upload(depth_grey_view(f, shown_->t_near, shown_->t_far));
+        else if (view.right_view == "depth-diff" && have_raster)
+            texture_->upload(depth_diff_view(shown_->raster, f));
+        else
+            texture_->upload(f.colour);
+        texture_view_ = view.right_view;
+        texture_same_scale_ = view.heat_same_scale;
+    }
+
+    // Left: the CPU rasterizer's picture, when asked for.
+    if (view.left_view == "opengl" || !have_raster) {
+        left_view_ = "opengl";
+        return;
+    }
+    if (changed || view.left_view != left_view_ || !left_texture_) {
+        if (!left_texture_) left_texture_ = std::make_unique<Texture>();
+        if (view.left_view == "raster-depth")
+            left_texture_->upload(depth_grey_view(shown_->raster, shown_->t_near, shown_->t_far));
+        else
+            left_texture_->upload(shown_->raster.colour);
+        left_view_ = view.left_view;
+    }
 }
 
 }  // namespace accelviz

@@ -19,11 +19,10 @@
 #include "app/gui/latest_job.h"
 #include "app/gui/scene_loader.h"
 #include "core/render/frame.h"
+#include "core/render/rasterizer.h"
 
 namespace accelviz {
 
-/// What the right half shows (ViewSettings::right_view).
-inline constexpr const char* kRightViews[] = {"raycast", "heat-nodes", "heat-tris"};
 
 class RayCastView {
 public:
@@ -32,6 +31,7 @@ public:
         const LoadedScene* scene = nullptr;
         CameraParams camera;
         int width = 0, height = 0;
+        bool raster = false;  ///< the core CPU rasterizer runs too
         bool operator==(const Key& o) const;
     };
     struct Result {
@@ -39,17 +39,27 @@ public:
         std::shared_ptr<const LoadedScene> scene;  ///< keeps key.scene alive
         Frame frame;
         double milliseconds = 0;
+        Frame raster;             ///< key.raster: the CPU rasterizer's frame of the same camera
+        RasterStats raster_work;
+        double raster_milliseconds = 0;
+        float t_near = 0, t_far = 0;  ///< the depth scale shared by both grey images
     };
 
     /// Asks for a cast of the current view if the last request differs (call
     /// every frame in split mode, on the UI thread). `wait`: block until it is
     /// done (headless renders).
+    /// `raster`: run the core CPU rasterizer too (left_view other than "opengl",
+    /// or a depth view on the right).
     void request(const std::shared_ptr<const LoadedScene>& scene, const CameraParams& camera, int width, int height,
-                 bool wait);
-    /// Takes a finished cast and makes the texture for `right_view` (GL thread).
-    void update_texture(const std::string& right_view);
+                 bool wait, bool raster = false);
+    /// Takes a finished cast and makes the textures for the views (GL thread).
+    void update_texture(const ViewSettings& view);
     /// The texture (null before the first cast finishes) and what it shows.
     const Texture* texture() const { return texture_.get(); }
+    /// The left half's CPU picture (null: none, or "opengl").
+    const Texture* left_texture() const { return left_view_ != "opengl" && left_texture_ ? left_texture_.get() : nullptr; }
+    /// The heat maps' scale top (with same scale: the largest seen since the mesh loaded).
+    double heat_max(bool nodes) const { return nodes ? heat_max_nodes_ : heat_max_tests_; }
     const std::optional<Result>& shown() const { return shown_; }
     bool busy() const { return job_.busy(); }
     bool has_result() const { return job_.has_result(); }
@@ -62,7 +72,13 @@ private:
     Key requested_;
     std::optional<Result> shown_;
     std::string texture_view_;  ///< the right_view the texture was made for
+    bool texture_same_scale_ = false;
     std::unique_ptr<Texture> texture_;
+    std::string left_view_ = "opengl";  ///< the left_view left_texture_ was made for
+    std::unique_ptr<Texture> left_texture_;
+    // Same scale for all structures: the largest counts since this mesh loaded.
+    const void* heat_mesh_ = nullptr;
+    double heat_max_nodes_ = 0, heat_max_tests_ = 0;
 };
 
 }  // namespace accelviz

@@ -207,6 +207,38 @@ void grid_overlay(const UniformGrid& grid, StructureOverlay& out) {
 
 }  // namespace
 
+uint64_t LeafHistogram::total() const {
+    uint64_t sum = 0;
+    for (uint64_t c : counts) sum += c;
+    return sum;
+}
+
+LeafHistogram leaf_histogram(const Accelerator& accel) {
+    LeafHistogram out;
+    auto add = [&out](uint64_t triangles) {
+        if (out.counts.size() <= triangles) out.counts.resize(triangles + 1, 0);
+        ++out.counts[triangles];
+    };
+    if (auto* bvh = dynamic_cast<const AcceleratorFor<Bvh>*>(&accel)) {
+        out.what = "BVH leaves";
+        for (const BvhNode& n : bvh->structure().nodes)
+            if (n.is_leaf()) add(n.count);
+    } else if (auto* octree = dynamic_cast<const AcceleratorFor<Octree>*>(&accel)) {
+        out.what = "octree leaves";
+        for (const OctreeNode& n : octree->structure().nodes)
+            if (n.is_leaf()) add(n.count);
+    } else if (auto* kd = dynamic_cast<const AcceleratorFor<KdTree>*>(&accel)) {
+        out.what = "KD leaves";
+        for (const KdNode& n : kd->structure().nodes)
+            if (n.is_leaf()) add(n.count);
+    } else if (auto* grid = dynamic_cast<const AcceleratorFor<UniformGrid>*>(&accel)) {
+        out.what = "grid cells";
+        const auto& start = grid->structure().cell_start;
+        for (size_t c = 0; c + 1 < start.size(); ++c) add(start[c + 1] - start[c]);
+    }
+    return out;
+}
+
 StructureOverlay make_structure_overlay(const Accelerator& accel, const OverlaySettings& settings) {
     StructureOverlay out;
     if (auto* bvh = dynamic_cast<const AcceleratorFor<Bvh>*>(&accel))

@@ -28,4 +28,14 @@ struct StructureOverlay {
 /// The overlay of `accel` under `settings` (naive: nothing).
 StructureOverlay make_structure_overlay(const Accelerator& accel, const OverlaySettings& settings);
 
+/// How the triangles are spread over the leaves (BVH, KD tree, octree) or the
+/// cells (grid): counts[k] = number of leaves / cells holding k triangle
+/// references. Empty for naive.
+struct LeafHistogram {
+    std::string what;              ///< "BVH leaves", "KD leaves", "octree leaves", "grid cells"
+    std::vector<uint64_t> counts;
+    uint64_t total() const;        ///< leaves / cells counted
+};
+LeafHistogram leaf_histogram(const Accelerator& accel);
+
 }  // namespace accelviz

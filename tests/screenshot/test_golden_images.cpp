@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "app/gui/headless.h"
+#include "app/gui/session.h"
 #include "golden.h"
 
 namespace accelviz {
@@ -149,6 +150,49 @@ TEST(HeadlessRender, BadSceneIsAnError) {
     auto image = render_gui_view_headless(state, "structure", 64, 64);
     ASSERT_FALSE(image);
     EXPECT_NE(image.error().find("/nonexistent/scene.obj"), std::string::npos) << image.error();
+}
+
+TEST(GoldenImage, StatsPanelShowsTheLeafSizeHistogram) {
+    // A tall frame at a small UI scale, so that the Stats section (last in the sidebar) is on it.
+    auto app = HeadlessApp::create(560, 1160);
+    ASSERT_TRUE(app) << app.error();
+    AppState state;
+    state.scene = "builtin:teapot?n=4";
+    state.accel.type = "kd";
+    state.view.ui_scale = 0.75f;
+    auto loaded = load_and_build(state.scene, state.accel);
+    ASSERT_TRUE(loaded) << loaded.error();
+    Session& session = (*app)->session();
+    session.set_scene(state, *loaded, false);
+    session.stats_panel.open_at_start = true;
+    for (int i = 0; i < 2; ++i) (*app)->draw(state, FrameInput{});  // ImGui sizes new windows on the first frame
+    EXPECT_TRUE(matches_golden((*app)->read_colour(), "teapot_kd_gui_stats_histogram"));
+}
+
+/// The whole state from JSON, on the small teapot.
+AppState teapot_state(const char* json) {
+    auto parsed = app_state_from_json(nlohmann::json::parse(json));
+    EXPECT_TRUE(parsed) << parsed.error();
+    AppState state = parsed ? *parsed : AppState{};
+    state.scene = "builtin:teapot?n=4";
+    return state;
+}
+
+TEST(GoldenImage, SplitCpuRasterDepthNextToRayCastDepthDifference) {
+    // Left: the core rasterizer's depth as grey; right: where it and the ray caster disagree.
+    AppState state = teapot_state(R"({"structure": {"type": "bvh"}, "overlay": {"show_structure": false},
+                                      "view": {"mode": "split", "left_view": "raster-depth", "right_view": "depth-diff"}})");
+    auto image = render_gui_view_headless(state, "gui", 800, 400);
+    ASSERT_TRUE(image) << image.error();
+    EXPECT_TRUE(matches_golden(*image, "teapot_gui_split_depth_diff"));
+}
+
+TEST(GoldenImage, SplitCpuRasterImageNextToRayCastDepthOnOneScale) {
+    AppState state = teapot_state(R"({"structure": {"type": "kd"}, "overlay": {"show_structure": false},
+                                      "view": {"mode": "split", "left_view": "raster", "right_view": "depth"}})");
+    auto image = render_gui_view_headless(state, "structure", 480, 240);
+    ASSERT_TRUE(image) << image.error();
+    EXPECT_TRUE(matches_golden(*image, "teapot_split_raster_cpu_depth"));
 }
 
 }  // namespace

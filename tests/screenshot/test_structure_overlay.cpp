@@ -4,6 +4,7 @@
 #include "app/gui/scene_loader.h"
 #include "app/gui/structure_overlay.h"
 #include "core/accel/bvh.h"
+#include "core/accel/uniform_grid.h"
 
 namespace accelviz {
 namespace {
@@ -66,6 +67,41 @@ TEST(StructureOverlay, GridShowsOnlyNonEmptyCellsAndKdShowsPlanes) {
     auto naive = teapot_with("naive");
     ASSERT_TRUE(naive);
     EXPECT_TRUE(make_structure_overlay(*naive->accel, {}).boxes.empty());
+}
+
+TEST(LeafHistogram, BvhLeavesHoldEveryTriangleOnce) {
+    auto scene = teapot_with("bvh");
+    ASSERT_TRUE(scene);
+    const LeafHistogram h = leaf_histogram(*scene->accel);
+    EXPECT_EQ(h.what, "BVH leaves");
+    const Bvh& bvh = dynamic_cast<const AcceleratorFor<Bvh>&>(*scene->accel).structure();
+    uint64_t leaves = 0, references = 0;
+    for (const BvhNode& n : bvh.nodes) leaves += n.is_leaf();
+    for (size_t k = 0; k < h.counts.size(); ++k) references += k * h.counts[k];
+    EXPECT_EQ(h.total(), leaves);
+    EXPECT_EQ(references, scene->mesh->triangle_count());
+    ASSERT_FALSE(h.counts.empty());
+    EXPECT_EQ(h.counts[0], 0u);                         // a BVH has no empty leaves
+    EXPECT_LE(h.counts.size() - 1, size_t(bvh_config_default().bvh.max_leaf_size));  // SAH stops at the leaf size here
+}
+
+TEST(LeafHistogram, GridCountsEveryCellIncludingEmptyOnes) {
+    auto scene = teapot_with("grid");
+    ASSERT_TRUE(scene);
+    const LeafHistogram h = leaf_histogram(*scene->accel);
+    EXPECT_EQ(h.what, "grid cells");
+    const UniformGrid& grid = dynamic_cast<const AcceleratorFor<UniformGrid>&>(*scene->accel).structure();
+    EXPECT_EQ(h.total(), uint64_t(grid.res[0]) * grid.res[1] * grid.res[2]);
+    uint64_t references = 0;
+    for (size_t k = 0; k < h.counts.size(); ++k) references += k * h.counts[k];
+    EXPECT_EQ(references, grid.cell_start.back());
+    EXPECT_GT(h.counts[0], 0u);  // the teapot leaves cells of its box empty
+}
+
+TEST(LeafHistogram, NaiveHasNone) {
+    auto scene = teapot_with("naive");
+    ASSERT_TRUE(scene);
+    EXPECT_TRUE(leaf_histogram(*scene->accel).counts.empty());
 }
 
 }  // namespace
