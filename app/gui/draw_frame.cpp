@@ -426,7 +426,9 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
         }
         draw_view_messages(session, layout.view, input.deterministic);
         if (session.presets.caption_fresh()) draw_preset_caption(session, layout.view);
-        if (state.overlay.show_structure && !session.build_stepper.shows_3d(state) && !stepping)
+        // (Not over the CPU rasterizer's picture in the left half: it draws no overlay.)
+        if (state.overlay.show_structure && !session.build_stepper.shows_3d(state) && !stepping &&
+            !(split && session.ray_cast.left_texture()))
             draw_legend(session, layout.gl_view);
         if (split) draw_split_labels(state, session, layout, input.deterministic);
         session.help_window.draw(state);
