@@ -7,7 +7,9 @@
 // same array, in the ray caster's 16x16 tiles); frame_ms times tracing only, and
 // build_ms the whole build (mesh to structure). Both are wall-clock medians over
 // --repeat runs; *_cpu_ms are the process's CPU time over the same runs (which, on a
-// machine shared with other work, is the steadier figure for one thread).
+// machine shared with other work, is the steadier figure for one thread). per_ray is
+// the work behind them (nodes visited, box and triangle tests, mailbox skips), from
+// one more, untimed pass with the counting observer.
 #include <time.h>
 #include <unistd.h>
 
@@ -70,6 +72,9 @@ struct Measured {
     std::vector<double> build_cpu_ms, frame_cpu_ms;  ///< process CPU time of the same runs
     RayResults results;
     double mrays_per_s(size_t rays) const { return double(rays) / (median(frame_ms) * 1e3); }
+    /// Rays per second of process CPU time: on one thread, the speed without the time
+    /// other programs had the core; on N threads, rays per CPU-second (not per second).
+    double mrays_per_cpu_s(size_t rays) const { return double(rays) / (median(frame_cpu_ms) * 1e3); }
 };
 
 nlohmann::ordered_json summary(const Measured& m, size_t rays) {
@@ -77,12 +82,15 @@ nlohmann::ordered_json summary(const Measured& m, size_t rays) {
     j["build_ms"] = median(m.build_ms);
     j["frame_ms"] = median(m.frame_ms);
     j["mrays_per_s"] = m.mrays_per_s(rays);
+    j["mrays_per_cpu_s"] = m.mrays_per_cpu_s(rays);
     j["hit_count"] = m.results.hit_count();
     j["depth_sum"] = m.results.depth_sum();
     j["build_cpu_ms"] = median(m.build_cpu_ms);
     j["frame_cpu_ms"] = median(m.frame_cpu_ms);
     j["build_ms_runs"] = m.build_ms;
     j["frame_ms_runs"] = m.frame_ms;
+    j["build_cpu_ms_runs"] = m.build_cpu_ms;
+    j["frame_cpu_ms_runs"] = m.frame_cpu_ms;
     return j;
 }
 
@@ -132,6 +140,15 @@ int run_bench(const BenchOptions& opt) {
         ours.frame_ms.push_back(ms_since(start));
     }
 
+    // The work behind those times, per ray: one more (untimed) pass with the counting
+    // observer, through the same traversal code.
+    Counters work;
+    for (const Ray& ray : rays) {
+        CountingObserver counter;
+        accel->intersect_closest(ray, counter);
+        work += counter.counters;
+    }
+
     nlohmann::ordered_json out;
     out["scene"] = opt.scene;
     out["triangles"] = mesh->triangle_count();
@@ -144,6 +161,11 @@ int run_bench(const BenchOptions& opt) {
     out["rays"] = rays.size();
     const nlohmann::ordered_json ours_summary = summary(ours, rays.size());
     for (const auto& [key, value] : ours_summary.items()) out[key] = value;
+    const double per_ray = 1.0 / double(std::max<size_t>(rays.size(), 1));
+    out["per_ray"] = {{"nodes_visited", double(work.nodes_visited) * per_ray},
+                      {"box_tests", double(work.box_tests) * per_ray},
+                      {"triangle_tests", double(work.triangle_tests) * per_ray},
+                      {"mailbox_skips", double(work.mailbox_skips) * per_ray}};
     out["build_stats"] = accel->stats();
 
 #ifdef ACCELVIZ_HAVE_EMBREE
@@ -188,15 +210,20 @@ int run_bench(const BenchOptions& opt) {
     std::printf("scene      %s (%zu triangles), %dx%d, %d thread%s, median of %d\n", opt.scene.c_str(),
                 mesh->triangle_count(), opt.width, opt.height, opt.threads, opt.threads == 1 ? "" : "s", opt.repeat);
     std::printf("structure  %s %s\n", accel->name().c_str(), accel->config().dump().c_str());
-    std::printf("%-10s %10s %10s %10s %10s %10s %10s %16s\n", "", "build ms", "(cpu)", "frame ms", "(cpu)",
-                "Mrays/s", "hits", "depth sum");
+    std::printf("%-10s %10s %10s %10s %10s %10s %10s %10s %16s\n", "", "build ms", "(cpu)", "frame ms", "(cpu)",
+                "Mrays/s", "(cpu)", "hits", "depth sum");
     auto row = [&](const char* name, const nlohmann::ordered_json& j) {
-        std::printf("%-10s %10.1f %10.1f %10.1f %10.1f %10.2f %10llu %16.6f\n", name, j["build_ms"].get<double>(),
+        std::printf("%-10s %10.1f %10.1f %10.1f %10.1f %10.2f %10.2f %10llu %16.6f\n", name, j["build_ms"].get<double>(),
                     j["build_cpu_ms"].get<double>(), j["frame_ms"].get<double>(), j["frame_cpu_ms"].get<double>(),
-                    j["mrays_per_s"].get<double>(), (unsigned long long)j["hit_count"].get<uint64_t>(),
+                    j["mrays_per_s"].get<double>(), j["mrays_per_cpu_s"].get<double>(),
+                    (unsigned long long)j["hit_count"].get<uint64_t>(),
                     j["depth_sum"].get<double>());
     };
     row(accel->name().c_str(), out);
+    const auto& w = out["per_ray"];
+    std::printf("per ray    %.2f nodes visited, %.2f box tests, %.2f triangle tests, %.2f mailbox skips\n",
+                w["nodes_visited"].get<double>(), w["box_tests"].get<double>(), w["triangle_tests"].get<double>(),
+                w["mailbox_skips"].get<double>());
     if (out.contains("reference")) {
         const auto& ref = out["reference"];
         row("embree", ref);
