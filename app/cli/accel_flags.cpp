@@ -40,7 +40,8 @@ void add_accel_flags(CLI::App& command, AccelConfig& config) {
                [&config](const std::string& v) {
                    config.grid.mailbox = config.kd.mailbox = config.octree.mailbox = v == "on";
                },
-               "grid/kd/octree: skip triangles a ray already tested in an earlier cell (on|off, default on)")
+               "grid/kd/octree: skip triangles a ray already tested in an earlier cell "
+               "(on|off; default on for grid and octree, off for kd)")
         ->check(CLI::IsMember({"on", "off"}));
     command.add_option("--grid-density", config.grid.density, "grid: C in #cells = C * #triangles (lecture: 27)")
         ->check(CLI::Range(0.001, 10000.0))

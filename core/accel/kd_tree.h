@@ -53,7 +53,11 @@ struct KdConfig {
     float empty_bonus = 0.2f; ///< SAH: a plane that cuts off empty space costs (1 - bonus)·cost, in [0, 1)
     ClipMode clip = ClipMode::Exact;  ///< how a straddling triangle's box is cut to each side
     bool strict_cell = true;  ///< a hit counts only inside the current leaf (false: the lecture's naive, wrong rule)
-    bool mailbox = true;      ///< skip triangles this ray already tested in an earlier leaf
+    /// Skip triangles this ray already tested in an earlier leaf. Off by default for the
+    /// KD tree: measured on the bunny, it skips 0.23 of 2.2 triangle tests per ray, and
+    /// the per-test lookup costs more than those tests (profile: 7% of the time in the
+    /// mailbox; 5-9% faster without it). The grid's crowded cells are another matter.
+    bool mailbox = false;
     double max_duplication = 64.0;  ///< stop splitting once references exceed this · N (reported in notes), >= 1
 
     bool operator==(const KdConfig&) const = default;
@@ -110,7 +114,9 @@ struct KdBuildStats {
 /// leaf's triangles are contiguous).
 /// (Tried instead of padding: unpadded references and a traversal that widens each
 /// plane into a slab of the same width. Fewer references, but every node step did
-/// more work: 25% slower on the bunny.)
+/// more work: 25% slower on the bunny. Tried instead of the leaf-order copy: the mesh's
+/// triangles by id through prim_ids; half the memory on the bunny (6.6 instead of 12.5
+/// MB) but about 2% slower, so the copy stays.)
 struct KdTree {
     Aabb bounds;
     std::vector<KdNode> nodes;

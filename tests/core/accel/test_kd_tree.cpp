@@ -28,9 +28,9 @@ std::vector<std::pair<std::string, KdConfig>> configs() {
             c.clip = clip;
             out.push_back({std::string(to_string(builder)) + " clip=" + std::string(to_string(clip)), c});
         }
-    KdConfig no_mailbox;
-    no_mailbox.mailbox = false;
-    out.push_back({"sah mailbox=off", no_mailbox});
+    KdConfig with_mailbox;  // the default is off
+    with_mailbox.mailbox = true;
+    out.push_back({"sah mailbox=on", with_mailbox});
     KdConfig deep;
     deep.builder = KdBuilder::Median;
     deep.leaf_size = 1;
@@ -241,6 +241,7 @@ TEST(KdTree, ParallelBuildIsTheSameOnAnyNumberOfThreads) {
 TEST(KdTree, MailboxSavesTestsWithoutChangingAnswers) {
     const SceneCase& scene = scene_case("builtin:soup?n=2000&seed=3", 2000);
     KdConfig on, off;
+    on.mailbox = true;
     off.mailbox = false;
     const KdTree t_on = build(scene.mesh, on), t_off = build(scene.mesh, off);
     Counters c_on, c_off;
