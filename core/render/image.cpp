@@ -106,9 +106,11 @@ void draw_text(Image& dst, int x, int y, std::string_view text, int scale, Rgb c
     }
 }
 
-void draw_label(Image& dst, int x, int y, std::string_view text, int scale) {
+void draw_label(Image& dst, int x, int y, std::string_view text, int scale, int max_width) {
+    if (max_width <= 0) max_width = dst.width - x;
     int w = 0, h = 0;
     text_size(text, scale, &w, &h);
+    while (scale > 1 && w + 4 * scale > max_width) text_size(text, --scale, &w, &h);  // shrink to fit
     const int pad = 2 * scale;
     for (int yy = std::max(0, y); yy < std::min(dst.height, y + h + 2 * pad); ++yy)
         for (int xx = std::max(0, x); xx < std::min(dst.width, x + w + 2 * pad); ++xx) {

@@ -49,7 +49,8 @@ void fill_rect(Image& dst, int x0, int y0, int w, int h, Rgb colour);
 void draw_text(Image& dst, int x, int y, std::string_view text, int scale, Rgb colour);
 /// Width and height in pixels that draw_text would cover.
 void text_size(std::string_view text, int scale, int* width, int* height);
-/// Text on a translucent dark box, for labels over images.
-void draw_label(Image& dst, int x, int y, std::string_view text, int scale);
+/// Text on a translucent dark box, for labels over images. The scale shrinks (down
+/// to 1) until the label fits in `max_width` pixels (0: up to the image's right edge).
+void draw_label(Image& dst, int x, int y, std::string_view text, int scale, int max_width = 0);
 
 }  // namespace accelviz

@@ -75,13 +75,13 @@ Image split_view(const Frame& raster, const Frame& ray, const WorkSummary& work)
     fill_rect(out, w - 1, 0, 2, h, {255, 255, 255});  // the divider
     const int s = label_scale(h);
     const int pad = 4 * s;
-    draw_label(out, pad, pad, "Rasterized (z-buffer)", s + 1);
+    draw_label(out, pad, pad, "Rasterized (z-buffer)", s + 1, w - 2 * pad);
     draw_label(out, w + pad, pad, "Ray cast (" + work.accel_name + ")", s + 1);
     const RasterStats& rs = work.raster_work;
     draw_label(out, pad, h - 24 * s,
                with_commas(rs.triangles_rasterized) + " triangles rasterized, " + with_commas(rs.fragments) +
                    " fragments",
-               s);
+               s, w - 2 * pad);
     const uint64_t rays = uint64_t(w) * h;
     std::string ray_text = with_commas(rays) + " rays";
     if (work.ray_work_counted)
@@ -91,7 +91,7 @@ Image split_view(const Frame& raster, const Frame& ray, const WorkSummary& work)
     const DepthAgreement agree = compare_depths(raster, ray);
     // The verdict concerns both halves: a line under each, short enough for 320-pixel halves.
     draw_label(out, pad, h - 14 * s, fmt("depths agree on %.3f%% of shared pixels (1e-4 rel.)", agree.agreeing_percent()),
-               s);
+               s, w - 2 * pad);
     draw_label(out, w + pad, h - 14 * s, fmt("coverage differs on %.3f%% of pixels", agree.coverage_differs_percent()),
                s);
     return out;
