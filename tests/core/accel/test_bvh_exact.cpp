@@ -143,6 +143,7 @@ Mesh scene(const std::string& source) {
 }  // namespace
 
 TEST(BvhMatchesBruteForce, SlowBunny) {
+    if (!shared_asset_exists("bunny.obj")) GTEST_SKIP() << "../shared/assets/bunny.obj is not here";
     const Mesh mesh = scene(shared_asset("bunny.obj"));
     ASSERT_GT(mesh.triangle_count(), 60000u);
     const auto [ordered, unordered] = check_scene(mesh, kRays, 1);

@@ -79,6 +79,7 @@ void expect_chart_matches_recording(const Mesh& mesh, const BvhConfig& config, s
 }  // namespace
 
 TEST(SahChart, BinnedBunnyMatchesTheBuilderCandidateByCandidate) {
+    if (!test::shared_asset_exists("bunny.obj")) GTEST_SKIP() << "../shared/assets/bunny.obj is not here";
     const Mesh mesh = scene(test::shared_asset("bunny.obj"));
     expect_chart_matches_recording(mesh, {.builder = BvhBuilder::SahBinned}, 60);
     expect_chart_matches_recording(mesh, {.builder = BvhBuilder::SahBinned, .bins = 5, .cost_trav = 3.0f}, 30);
@@ -133,6 +134,7 @@ TEST(SahChart, RecorderWithoutCandidatesRecordsTheSameDecisions) {
 }
 
 TEST(SahChart, NewParametersRecomputeOneNodeWithoutRebuilding) {
+    if (!test::shared_asset_exists("bunny.obj")) GTEST_SKIP() << "../shared/assets/bunny.obj is not here";
     const Mesh mesh = scene(test::shared_asset("bunny.obj"));
     BuildRecorder recorder;
     const BvhConfig config{.builder = BvhBuilder::SahBinned};
@@ -162,6 +164,7 @@ TEST(SahChart, NewParametersRecomputeOneNodeWithoutRebuilding) {
 }
 
 TEST(SahChart, HeuristicCutsAreWhereMedianAndMidpointBuildersCut) {
+    if (!test::shared_asset_exists("bunny.obj")) GTEST_SKIP() << "../shared/assets/bunny.obj is not here";
     const Mesh mesh = scene(test::shared_asset("bunny.obj"));
     for (BvhBuilder builder : {BvhBuilder::Median, BvhBuilder::Midpoint}) {
         SCOPED_TRACE(std::string(to_string(builder)));
