@@ -50,14 +50,33 @@ View3D make_view3d(const CameraParams& camera, const ViewRect& rect, const Aabb&
     return view;
 }
 
-double depth_to_ray_t(const View3D& view, double window_depth, int x, int y) {
+namespace {
+
+double depth_to_ray_t(const View3D& view, const Camera& camera, double window_depth, int x, int y) {
     if (window_depth >= 1.0) return std::numeric_limits<double>::infinity();
     const double n = view.near_plane, f = view.far_plane;
     const double z_ndc = 2.0 * window_depth - 1.0;
     const double z = 2.0 * n * f / ((f + n) - z_ndc * (f - n));  // distance along forward
-    const Camera camera(view.camera, view.rect.width, view.rect.height);
     const Vec3d d = camera.plane_direction(x + 0.5, y + 0.5);  // forward component is exactly 1
     return z * std::sqrt(dot(d, d));
+}
+
+}  // namespace
+
+double depth_to_ray_t(const View3D& view, double window_depth, int x, int y) {
+    return depth_to_ray_t(view, Camera(view.camera, view.rect.width, view.rect.height), window_depth, x, y);
+}
+
+std::vector<float> depth_image_to_ray_t(const View3D& view, const std::vector<float>& window_depth) {
+    const int w = view.rect.width, h = view.rect.height;
+    const Camera camera(view.camera, w, h);
+    std::vector<float> t(window_depth.size(), std::numeric_limits<float>::infinity());
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const size_t i = size_t(y) * w + x;
+            if (i < window_depth.size()) t[i] = float(depth_to_ray_t(view, camera, window_depth[i], x, y));
+        }
+    return t;
 }
 
 }  // namespace accelviz

@@ -1,4 +1,5 @@
 #pragma once
+#include <vector>
 /// The 3D view's camera on the GPU, following the camera contract
 /// (core/render/camera.h) exactly, so that the window shows what the CPU ray
 /// caster computes, pixel for pixel:
@@ -41,5 +42,7 @@ View3D make_view3d(const CameraParams& camera, const ViewRect& rect, const Aabb&
 /// projection to the distance z along `forward`, then t = z * |forward + sx right
 /// + sy true_up| for that pixel's contract ray. 1.0 (the clear value) gives +inf.
 double depth_to_ray_t(const View3D& view, double window_depth, int x, int y);
+/// The same for a whole depth image of the view rectangle (top row first).
+std::vector<float> depth_image_to_ray_t(const View3D& view, const std::vector<float>& window_depth);
 
 }  // namespace accelviz

@@ -227,7 +227,7 @@ Expected<AppState> app_state_from_json(const nlohmann::json& j) {
                 return Error{"view.right_view: must be raycast, heat-nodes, heat-tris, depth or depth-diff"};
             s.view.left_view = v.value("left_view", s.view.left_view);
             if (std::find(std::begin(kLeftViews), std::end(kLeftViews), s.view.left_view) == std::end(kLeftViews))
-                return Error{"view.left_view: must be opengl, raster or raster-depth"};
+                return Error{"view.left_view: must be opengl, raster, raster-depth or opengl-depth"};
             s.view.heat_same_scale = v.value("heat_same_scale", s.view.heat_same_scale);
         }
         if (j.contains("build_step")) {

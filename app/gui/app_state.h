@@ -20,7 +20,7 @@ namespace accelviz {
 
 /// What the halves of the split view can show (ViewSettings::right_view, left_view).
 inline constexpr const char* kRightViews[] = {"raycast", "heat-nodes", "heat-tris", "depth", "depth-diff"};
-inline constexpr const char* kLeftViews[] = {"opengl", "raster", "raster-depth"};
+inline constexpr const char* kLeftViews[] = {"opengl", "raster", "raster-depth", "opengl-depth"};
 
 /// How the window looks; the lecture-hall settings.
 struct ViewSettings {

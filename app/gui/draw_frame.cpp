@@ -10,8 +10,11 @@
 #include <GLFW/glfw3.h>  // key codes only: ImGui 1.86 indexes io.KeysDown by the GLFW backend's codes
 #include <imgui.h>
 
+#include "app/gl/texture.h"
+#include "app/gl/view3d.h"
 #include "app/gui/camera_control.h"
 #include "core/render/colormap.h"
+#include "core/render/views.h"
 
 namespace accelviz {
 
@@ -251,6 +254,14 @@ void draw_split_labels(const AppState& state, const Session& session, const Layo
               state.view.left_view == "raster-depth" ? "Rasterized depth (CPU z-buffer, core)"
                                                      : "Rasterized (CPU z-buffer, core)",
               detail, false);
+    } else if (state.view.left_view == "opengl-depth") {
+        std::string detail = "the depth buffer read back, as the distance t along each pixel's ray";
+        if (shown_cast && shown_cast->t_far > shown_cast->t_near) {
+            std::snprintf(text, sizeof text, "; grey: t %.3g (light) .. %.3g (dark), same scale as the ray cast's",
+                          shown_cast->t_near, shown_cast->t_far);
+            detail += text;
+        }
+        label("##raster_label", layout.gl_view, "Rasterized depth (OpenGL z-buffer)", detail, false);
     } else {
         std::snprintf(text, sizeof text, "every triangle projected and filled: %zu triangles", triangles);
         label("##raster_label", layout.gl_view, "Rasterized (OpenGL z-buffer)", text, false);
@@ -428,7 +439,7 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
         if (session.presets.caption_fresh()) draw_preset_caption(session, layout.view);
         // (Not over the CPU rasterizer's picture in the left half: it draws no overlay.)
         if (state.overlay.show_structure && !session.build_stepper.shows_3d(state) && !stepping &&
-            !(split && session.ray_cast.left_texture()))
+            !(split && (session.ray_cast.left_texture() || state.view.left_view == "opengl-depth")))
             draw_legend(session, layout.gl_view);
         if (split) draw_split_labels(state, session, layout, input.deterministic);
         session.help_window.draw(state);
@@ -458,13 +469,35 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
         MeshStyle mesh_style;
         mesh_style.opacity = state.overlay.mesh_opacity;
         const bool build_step_3d = session.build_stepper.shows_3d(state);
-        if (mesh_style.opacity < 1.0f && !build_step_3d) {
+        // Split view, left half "opengl-depth": OpenGL's own z-buffer, read back as the
+        // ray distance t of each pixel's contract ray, grey on the ray cast's scale.
+        // The mesh alone, opaque: what the z-buffer of the lecture's loop holds.
+        const bool gl_depth_view = split && state.view.left_view == "opengl-depth";
+        if (gl_depth_view) {
+            renderer.draw_mesh(*session.mesh_buffer, MeshStyle{});
+            Frame depth_frame;
+            depth_frame.width = layout.gl_view.width;
+            depth_frame.height = layout.gl_view.height;
+            depth_frame.depth = depth_image_to_ray_t(out.view, renderer.read_depth(layout.gl_view));
+            float t_near = kInfinity, t_far = 0;
+            if (const auto& shown = session.ray_cast.shown(); shown && shown->t_far > shown->t_near) {
+                t_near = shown->t_near, t_far = shown->t_far;
+            } else {
+                for (float t : depth_frame.depth)
+                    if (std::isfinite(t)) t_near = std::min(t_near, t), t_far = std::max(t_far, t);
+            }
+            if (!session.gl_depth_texture) session.gl_depth_texture = std::make_unique<Texture>();
+            session.gl_depth_texture->upload(depth_grey_view(depth_frame, t_near, t_far));
+            renderer.draw_image(*session.gl_depth_texture, layout.gl_view);
+        } else if (mesh_style.opacity < 1.0f && !build_step_3d) {
             // X-ray: the structure first (all of it), the nearest surface blended
             // over it, then the structure again where it is in front of the surface.
             draw_overlay();
             if (mesh_style.opacity > 0.0f) renderer.draw_mesh(*session.mesh_buffer, mesh_style);
         }
-        if (build_step_3d) {
+        if (gl_depth_view) {
+            // drawn above
+        } else if (build_step_3d) {
             // The construction stepper's picture replaces the structure overlay
             // (and the scene's bounds: the root's box is the first step's).
             session.build_stepper.draw_3d(renderer, *session.mesh_buffer, state.build_step.step,

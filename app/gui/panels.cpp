@@ -329,7 +329,7 @@ void ViewPanel::draw(AppState& state, Session& session, double view_aspect) {
     bool split = view.mode == "split";
     if (ImGui::Checkbox("Raster | ray cast (S)", &split)) view.mode = split ? "split" : "3d";
     if (split) {
-        static constexpr const char* kLeftLabels[] = {"OpenGL (its z-buffer)", "CPU rasterizer", "CPU raster depth"};
+        static constexpr const char* kLeftLabels[] = {"OpenGL (its z-buffer)", "CPU rasterizer", "CPU raster depth", "OpenGL depth (read back)"};
         static_assert(std::size(kLeftLabels) == std::size(kLeftViews));
         int left = 0;
         for (size_t i = 0; i < std::size(kLeftViews); ++i)

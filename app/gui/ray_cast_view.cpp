@@ -97,7 +97,7 @@ void RayCastView::update_texture(const ViewSettings& view) {
     }
 
     // Left: the CPU rasterizer's picture, when asked for.
-    if (view.left_view == "opengl" || !have_raster) {
+    if (view.left_view == "opengl" || view.left_view == "opengl-depth" || !have_raster) {  // drawn by OpenGL
         left_view_ = "opengl";
         return;
     }

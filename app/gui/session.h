@@ -23,6 +23,9 @@
 namespace accelviz {
 
 struct Session {
+    /// Split view, left half "opengl-depth": OpenGL's depth buffer read back as
+    /// ray distances t, grey on the ray cast's scale (made lazily, with GL current).
+    std::unique_ptr<Texture> gl_depth_texture;
     /// The scene on screen (null until the first load finishes). Immutable:
     /// a new load replaces the pointer, never the contents.
     std::shared_ptr<const LoadedScene> scene;

@@ -2,6 +2,8 @@
 // same draw_frame() the window uses. Tolerance: see golden.h.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+
 #include "app/gui/headless.h"
 #include "app/gui/session.h"
 #include "golden.h"
@@ -193,6 +195,28 @@ TEST(GoldenImage, SplitCpuRasterImageNextToRayCastDepthOnOneScale) {
     auto image = render_gui_view_headless(state, "structure", 480, 240);
     ASSERT_TRUE(image) << image.error();
     EXPECT_TRUE(matches_golden(*image, "teapot_split_raster_cpu_depth"));
+}
+
+
+TEST(SplitView, OpenGlDepthReadBackMatchesRayCastDepthGreyForGrey) {
+    // Left: OpenGL's own z-buffer read back as t; right: the ray caster's t; both grey
+    // on one scale. Away from silhouettes the two halves must be the same picture.
+    AppState state = teapot_state(R"({"structure": {"type": "bvh"}, "overlay": {"show_structure": false},
+                                      "view": {"mode": "split", "left_view": "opengl-depth", "right_view": "depth",
+                                               "show_bounds": false}})");
+    auto image = render_gui_view_headless(state, "structure", 480, 240);
+    ASSERT_TRUE(image) << image.error();
+    const int half = image->width / 2;
+    size_t differing = 0, covered = 0;
+    // Below the labels at the top and above those at the bottom.
+    for (int y = image->height / 4; y < image->height * 3 / 4; ++y)
+        for (int x = 0; x < half - 1; ++x) {
+            const Rgb a = image->at(x, y), b = image->at(x + half, y);
+            covered += b.r > 40;  // the ray cast hit something (grey 55..255; a miss is black)
+            differing += std::abs(int(a.r) - int(b.r)) > 3;
+        }
+    ASSERT_GT(covered, size_t(half) * image->height / 20) << "the teapot should fill part of the view";
+    EXPECT_LT(double(differing), 0.02 * double(covered)) << differing << " of " << covered << " pixels differ";
 }
 
 }  // namespace
