@@ -405,7 +405,9 @@ void StatsBar::draw(const AppState& state, const Session& session, double frame_
         std::snprintf(text, sizeof text, "%s  |  %zu triangles  |  structure: %s", state.scene.c_str(),
                       scene->mesh->triangle_count(), scene->accel_config.type.c_str());
         line = text;
-        if (state.overlay.show_structure && !session.overlay.boxes.empty()) {
+        // The steppers draw their own boxes in place of the whole structure's.
+        const bool stepper_3d = (state.stepper.open && state.stepper.ray) || session.build_stepper.shows_3d(state);
+        if (state.overlay.show_structure && !session.overlay.boxes.empty() && !stepper_3d) {
             std::snprintf(text, sizeof text, ", %zu boxes shown", session.overlay.boxes.size());
             line += text;
         }
