@@ -469,15 +469,9 @@ void BuildStepper::upload_step(const BuildStep& step, Rgb background) {
     std::vector<ColouredQuad> quads;
     if (!leaf && step.axis >= 0) {
         // The split plane across the node's box, translucent.
-        const int a = step.axis, b = (a + 1) % 3, d = (a + 2) % 3;
         ColouredQuad quad;
-        const float us[4] = {step.bounds.lo[b], step.bounds.hi[b], step.bounds.hi[b], step.bounds.lo[b]};
-        const float vs[4] = {step.bounds.lo[d], step.bounds.lo[d], step.bounds.hi[d], step.bounds.hi[d]};
-        for (int k = 0; k < 4; ++k) {
-            quad.corners[k][a] = step.split_position;
-            quad.corners[k][b] = us[k];
-            quad.corners[k][d] = vs[k];
-        }
+        const std::array<Vec3, 4> corners = plane_across_box(step.bounds, step.axis, step.split_position);
+        std::copy(corners.begin(), corners.end(), quad.corners);
         quad.colour = kPlaneColour;
         quads.push_back(quad);
     }

@@ -337,6 +337,28 @@ void draw_legend(const Session& session, const ViewRect& rect) {
     ImGui::End();
 }
 
+/// Split view, left half "opengl-depth": the mesh alone, opaque (what the z-buffer
+/// of the lecture's loop holds); OpenGL's depth buffer read back, each value turned
+/// into the ray distance t of that pixel's contract ray, and shown grey on the ray
+/// cast's scale (its own range until the ray cast is there).
+void draw_opengl_depth_as_grey(Session& session, Renderer& renderer, const View3D& view, const ViewRect& rect) {
+    renderer.draw_mesh(*session.mesh_buffer, MeshStyle{});
+    Frame depth;
+    depth.width = rect.width;
+    depth.height = rect.height;
+    depth.depth = depth_image_to_ray_t(view, renderer.read_depth(rect));
+    float t_near = kInfinity, t_far = 0;
+    if (const auto& shown = session.ray_cast.shown(); shown && shown->t_far > shown->t_near) {
+        t_near = shown->t_near, t_far = shown->t_far;
+    } else {
+        for (float t : depth.depth)
+            if (std::isfinite(t)) t_near = std::min(t_near, t), t_far = std::max(t_far, t);
+    }
+    if (!session.gl_depth_texture) session.gl_depth_texture = std::make_unique<Texture>();
+    session.gl_depth_texture->upload(depth_grey_view(depth, t_near, t_far));
+    renderer.draw_image(*session.gl_depth_texture, rect);
+}
+
 }  // namespace
 
 // [SECTION] The frame
@@ -469,41 +491,23 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
         MeshStyle mesh_style;
         mesh_style.opacity = state.overlay.mesh_opacity;
         const bool build_step_3d = session.build_stepper.shows_3d(state);
-        // Split view, left half "opengl-depth": OpenGL's own z-buffer, read back as the
-        // ray distance t of each pixel's contract ray, grey on the ray cast's scale.
-        // The mesh alone, opaque: what the z-buffer of the lecture's loop holds.
         const bool gl_depth_view = split && state.view.left_view == "opengl-depth";
         if (gl_depth_view) {
-            renderer.draw_mesh(*session.mesh_buffer, MeshStyle{});
-            Frame depth_frame;
-            depth_frame.width = layout.gl_view.width;
-            depth_frame.height = layout.gl_view.height;
-            depth_frame.depth = depth_image_to_ray_t(out.view, renderer.read_depth(layout.gl_view));
-            float t_near = kInfinity, t_far = 0;
-            if (const auto& shown = session.ray_cast.shown(); shown && shown->t_far > shown->t_near) {
-                t_near = shown->t_near, t_far = shown->t_far;
-            } else {
-                for (float t : depth_frame.depth)
-                    if (std::isfinite(t)) t_near = std::min(t_near, t), t_far = std::max(t_far, t);
-            }
-            if (!session.gl_depth_texture) session.gl_depth_texture = std::make_unique<Texture>();
-            session.gl_depth_texture->upload(depth_grey_view(depth_frame, t_near, t_far));
-            renderer.draw_image(*session.gl_depth_texture, layout.gl_view);
-        } else if (mesh_style.opacity < 1.0f && !build_step_3d) {
-            // X-ray: the structure first (all of it), the nearest surface blended
-            // over it, then the structure again where it is in front of the surface.
-            draw_overlay();
-            if (mesh_style.opacity > 0.0f) renderer.draw_mesh(*session.mesh_buffer, mesh_style);
-        }
-        if (gl_depth_view) {
-            // drawn above
+            draw_opengl_depth_as_grey(session, renderer, out.view, layout.gl_view);
         } else if (build_step_3d) {
             // The construction stepper's picture replaces the structure overlay
             // (and the scene's bounds: the root's box is the first step's).
             session.build_stepper.draw_3d(renderer, *session.mesh_buffer, state.build_step.step,
                                           state.view.background);
         } else {
-            if (mesh_style.opacity >= 1.0f) renderer.draw_mesh(*session.mesh_buffer, mesh_style);
+            if (mesh_style.opacity < 1.0f) {
+                // X-ray: the structure first (all of it), the nearest surface blended
+                // over it, then the structure again where it is in front of the surface.
+                draw_overlay();
+                if (mesh_style.opacity > 0.0f) renderer.draw_mesh(*session.mesh_buffer, mesh_style);
+            } else {
+                renderer.draw_mesh(*session.mesh_buffer, mesh_style);
+            }
             draw_overlay();
         }
         out.scene_drawn = true;

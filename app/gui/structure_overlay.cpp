@@ -164,20 +164,14 @@ void kd_overlay(const KdTree& tree, const OverlaySettings& s, StructureOverlay& 
         }
         if (n.is_leaf()) continue;
         // The plane x_axis = split, as a rectangle spanning the node's box.
-        const int a = n.axis, b = (a + 1) % 3, d = (a + 2) % 3;
         ColouredQuad quad;
-        const float us[4] = {c.box.lo[b], c.box.hi[b], c.box.hi[b], c.box.lo[b]};
-        const float vs[4] = {c.box.lo[d], c.box.lo[d], c.box.hi[d], c.box.hi[d]};
-        for (int k = 0; k < 4; ++k) {
-            quad.corners[k][a] = n.split;
-            quad.corners[k][b] = us[k];
-            quad.corners[k][d] = vs[k];
-        }
+        const std::array<Vec3, 4> corners = plane_across_box(c.box, n.axis, n.split);
+        std::copy(corners.begin(), corners.end(), quad.corners);
         quad.colour = level_colour(x, 70);
         out.quads.push_back(quad);
         // The rectangle's outline, so the plane reads edge-on too: a flat box.
         Aabb rim = c.box;
-        rim.lo[a] = rim.hi[a] = n.split;
+        rim.lo[n.axis] = rim.hi[n.axis] = n.split;
         out.boxes.push_back({rim.lo, rim.hi, level_colour(x, 200)});
     }
     out.legend = range_legend(s.leaves_only ? "KD non-empty leaves" : "KD split planes", shown, out.deepest_level,

@@ -556,14 +556,6 @@ void write_notes(const BvhConfig& config, BvhBuildStats& stats) {
                               std::to_string(config.max_leaf_size));
 }
 
-BvhConfig clamped(BvhConfig config) {
-    config.bins = std::clamp(config.bins, 2, 64);
-    config.max_leaf_size = std::clamp(config.max_leaf_size, 1, 255);
-    if (!(config.cost_trav >= 0.0f)) config.cost_trav = 0.0f;
-    if (!(config.cost_isect > 0.0f)) config.cost_isect = 1.0f;
-    return config;
-}
-
 }  // namespace
 
 Bvh build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecorder* recorder) {

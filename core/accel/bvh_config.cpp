@@ -1,5 +1,6 @@
 #include "core/accel/bvh_config.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace accelviz {
@@ -57,6 +58,14 @@ std::optional<BvhTraversal> parse_bvh_traversal(std::string_view name) {
     for (BvhTraversal t : {BvhTraversal::Ordered, BvhTraversal::Unordered})
         if (to_string(t) == name) return t;
     return std::nullopt;
+}
+
+BvhConfig clamped(BvhConfig config) {
+    config.bins = std::clamp(config.bins, 2, 64);
+    config.max_leaf_size = std::clamp(config.max_leaf_size, 1, 255);
+    if (!(config.cost_trav >= 0.0f)) config.cost_trav = 0.0f;
+    if (!(config.cost_isect > 0.0f)) config.cost_isect = 1.0f;
+    return config;
 }
 
 std::optional<Error> validate(const BvhConfig& config) {

@@ -57,6 +57,9 @@ struct BvhConfig {
 
 /// A one-line error if a field is out of range (names the CLI flag).
 std::optional<Error> validate(const BvhConfig& config);
+/// The config the builder actually uses: fields pulled into range (B in 2..64,
+/// leaf size 1..255, C_trav >= 0, C_isect > 0), for callers that skip validate().
+BvhConfig clamped(BvhConfig config);
 
 /// Why the builder made a node a leaf or split it the way it did. Every node
 /// gets exactly one decision; BvhBuildStats counts them.

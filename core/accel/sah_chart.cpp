@@ -16,15 +16,6 @@ struct Ref {
     uint32_t id;
 };
 
-/// The builder's parameter clamping (bvh_build.cpp, clamped()).
-BvhConfig clamp_config(BvhConfig config) {
-    config.bins = std::clamp(config.bins, 2, 64);
-    config.max_leaf_size = std::clamp(config.max_leaf_size, 1, 255);
-    if (!(config.cost_trav >= 0.0f)) config.cost_trav = 0.0f;
-    if (!(config.cost_isect > 0.0f)) config.cost_isect = 1.0f;
-    return config;
-}
-
 /// The refs sorted by centroid on `axis`, ties by id (the sweep's and the median's order).
 std::vector<uint32_t> sorted_on(const std::vector<Ref>& refs, int axis) {
     std::vector<uint32_t> order(refs.size());
@@ -229,7 +220,7 @@ void write_verdict(SahChart& chart) {
 
 SahChart compute_sah_chart(const Mesh& mesh, std::span<const uint32_t> prim_ids, const BvhConfig& requested,
                            const SahChartOptions& options) {
-    const BvhConfig config = clamp_config(requested);
+    const BvhConfig config = clamped(requested);  // as the builder does
     SahChart chart;
     chart.builder = config.builder;
     chart.sweep = config.builder == BvhBuilder::SahSweep;

@@ -1,6 +1,8 @@
 #pragma once
 /// Axis-aligned bounding box and the lecture's slab test.
 
+#include <array>
+
 #include "core/math/ray.h"
 
 namespace accelviz {
@@ -33,6 +35,21 @@ struct Aabb {
 };
 
 inline Aabb merge(Aabb a, const Aabb& b) { a.grow(b); return a; }
+
+/// A splitting plane drawn as a rectangle: where the plane x_axis = position cuts
+/// `box`, corners in order around the edge (KD/octree planes, a BVH split).
+inline std::array<Vec3, 4> plane_across_box(const Aabb& box, int axis, float position) {
+    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+    const float us[4] = {box.lo[u], box.hi[u], box.hi[u], box.lo[u]};
+    const float vs[4] = {box.lo[v], box.lo[v], box.hi[v], box.hi[v]};
+    std::array<Vec3, 4> corners;
+    for (int k = 0; k < 4; ++k) {
+        corners[k][axis] = position;
+        corners[k][u] = us[k];
+        corners[k][v] = vs[k];
+    }
+    return corners;
+}
 
 /// The slab interval of one axis: where the ray is between the two planes.
 struct SlabInterval {

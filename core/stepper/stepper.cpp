@@ -367,15 +367,9 @@ DebugGeometry step_geometry(const SteppedRay& r, const StepState& s, const NodeB
     if (s.current && s.current->kind == EventKind::SplitPlane) {
         const TraversalEvent& e = *s.current;
         if (auto b = boxes.node(e.node)) {
-            const int a = e.axis, u = (a + 1) % 3, v = (a + 2) % 3;
             DebugQuad q;
-            const float us[4] = {b->lo[u], b->hi[u], b->hi[u], b->lo[u]};
-            const float vs[4] = {b->lo[v], b->lo[v], b->hi[v], b->hi[v]};
-            for (int k = 0; k < 4; ++k) {
-                q.corners[k][a] = e.split;
-                q.corners[k][u] = us[k];
-                q.corners[k][v] = vs[k];
-            }
+            const std::array<Vec3, 4> corners = plane_across_box(*b, e.axis, e.split);
+            std::copy(corners.begin(), corners.end(), q.corners);
             q.colour = c.split;
             g.quads.push_back(q);
             if (std::isfinite(e.t)) {
