@@ -73,11 +73,23 @@ HeuristicCut midpoint_cut(const std::vector<Ref>& refs, const Aabb& centroid_bou
     return cut;
 }
 
+/// The chart's cheapest plane so far, across the three axes: a strictly cheaper
+/// one replaces it (so the first axis, then the first plane, wins a tie, as in the builder).
+void keep_if_cheapest(SahChart& chart, float cost, int axis, float position, uint32_t left_count, const Aabb& left,
+                      const Aabb& right) {
+    if (!(cost < chart.best_cost)) return;
+    chart.best_cost = cost;
+    chart.best_axis = axis;
+    chart.best_position = position;
+    chart.best_left_count = left_count;
+    chart.best_children[0] = left;
+    chart.best_children[1] = right;
+}
+
 /// Binned SAH on one axis, exactly as BinnedSahSplitter: B equal buckets over the
 /// centroid extent, plane i has buckets [0, i) on the left.
 void binned_axis(const std::vector<Ref>& refs, int axis, int bin_count, const SahCostModel& model, float area,
-                 SahChartAxis& out, std::array<Aabb, 2>* best_children, float& best_cost, int& best_axis,
-                 float& best_position, uint32_t& best_left) {
+                 SahChartAxis& out, SahChart& chart) {
     const float origin = out.lo, extent = out.hi - out.lo;
     const float scale = float(bin_count) / extent;
     struct Bin {
@@ -116,22 +128,14 @@ void binned_axis(const std::vector<Ref>& refs, int axis, int bin_count, const Sa
         out.positions.push_back(position);
         out.costs.push_back(cost);
         out.left_counts.push_back(count);
-        if (cost < best_cost) {
-            best_cost = cost;
-            best_axis = axis;
-            best_position = position;
-            best_left = count;
-            (*best_children)[0] = left;
-            (*best_children)[1] = right_box[size_t(i)];
-        }
+        keep_if_cheapest(chart, cost, axis, position, count, left, right_box[size_t(i)]);
     }
 }
 
 /// Full sweep on one axis, exactly as SweepSahSplitter: the plane before sorted
 /// position i (at that centroid) puts the first i left; none between equal centroids.
 void sweep_axis(const std::vector<Ref>& refs, int axis, const SahCostModel& model, float area, size_t max_points,
-                SahChartAxis& out, std::array<Aabb, 2>* best_children, float& best_cost, int& best_axis,
-                float& best_position, uint32_t& best_left) {
+                SahChartAxis& out, SahChart& chart) {
     const std::vector<uint32_t> order = sorted_on(refs, axis);
     const auto n = uint32_t(order.size());
     std::vector<Aabb> right_box(n);
@@ -150,14 +154,7 @@ void sweep_axis(const std::vector<Ref>& refs, int axis, const SahCostModel& mode
         const float cost = before < after ? model.split_cost(area, left.area(), i, right_box[i].area(), n - i) : kInfinity;
         positions.push_back(after);
         costs.push_back(cost);
-        if (cost < best_cost) {
-            best_cost = cost;
-            best_axis = axis;
-            best_position = after;
-            best_left = i;
-            (*best_children)[0] = left;
-            (*best_children)[1] = right_box[i];
-        }
+        keep_if_cheapest(chart, cost, axis, after, i, left, right_box[i]);
     }
     out.candidates = positions.size();
     out.stride = 1;
@@ -245,7 +242,6 @@ SahChart compute_sah_chart(const Mesh& mesh, std::span<const uint32_t> prim_ids,
         return chart;
     }
     const float area = chart.bounds.area();
-    std::array<Aabb, 2> children;
     for (int axis = 0; axis < 3; ++axis) {
         SahChartAxis& a = chart.axes[size_t(axis)];
         a.lo = chart.centroid_bounds.lo[axis];
@@ -253,15 +249,9 @@ SahChart compute_sah_chart(const Mesh& mesh, std::span<const uint32_t> prim_ids,
         a.usable = a.hi > a.lo;
         if (!a.usable || refs.size() < 2) continue;
         if (chart.sweep)
-            sweep_axis(refs, axis, chart.model, area, options.max_points, a, &children, chart.best_cost, chart.best_axis,
-                       chart.best_position, chart.best_left_count);
+            sweep_axis(refs, axis, chart.model, area, options.max_points, a, chart);
         else
-            binned_axis(refs, axis, chart.bins, chart.model, area, a, &children, chart.best_cost, chart.best_axis,
-                        chart.best_position, chart.best_left_count);
-    }
-    if (chart.best_axis >= 0) {
-        chart.best_children[0] = children[0];
-        chart.best_children[1] = children[1];
+            binned_axis(refs, axis, chart.bins, chart.model, area, a, chart);
     }
     const Vec3 extent = chart.centroid_bounds.extent();
     const int longest = extent[max_axis(extent)] > 0.0f ? max_axis(extent) : -1;
