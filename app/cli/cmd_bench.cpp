@@ -9,7 +9,9 @@
 // --repeat runs; *_cpu_ms are the process's CPU time over the same runs (which, on a
 // machine shared with other work, is the steadier figure for one thread). per_ray is
 // the work behind them (nodes visited, box and triangle tests, mailbox skips), from
-// one more, untimed pass with the counting observer.
+// one more, untimed pass with the counting observer. With a reference, ours and the
+// reference alternate run by run (build, build, ..., trace, trace, ...), so their
+// ratio holds on a machine whose speed drifts.
 #include <time.h>
 #include <unistd.h>
 
@@ -110,7 +112,14 @@ int run_bench(const BenchOptions& opt) {
     const Camera camera(*camera_params, opt.width, opt.height);
     const std::vector<Ray> rays = camera_rays(camera);
 
-    // Ours: build R times, trace R times.
+    // Ours (and the reference, when asked for) build R times, then trace R times. With a
+    // reference the two alternate run by run, so a machine that slows down or speeds up
+    // over the minutes of a benchmark affects both sides of the ratio alike.
+#ifdef ACCELVIZ_HAVE_EMBREE
+    std::unique_ptr<EmbreeReference> reference;
+    Measured embree;
+    if (opt.reference == "embree") reference = std::make_unique<EmbreeReference>(opt.threads);
+#endif
     Measured ours;
     std::shared_ptr<const Accelerator> accel;
     for (int run = 0; run < opt.repeat; ++run) {
@@ -123,8 +132,19 @@ int run_bench(const BenchOptions& opt) {
         ours.build_ms.push_back(ms_since(start));
         if (!built) return fail(built.error());
         accel = *built;
+#ifdef ACCELVIZ_HAVE_EMBREE
+        if (reference) {
+            progress("bench: building %s (%d/%d)\n", "embree", run + 1, opt.repeat);
+            const double embree_cpu_start = process_cpu_ms();
+            embree.build_ms.push_back(reference->build(*mesh));
+            embree.build_cpu_ms.push_back(process_cpu_ms() - embree_cpu_start);
+        }
+#endif
     }
     ours.results = RayResults(rays.size());
+#ifdef ACCELVIZ_HAVE_EMBREE
+    embree.results = RayResults(rays.size());
+#endif
     for (int run = 0; run < opt.repeat; ++run) {
         progress("bench: tracing with %s (%d/%d)\n", opt.accel.type, run + 1, opt.repeat);
         const auto start = clock::now();
@@ -138,6 +158,16 @@ int run_bench(const BenchOptions& opt) {
         });
         ours.frame_cpu_ms.push_back(process_cpu_ms() - cpu_start);
         ours.frame_ms.push_back(ms_since(start));
+#ifdef ACCELVIZ_HAVE_EMBREE
+        if (reference) {
+            progress("bench: tracing with %s (%d/%d)\n", "embree", run + 1, opt.repeat);
+            const auto embree_start = clock::now();
+            const double embree_cpu_start = process_cpu_ms();
+            reference->trace(rays, opt.threads, embree.results);
+            embree.frame_cpu_ms.push_back(process_cpu_ms() - embree_cpu_start);
+            embree.frame_ms.push_back(ms_since(embree_start));
+        }
+#endif
     }
 
     // The work behind those times, per ray: one more (untimed) pass with the counting
@@ -169,24 +199,7 @@ int run_bench(const BenchOptions& opt) {
     out["build_stats"] = accel->stats();
 
 #ifdef ACCELVIZ_HAVE_EMBREE
-    if (opt.reference == "embree") {
-        Measured embree;
-        EmbreeReference reference(opt.threads);
-        for (int run = 0; run < opt.repeat; ++run) {
-            progress("bench: building %s (%d/%d)\n", "embree", run + 1, opt.repeat);
-            const double cpu_start = process_cpu_ms();
-            embree.build_ms.push_back(reference.build(*mesh));
-            embree.build_cpu_ms.push_back(process_cpu_ms() - cpu_start);
-        }
-        embree.results = RayResults(rays.size());
-        for (int run = 0; run < opt.repeat; ++run) {
-            progress("bench: tracing with %s (%d/%d)\n", "embree", run + 1, opt.repeat);
-            const auto start = clock::now();
-            const double cpu_start = process_cpu_ms();
-            reference.trace(rays, opt.threads, embree.results);
-            embree.frame_cpu_ms.push_back(process_cpu_ms() - cpu_start);
-            embree.frame_ms.push_back(ms_since(start));
-        }
+    if (reference) {
         size_t same = 0;
         for (size_t i = 0; i < rays.size(); ++i) same += embree.results.tri[i] == ours.results.tri[i];
         nlohmann::ordered_json ref;

@@ -47,13 +47,27 @@ struct BoxTestRay {
     Vec3 dir_inv;       ///< 1/d, as RayPrecomp
     Vec3 near_dir_inv;  ///< 1/d · (1 - margin): near-plane distances come out a little smaller
     Vec3 far_dir_inv;   ///< 1/d · (1 + margin): far-plane distances come out a little larger
-    bool dir_negative[3];
+    /// Per axis, where the near and the far plane sit among a box's six floats
+    /// (lo.x lo.y lo.z hi.x hi.y hi.z): axis, or axis + 3 when the ray runs towards
+    /// -inf on that axis. Picking a plane is then a load, not a branch.
+    int near_plane[3];
+    int far_plane[3];
 
     explicit BoxTestRay(const Ray& ray)
         : origin(ray.origin), dir_inv(1.0f / ray.dir.x, 1.0f / ray.dir.y, 1.0f / ray.dir.z),
-          near_dir_inv(dir_inv * (1.0f - kBoxTestMargin)), far_dir_inv(dir_inv * (1.0f + kBoxTestMargin)),
-          dir_negative{std::signbit(ray.dir.x), std::signbit(ray.dir.y), std::signbit(ray.dir.z)} {}
+          near_dir_inv(dir_inv * (1.0f - kBoxTestMargin)), far_dir_inv(dir_inv * (1.0f + kBoxTestMargin)) {
+        for (int axis = 0; axis < 3; ++axis) {
+            const bool negative = std::signbit(ray.dir[axis]);
+            near_plane[axis] = axis + (negative ? 3 : 0);
+            far_plane[axis] = axis + (negative ? 0 : 3);
+        }
+    }
+    /// The coordinate of the box's plane on `axis` that the ray meets first / last.
+    float near_plane_of(const Aabb& box, int axis) const { return (&box.lo.x)[near_plane[axis]]; }
+    float far_plane_of(const Aabb& box, int axis) const { return (&box.lo.x)[far_plane[axis]]; }
 };
+
+static_assert(sizeof(Aabb) == 6 * sizeof(float), "a box is six floats: lo.x lo.y lo.z hi.x hi.y hi.z");
 
 /// The widened slab interval, clipped to [t_min, t_max]. hit() is true for every
 /// box the exact slab test hits, and for boxes it misses by less than the margin.
@@ -77,11 +91,8 @@ template <bool kMayStartBehind>
     const Vec3& far_scale = kMayStartBehind ? ray.dir_inv : ray.far_dir_inv;
     float enter = kMayStartBehind ? -kInfinity : t_min, exit = kMayStartBehind ? kInfinity : t_max;
     for (int axis = 0; axis < 3; ++axis) {
-        const float lo = box.lo[axis], hi = box.hi[axis];
-        const float near_plane = ray.dir_negative[axis] ? hi : lo;
-        const float far_plane = ray.dir_negative[axis] ? lo : hi;
-        const float t_near = (near_plane - ray.origin[axis]) * near_scale[axis];
-        const float t_far = (far_plane - ray.origin[axis]) * far_scale[axis];
+        const float t_near = (ray.near_plane_of(box, axis) - ray.origin[axis]) * near_scale[axis];
+        const float t_far = (ray.far_plane_of(box, axis) - ray.origin[axis]) * far_scale[axis];
         enter = t_near > enter ? t_near : enter;
         exit = t_far < exit ? t_far : exit;
     }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <chrono>
+#include <cstddef>
 #include <cmath>
 #include <memory>
 #include <numeric>
@@ -41,6 +42,20 @@ struct alignas(16) Box4 {
         }
 #endif
     }
+    /// Grows by a point given as four floats at a 16-byte aligned address (the fourth
+    /// is read and ignored).
+    void grow_point(const float* p) {
+#if defined(__SSE__)
+        const __m128 v = _mm_load_ps(p);
+        _mm_store_ps(lo, _mm_min_ps(_mm_load_ps(lo), v));
+        _mm_store_ps(hi, _mm_max_ps(_mm_load_ps(hi), v));
+#else
+        for (int i = 0; i < 3; ++i) {
+            lo[i] = std::min(lo[i], p[i]);
+            hi[i] = std::max(hi[i], p[i]);
+        }
+#endif
+    }
     Aabb aabb() const { return {{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}}; }
     float area() const { return aabb().area(); }
 };
@@ -54,6 +69,7 @@ struct PrimRef {
 
     Vec3 centroid() const { return center; }
 };
+static_assert(offsetof(PrimRef, center) % 16 == 0, "the centroid is read as four aligned floats (with the id)");
 
 /// The lecture splits by "the position of the primitive's centroid" (重心): the
 /// mean of the three corners, summed in corner order.
@@ -232,17 +248,33 @@ public:
 
         // One pass: each triangle lands in one bin per axis (lecture: compute_bucket).
         // `used` marks the non-empty bins: most nodes are small, and then a sweep over
-        // only those bins is much cheaper than over all B.
+        // only those bins is much cheaper than over all B. Neighbouring triangles often
+        // land in the same bin, and growing a bin's box must wait for the previous
+        // growth of that box: even and odd positions fill two sets of bins, merged after.
         uint64_t used[3] = {0, 0, 0};
-        for (uint32_t k = range.begin; k < range.end; ++k) {
-            const PrimRef& ref = refs_[k];
-            const Vec3 c = ref.centroid();
+        auto drop = [&](int set, const PrimRef& ref) {
+            const BinIndices b = bin_indices(ref);
             for (int axis = 0; axis < 3; ++axis) {
                 if (!usable[axis]) continue;
-                const int b = bin_index(c[axis], axis);
-                bins_[axis][b].box.grow(ref.box);
-                ++bins_[axis][b].count;
-                used[axis] |= uint64_t(1) << b;
+                Bin& bin = bins_[set][axis][b.index[axis]];
+                bin.box.grow(ref.box);
+                ++bin.count;
+                used[axis] |= uint64_t(1) << b.index[axis];
+            }
+        };
+        uint32_t k = range.begin;
+        for (; k + 1 < range.end; k += 2) {
+            drop(0, refs_[k]);
+            drop(1, refs_[k + 1]);
+        }
+        if (k < range.end) drop(0, refs_[k]);
+        for (int axis = 0; axis < 3; ++axis) {
+            for (uint64_t m = used[axis]; m != 0; m &= m - 1) {
+                Bin& bin = bins_[0][axis][std::countr_zero(m)];
+                Bin& odd = bins_[1][axis][std::countr_zero(m)];
+                bin.box.grow(odd.box);
+                bin.count += odd.count;
+                odd = {};
             }
         }
 
@@ -253,7 +285,7 @@ public:
         const float area = bounds.area();
         for (int axis = 0; axis < 3; ++axis) {
             if (!usable[axis]) continue;
-            Bin* bin = bins_[axis];
+            Bin* bin = bins_[0][axis];
             int filled[kMaxBins];  // the non-empty bins, in order
             int filled_count = 0;
             for (uint64_t m = used[axis]; m != 0; m &= m - 1) filled[filled_count++] = std::countr_zero(m);
@@ -303,18 +335,20 @@ public:
         // moves on if it went left. The same bin_index as the binning pass, so exactly
         // left_count triangles go left. Each side's boxes are grown on the way.
         Box4 side_box[2];        // [0] right, [1] left
-        Aabb side_centroids[2];
+        Box4 side_centroids[2];
         uint32_t store = range.begin;
         for (uint32_t k = range.begin; k < range.end; ++k) {
             const PrimRef ref = refs_[k];
-            const bool left = uint32_t(bin_index(ref.center[choice.axis], choice.axis)) < choice.index;
+            const bool left = uint32_t(bin_indices(ref).index[choice.axis]) < choice.index;
             side_box[left].grow(ref.box);
-            side_centroids[left].grow(ref.center);
+            side_centroids[left].grow_point(&ref.center.x);
             refs_[k] = refs_[store];
             refs_[store] = ref;
             store += left ? 1 : 0;
         }
-        children = {true, {side_box[1].aabb(), side_box[0].aabb()}, {side_centroids[1], side_centroids[0]}};
+        children = {true,
+                    {side_box[1].aabb(), side_box[0].aabb()},
+                    {side_centroids[1].aabb(), side_centroids[0].aabb()}};
         return store;
     }
 
@@ -327,17 +361,31 @@ private:
 
     float plane_position(int axis, int plane) const { return origin_[axis] + float(plane) / scale_[axis]; }
 
-    /// Bucket of a centroid coordinate, clamped to [0, B-1] (NaN lands in 0).
-    int bin_index(float c, int axis) const {
-        const float f = (c - origin_[axis]) * scale_[axis];
-        return int(std::min(float(bin_count_ - 1), std::max(0.0f, f)));
+    /// The bucket of a triangle's centroid on each axis, clamped to [0, B-1] (NaN lands
+    /// in 0): (c - origin) · scale, truncated. The three axes at once (SSE where available).
+    struct BinIndices {
+        int index[4];
+    };
+    BinIndices bin_indices(const PrimRef& ref) const {
+        BinIndices b;
+#if defined(__SSE2__)
+        const __m128 f = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(&ref.center.x), _mm_load_ps(origin_)), _mm_load_ps(scale_));
+        const __m128 clamped = _mm_min_ps(_mm_max_ps(f, _mm_setzero_ps()), _mm_set1_ps(float(bin_count_ - 1)));
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(b.index), _mm_cvttps_epi32(clamped));
+#else
+        for (int axis = 0; axis < 3; ++axis) {
+            const float f = (ref.center[axis] - origin_[axis]) * scale_[axis];
+            b.index[axis] = int(std::min(float(bin_count_ - 1), std::max(0.0f, f)));  // max(0, NaN) = 0
+        }
+#endif
+        return b;
     }
 
     int bin_count_;
     SahCostModel model_;
-    float origin_[3] = {0, 0, 0};
-    float scale_[3] = {0, 0, 0};
-    Bin bins_[3][kMaxBins];
+    alignas(16) float origin_[4] = {0, 0, 0, 0};  ///< [3] unused
+    alignas(16) float scale_[4] = {0, 0, 0, 0};   ///< [3] stays 0
+    Bin bins_[2][3][kMaxBins];                    ///< [set][axis][bin]: two sets, see find_split
 };
 
 // ---------------------------------------------------------------------------

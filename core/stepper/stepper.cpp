@@ -131,10 +131,8 @@ std::optional<SlabInspection> inspect_box_test(const SteppedRay& r, const NodeBo
         enter = behind ? -kInfinity : r.ray.t_min;
         exit = behind ? kInfinity : r.ray.t_max;
         for (int a = 0; a < 3; ++a) {
-            const float near_plane = ray.dir_negative[a] ? box->hi[a] : box->lo[a];
-            const float far_plane = ray.dir_negative[a] ? box->lo[a] : box->hi[a];
-            s.axis_min[a] = (near_plane - ray.origin[a]) * near_scale[a];
-            s.axis_max[a] = (far_plane - ray.origin[a]) * far_scale[a];
+            s.axis_min[a] = (ray.near_plane_of(*box, a) - ray.origin[a]) * near_scale[a];
+            s.axis_max[a] = (ray.far_plane_of(*box, a) - ray.origin[a]) * far_scale[a];
             enter = s.axis_min[a] > enter ? s.axis_min[a] : enter;
             exit = s.axis_max[a] < exit ? s.axis_max[a] : exit;
         }
