@@ -57,7 +57,12 @@ struct alignas(16) Box4 {
 #endif
     }
     Aabb aabb() const { return {{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}}; }
-    float area() const { return aabb().area(); }
+    /// Aabb::area(), the same arithmetic in the same order (so the same float).
+    float area() const {
+        if (!(lo[0] <= hi[0] && lo[1] <= hi[1] && lo[2] <= hi[2])) return 0.0f;  // empty
+        const float ex = hi[0] - lo[0], ey = hi[1] - lo[1], ez = hi[2] - lo[2];
+        return 2.0f * (ex * ey + ey * ez + ez * ex);
+    }
 };
 
 /// A triangle as the builder sees it: its box, its centroid and its id. 48 bytes,
@@ -246,11 +251,14 @@ public:
         }
         if (!usable[0] && !usable[1] && !usable[2]) return {};
 
+        if (range.count() <= kFewTriangles && !step) return find_split_among_few(range, bounds, usable);
+
         // One pass: each triangle lands in one bin per axis (lecture: compute_bucket).
         // `used` marks the non-empty bins: most nodes are small, and then a sweep over
         // only those bins is much cheaper than over all B. Neighbouring triangles often
         // land in the same bin, and growing a bin's box must wait for the previous
-        // growth of that box: even and odd positions fill two sets of bins, merged after.
+        // growth of that box: in big nodes even and odd positions fill two sets of
+        // bins, merged after.
         uint64_t used[3] = {0, 0, 0};
         auto drop = [&](int set, const PrimRef& ref) {
             const BinIndices b = bin_indices(ref);
@@ -263,20 +271,22 @@ public:
             }
         };
         uint32_t k = range.begin;
-        for (; k + 1 < range.end; k += 2) {
-            drop(0, refs_[k]);
-            drop(1, refs_[k + 1]);
-        }
-        if (k < range.end) drop(0, refs_[k]);
-        for (int axis = 0; axis < 3; ++axis) {
-            for (uint64_t m = used[axis]; m != 0; m &= m - 1) {
-                Bin& bin = bins_[0][axis][std::countr_zero(m)];
-                Bin& odd = bins_[1][axis][std::countr_zero(m)];
-                bin.box.grow(odd.box);
-                bin.count += odd.count;
-                odd = {};
+        if (range.count() >= kTwoBinSets) {
+            for (; k + 1 < range.end; k += 2) {
+                drop(0, refs_[k]);
+                drop(1, refs_[k + 1]);
+            }
+            for (int axis = 0; axis < 3; ++axis) {
+                for (uint64_t m = used[axis]; m != 0; m &= m - 1) {
+                    Bin& bin = bins_[0][axis][std::countr_zero(m)];
+                    Bin& odd = bins_[1][axis][std::countr_zero(m)];
+                    bin.box.grow(odd.box);
+                    bin.count += odd.count;
+                    odd = {};
+                }
             }
         }
+        for (; k < range.end; ++k) drop(0, refs_[k]);
 
         // The plane i has bins [0, i) on the left and [i, B) on the right. Between two
         // non-empty bins every plane splits the triangles alike; the first such plane
@@ -290,8 +300,9 @@ public:
             int filled_count = 0;
             for (uint64_t m = used[axis]; m != 0; m &= m - 1) filled[filled_count++] = std::countr_zero(m);
             // Suffix boxes: right side of the plane before filled[j] holds filled[j ..].
-            float right_area[kMaxBins];
-            uint32_t right_count[kMaxBins];
+            // Prefix boxes: left side of the same plane holds filled[.. j-1].
+            float left_area[kMaxBins], right_area[kMaxBins];
+            uint32_t left_count[kMaxBins], right_count[kMaxBins];
             Box4 right;
             uint32_t count = 0;
             for (int j = filled_count - 1; j >= 1; --j) {
@@ -300,19 +311,24 @@ public:
                 right_area[j] = right.area();
                 right_count[j] = count;
             }
-            // Prefix boxes, and the cost of the plane just after each non-empty bin.
-            float cost_after[kMaxBins];
             Box4 left;
             count = 0;
             for (int j = 1; j < filled_count; ++j) {
                 left.grow(bin[filled[j - 1]].box);
                 count += bin[filled[j - 1]].count;
-                const float cost = model_.split_cost(area, left.area(), count, right_area[j], right_count[j]);
-                cost_after[j] = cost;
-                if (cost < best.cost) {  // strict: the first axis and plane win a tie
+                left_area[j] = left.area();
+                left_count[j] = count;
+            }
+            // The cost of the plane just after each non-empty bin (one loop the compiler
+            // vectorizes), then the cheapest.
+            float cost_after[kMaxBins];
+            for (int j = 1; j < filled_count; ++j)
+                cost_after[j] = model_.split_cost(area, left_area[j], left_count[j], right_area[j], right_count[j]);
+            for (int j = 1; j < filled_count; ++j) {
+                if (cost_after[j] < best.cost) {  // strict: the first axis and plane win a tie
                     const int plane = filled[j - 1] + 1;
-                    best = {.found = true, .axis = axis, .position = plane_position(axis, plane), .left_count = count,
-                            .cost = cost, .index = uint32_t(plane)};
+                    best = {.found = true, .axis = axis, .position = plane_position(axis, plane),
+                            .left_count = left_count[j], .cost = cost_after[j], .index = uint32_t(plane)};
                 }
             }
             if (step) {  // every plane for the stepper: +inf where one side is empty
@@ -324,6 +340,48 @@ public:
                 }
             }
             for (int j = 0; j < filled_count; ++j) bin[filled[j]] = {};  // clean for the next node
+        }
+        return best;
+    }
+
+    /// find_split for a node of at most kFewTriangles triangles, without the bins: the
+    /// same planes (one after each non-empty bin but the last), the same boxes, counts
+    /// and costs, so the same choice. Per axis the triangles are sorted by bin; a plane
+    /// sits wherever the bin changes. Most nodes of a tree are this small, and emptying
+    /// B bins per axis and node would cost more than the triangles themselves.
+    SplitChoice find_split_among_few(Range range, const Aabb& bounds, const bool usable[3]) const {
+        const uint32_t n = range.count();
+        const PrimRef* refs = refs_.data() + range.begin;
+        BinIndices bins[kFewTriangles];
+        for (uint32_t i = 0; i < n; ++i) bins[i] = bin_indices(refs[i]);
+        SplitChoice best;
+        const float area = bounds.area();
+        for (int axis = 0; axis < 3; ++axis) {
+            if (!usable[axis]) continue;
+            uint8_t order[kFewTriangles];  // positions by bin (insertion sort, stable)
+            for (uint32_t i = 0; i < n; ++i) {
+                uint32_t j = i;
+                for (; j > 0 && bins[order[j - 1]].index[axis] > bins[i].index[axis]; --j) order[j] = order[j - 1];
+                order[j] = uint8_t(i);
+            }
+            auto bin_at = [&](uint32_t i) { return bins[order[i]].index[axis]; };
+            float right_area[kFewTriangles];
+            Box4 right;
+            for (uint32_t i = n - 1; i >= 1; --i) {  // the plane before position i: order[i ..] on the right
+                right.grow(refs[order[i]].box);
+                right_area[i] = right.area();
+            }
+            Box4 left;
+            for (uint32_t i = 1; i < n; ++i) {
+                left.grow(refs[order[i - 1]].box);
+                if (bin_at(i - 1) == bin_at(i)) continue;  // no plane between two triangles of one bin
+                const float cost = model_.split_cost(area, left.area(), i, right_area[i], n - i);
+                if (cost < best.cost) {  // strict: the first axis and plane win a tie
+                    const int plane = bin_at(i - 1) + 1;
+                    best = {.found = true, .axis = axis, .position = plane_position(axis, plane), .left_count = i,
+                            .cost = cost, .index = uint32_t(plane)};
+                }
+            }
         }
         return best;
     }
@@ -354,6 +412,8 @@ public:
 
 private:
     static constexpr int kMaxBins = 64;
+    static constexpr uint32_t kFewTriangles = 4;  ///< nodes this small skip the bins (find_split_among_few)
+    static constexpr uint32_t kTwoBinSets = 64;    ///< nodes this big bin into two sets (find_split)
     struct Bin {
         Box4 box;
         uint32_t count = 0;
