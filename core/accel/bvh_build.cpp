@@ -7,6 +7,7 @@
 #include <cmath>
 #include <memory>
 #include <numeric>
+#include <optional>
 
 #if defined(__SSE__)
 #include <immintrin.h>
@@ -54,6 +55,28 @@ struct alignas(16) Box4 {
             lo[i] = std::min(lo[i], p[i]);
             hi[i] = std::max(hi[i], p[i]);
         }
+#endif
+    }
+    /// grow(b) if `yes`, else nothing; without a branch.
+    void grow_if(bool yes, const Box4& b) {
+#if defined(__SSE4_1__)
+        const __m128 mask = _mm_castsi128_ps(_mm_set1_epi32(-int(yes)));
+        const __m128 l = _mm_load_ps(lo), h = _mm_load_ps(hi);
+        _mm_store_ps(lo, _mm_blendv_ps(l, _mm_min_ps(l, _mm_load_ps(b.lo)), mask));
+        _mm_store_ps(hi, _mm_blendv_ps(h, _mm_max_ps(h, _mm_load_ps(b.hi)), mask));
+#else
+        if (yes) grow(b);
+#endif
+    }
+    /// grow_point(p) if `yes`, else nothing; without a branch.
+    void grow_point_if(bool yes, const float* p) {
+#if defined(__SSE4_1__)
+        const __m128 mask = _mm_castsi128_ps(_mm_set1_epi32(-int(yes)));
+        const __m128 v = _mm_load_ps(p), l = _mm_load_ps(lo), h = _mm_load_ps(hi);
+        _mm_store_ps(lo, _mm_blendv_ps(l, _mm_min_ps(l, v), mask));
+        _mm_store_ps(hi, _mm_blendv_ps(h, _mm_max_ps(h, v), mask));
+#else
+        if (yes) grow_point(p);
 #endif
     }
     Aabb aabb() const { return {{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}}; }
@@ -392,21 +415,22 @@ public:
         // [store, k) the right; every element is swapped to `store`, and `store` only
         // moves on if it went left. The same bin_index as the binning pass, so exactly
         // left_count triangles go left. Each side's boxes are grown on the way.
-        Box4 side_box[2];        // [0] right, [1] left
-        Box4 side_centroids[2];
+        // (The four boxes are grown by masks, not picked by index: an array of two would
+        // live in memory and make each growth wait for the last one's store.)
+        Box4 left_box, right_box, left_centroids, right_centroids;
         uint32_t store = range.begin;
         for (uint32_t k = range.begin; k < range.end; ++k) {
             const PrimRef ref = refs_[k];
             const bool left = uint32_t(bin_indices(ref).index[choice.axis]) < choice.index;
-            side_box[left].grow(ref.box);
-            side_centroids[left].grow_point(&ref.center.x);
+            left_box.grow_if(left, ref.box);
+            right_box.grow_if(!left, ref.box);
+            left_centroids.grow_point_if(left, &ref.center.x);
+            right_centroids.grow_point_if(!left, &ref.center.x);
             refs_[k] = refs_[store];
             refs_[store] = ref;
             store += left ? 1 : 0;
         }
-        children = {true,
-                    {side_box[1].aabb(), side_box[0].aabb()},
-                    {side_centroids[1].aabb(), side_centroids[0].aabb()}};
+        children = {true, {left_box.aabb(), right_box.aabb()}, {left_centroids.aabb(), right_centroids.aabb()}};
         return store;
     }
 
@@ -607,38 +631,45 @@ BuildDecision decide(Splitter& splitter, Range range, uint32_t depth, const Aabb
     return within_budget ? BuildDecision::SplitForcedBySize : BuildDecision::SplitInHalfDepthBudget;
 }
 
-/// Depths, leaf sizes, SAH cost and memory of a finished tree (explicit stack walk).
-void compute_tree_stats(const Bvh& bvh, const SahCostModel& model, BvhBuildStats& stats) {
-    stats.nodes = uint32_t(bvh.nodes.size());
-    stats.memory_bytes = bvh.nodes.size() * sizeof(BvhNode) + bvh.prim_ids.size() * sizeof(uint32_t) +
-                         bvh.triangles.size() * sizeof(Triangle);
-    if (bvh.nodes.empty()) return;
-    const float root_area = bvh.nodes[0].bounds.area();
-    double depth_sum = 0, sah = 0;
-    struct Item { uint32_t node, depth; };
-    std::vector<Item> stack = {{0, 0}};
-    while (!stack.empty()) {
-        const Item item = stack.back();
-        stack.pop_back();
-        const BvhNode& node = bvh.nodes[item.node];
-        const double p = SahCostModel::hit_probability(node.bounds.area(), root_area);
-        if (node.is_leaf()) {
-            ++stats.leaves;
-            depth_sum += item.depth;
-            stats.max_depth = std::max(stats.max_depth, item.depth);
-            if (stats.leaf_size_histogram.size() <= node.count) stats.leaf_size_histogram.resize(node.count + 1, 0);
-            ++stats.leaf_size_histogram[node.count];
-            if (node.count > uint32_t(bvh.build_config.max_leaf_size)) ++stats.leaves_over_limit;
-            sah += p * node.count * model.cost_isect;
-        } else {
-            sah += p * model.cost_trav;
-            stack.push_back({node.first + 1, item.depth + 1});
-            stack.push_back({node.first, item.depth + 1});
+/// Depths, leaf sizes and SAH cost of the tree, gathered as the build makes its nodes
+/// (parents before children, left subtree first).
+class TreeStats {
+public:
+    TreeStats(const SahCostModel& model, uint32_t max_leaf_size) : model_(model), max_leaf_size_(max_leaf_size) {}
+
+    /// Every node, the root first: its share of the SAH cost (its hit probability times
+    /// C_trav for an interior node, times count · C_isect for a leaf).
+    void add_node(const Aabb& bounds, uint32_t depth, uint32_t leaf_count, BvhBuildStats& stats) {
+        if (depth == 0) root_area_ = bounds.area();
+        const double p = SahCostModel::hit_probability(bounds.area(), root_area_);
+        if (leaf_count == 0) {
+            sah_ += p * model_.cost_trav;
+            return;
         }
+        ++stats.leaves;
+        depth_sum_ += depth;
+        stats.max_depth = std::max(stats.max_depth, depth);
+        if (stats.leaf_size_histogram.size() <= leaf_count) stats.leaf_size_histogram.resize(leaf_count + 1, 0);
+        ++stats.leaf_size_histogram[leaf_count];
+        if (leaf_count > max_leaf_size_) ++stats.leaves_over_limit;
+        sah_ += p * leaf_count * model_.cost_isect;
     }
-    stats.avg_leaf_depth = depth_sum / stats.leaves;
-    stats.sah_cost = sah;
-}
+    /// Totals and memory, once the tree is complete.
+    void finish(const Bvh& bvh, BvhBuildStats& stats) const {
+        stats.nodes = uint32_t(bvh.nodes.size());
+        stats.memory_bytes = bvh.nodes.size() * sizeof(BvhNode) + bvh.prim_ids.size() * sizeof(uint32_t) +
+                             bvh.triangles.size() * sizeof(Triangle);
+        if (stats.leaves == 0) return;
+        stats.avg_leaf_depth = depth_sum_ / stats.leaves;
+        stats.sah_cost = sah_;
+    }
+
+private:
+    SahCostModel model_;
+    uint32_t max_leaf_size_;
+    float root_area_ = 0;
+    double depth_sum_ = 0, sah_ = 0;
+};
 
 /// One sentence per unusual decision, so the stats say why the tree looks as it does.
 void write_notes(const BvhConfig& config, BvhBuildStats& stats) {
@@ -676,6 +707,7 @@ Bvh build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecorder* recor
     const auto n = uint32_t(mesh.triangle_count());
     stats.triangles = n;
 
+    TreeStats tree_stats(model, uint32_t(config.max_leaf_size));
     if (n > 0) {
         std::vector<PrimRef> refs(n);
         std::vector<Triangle> by_id(n);  // make_triangles(mesh), read in the same pass as the refs
@@ -688,6 +720,8 @@ Bvh build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecorder* recor
 
         bvh.nodes.reserve(2 * size_t(n) - 1);  // a binary tree with at most n leaves
         bvh.nodes.emplace_back();
+        bvh.prim_ids.resize(n);
+        bvh.triangles.resize(n);
         /// A node still to build; its boxes come along when the parent's partition measured them.
         struct Task {
             uint32_t node, begin, end, depth;
@@ -703,18 +737,20 @@ Bvh build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecorder* recor
             if (!task.measured) splitter->measure(range, bounds, centroid_bounds);
             bvh.nodes[task.node].bounds = bounds;
 
-            BuildStep step_data;
-            BuildStep* step = recorder ? &step_data : nullptr;
+            std::optional<BuildStep> step;
+            if (recorder) step.emplace();
             SplitChoice choice;
             const BuildDecision decision =
                 decide(*splitter, range, task.depth, bounds, centroid_bounds, config, model, choice,
-                       step && recorder->record_candidates ? step : nullptr);
+                       step && recorder->record_candidates ? &*step : nullptr);
             ++stats.decisions[size_t(decision)];
 
             if (is_leaf(decision)) {
                 bvh.nodes[task.node].first = range.begin;
                 bvh.nodes[task.node].count = range.count();
+                tree_stats.add_node(bounds, task.depth, range.count(), stats);
             } else {
+                tree_stats.add_node(bounds, task.depth, 0, stats);
                 ChildBounds children;
                 const uint32_t mid = splits_in_half(decision) ? splitter->partition_in_half(range)
                                                               : splitter->partition(range, choice, children);
@@ -751,19 +787,16 @@ Bvh build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecorder* recor
                 step->centroid_bounds = centroid_bounds;
                 step->decision = decision;
                 step->leaf_cost = model.leaf_cost(range.count());
-                recorder->steps.push_back(std::move(step_data));
+                recorder->steps.push_back(std::move(*step));
             }
         }
-
-        bvh.prim_ids.resize(n);
-        bvh.triangles.resize(n);
         for (uint32_t k = 0; k < n; ++k) {
             bvh.prim_ids[k] = splitter->prim_id(k);
             bvh.triangles[k] = by_id[bvh.prim_ids[k]];
         }
     }
 
-    compute_tree_stats(bvh, model, stats);
+    tree_stats.finish(bvh, stats);
     write_notes(config, stats);
     stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return bvh;
