@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <chrono>
+#include <climits>
 #include <cstddef>
 #include <cmath>
 #include <memory>
@@ -256,6 +257,32 @@ public:
 // SAH-based Bounding Volume Hierarchies", 2007)
 // ---------------------------------------------------------------------------
 
+/// The bucket of a triangle's centroid on each axis, clamped to [0, B-1] (NaN lands
+/// in 0): (c - origin) · scale, truncated. The three axes at once (SSE where available).
+struct BinIndices {
+    int index[4];
+};
+struct BinMap {
+    alignas(16) float origin[4] = {0, 0, 0, 0};  ///< the centroid bounds' low corner; [3] unused
+    alignas(16) float scale[4] = {0, 0, 0, 0};   ///< B / extent per axis (0 for an unusable axis); [3] stays 0
+    float last_bin = 0;                          ///< B - 1
+
+    BinIndices operator()(const PrimRef& ref) const {
+        BinIndices b;
+#if defined(__SSE2__)
+        const __m128 f = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(&ref.center.x), _mm_load_ps(origin)), _mm_load_ps(scale));
+        const __m128 clamped = _mm_min_ps(_mm_max_ps(f, _mm_setzero_ps()), _mm_set1_ps(last_bin));
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(b.index), _mm_cvttps_epi32(clamped));
+#else
+        for (int axis = 0; axis < 3; ++axis) {
+            const float f = (ref.center[axis] - origin[axis]) * scale[axis];
+            b.index[axis] = int(std::min(last_bin, std::max(0.0f, f)));  // max(0, NaN) = 0
+        }
+#endif
+        return b;
+    }
+};
+
 class BinnedSahSplitter final : public InPlaceSplitter {
 public:
     BinnedSahSplitter(std::vector<PrimRef> refs, int bins, SahCostModel model)
@@ -269,10 +296,12 @@ public:
         for (int axis = 0; axis < 3; ++axis) {
             const float extent = centroid_bounds.hi[axis] - centroid_bounds.lo[axis];
             usable[axis] = extent > 0.0f;
-            origin_[axis] = centroid_bounds.lo[axis];
-            scale_[axis] = usable[axis] ? float(bin_count_) / extent : 0.0f;
+            map_.origin[axis] = centroid_bounds.lo[axis];
+            map_.scale[axis] = usable[axis] ? float(bin_count_) / extent : 0.0f;
         }
         if (!usable[0] && !usable[1] && !usable[2]) return {};
+        map_.last_bin = float(bin_count_ - 1);
+        const BinMap map = map_;  // a local copy the loops keep in registers
 
         if (range.count() <= kFewTriangles && !step) return find_split_among_few(range, bounds, usable);
 
@@ -284,7 +313,7 @@ public:
         // bins, merged after.
         uint64_t used[3] = {0, 0, 0};
         auto drop = [&](int set, const PrimRef& ref) {
-            const BinIndices b = bin_indices(ref);
+            const BinIndices b = map(ref);
             for (int axis = 0; axis < 3; ++axis) {
                 if (!usable[axis]) continue;
                 Bin& bin = bins_[set][axis][b.index[axis]];
@@ -376,18 +405,26 @@ public:
         const uint32_t n = range.count();
         const PrimRef* refs = refs_.data() + range.begin;
         BinIndices bins[kFewTriangles];
-        for (uint32_t i = 0; i < n; ++i) bins[i] = bin_indices(refs[i]);
+        const BinMap map = map_;
+        for (uint32_t i = 0; i < n; ++i) bins[i] = map(refs[i]);
         SplitChoice best;
         const float area = bounds.area();
         for (int axis = 0; axis < 3; ++axis) {
             if (!usable[axis]) continue;
-            uint8_t order[kFewTriangles];  // positions by bin (insertion sort, stable)
-            for (uint32_t i = 0; i < n; ++i) {
-                uint32_t j = i;
-                for (; j > 0 && bins[order[j - 1]].index[axis] > bins[i].index[axis]; --j) order[j] = order[j - 1];
-                order[j] = uint8_t(i);
-            }
-            auto bin_at = [&](uint32_t i) { return bins[order[i]].index[axis]; };
+            // Positions sorted by bin, ties by position: keys bin · 4 + position (missing
+            // triangles sort last) through a sorting network, without branches.
+            static_assert(kFewTriangles == 4, "the sorting network sorts four keys");
+            int key[4];
+            for (uint32_t i = 0; i < 4; ++i) key[i] = i < n ? bins[i].index[axis] * 4 + int(i) : INT32_MAX;
+            auto order_pair = [&](int a, int b) {
+                const int lo = std::min(key[a], key[b]), hi = std::max(key[a], key[b]);
+                key[a] = lo;
+                key[b] = hi;
+            };
+            order_pair(0, 1), order_pair(2, 3), order_pair(0, 2), order_pair(1, 3), order_pair(1, 2);
+            uint32_t order[4];
+            for (uint32_t i = 0; i < 4; ++i) order[i] = uint32_t(key[i]) & 3;
+            auto bin_at = [&](uint32_t i) { return key[i] >> 2; };
             float right_area[kFewTriangles];
             Box4 right;
             for (uint32_t i = n - 1; i >= 1; --i) {  // the plane before position i: order[i ..] on the right
@@ -418,10 +455,11 @@ public:
         // (The four boxes are grown by masks, not picked by index: an array of two would
         // live in memory and make each growth wait for the last one's store.)
         Box4 left_box, right_box, left_centroids, right_centroids;
+        const BinMap map = map_;
         uint32_t store = range.begin;
         for (uint32_t k = range.begin; k < range.end; ++k) {
             const PrimRef ref = refs_[k];
-            const bool left = uint32_t(bin_indices(ref).index[choice.axis]) < choice.index;
+            const bool left = uint32_t(map(ref).index[choice.axis]) < choice.index;
             left_box.grow_if(left, ref.box);
             right_box.grow_if(!left, ref.box);
             left_centroids.grow_point_if(left, &ref.center.x);
@@ -443,32 +481,11 @@ private:
         uint32_t count = 0;
     };
 
-    float plane_position(int axis, int plane) const { return origin_[axis] + float(plane) / scale_[axis]; }
-
-    /// The bucket of a triangle's centroid on each axis, clamped to [0, B-1] (NaN lands
-    /// in 0): (c - origin) · scale, truncated. The three axes at once (SSE where available).
-    struct BinIndices {
-        int index[4];
-    };
-    BinIndices bin_indices(const PrimRef& ref) const {
-        BinIndices b;
-#if defined(__SSE2__)
-        const __m128 f = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(&ref.center.x), _mm_load_ps(origin_)), _mm_load_ps(scale_));
-        const __m128 clamped = _mm_min_ps(_mm_max_ps(f, _mm_setzero_ps()), _mm_set1_ps(float(bin_count_ - 1)));
-        _mm_storeu_si128(reinterpret_cast<__m128i*>(b.index), _mm_cvttps_epi32(clamped));
-#else
-        for (int axis = 0; axis < 3; ++axis) {
-            const float f = (ref.center[axis] - origin_[axis]) * scale_[axis];
-            b.index[axis] = int(std::min(float(bin_count_ - 1), std::max(0.0f, f)));  // max(0, NaN) = 0
-        }
-#endif
-        return b;
-    }
+    float plane_position(int axis, int plane) const { return map_.origin[axis] + float(plane) / map_.scale[axis]; }
 
     int bin_count_;
     SahCostModel model_;
-    alignas(16) float origin_[4] = {0, 0, 0, 0};  ///< [3] unused
-    alignas(16) float scale_[4] = {0, 0, 0, 0};   ///< [3] stays 0
+    BinMap map_;                  ///< the current node's bins (set by find_split, used by partition)
     Bin bins_[2][3][kMaxBins];                    ///< [set][axis][bin]: two sets, see find_split
 };
 
@@ -709,19 +726,13 @@ Bvh build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecorder* recor
 
     TreeStats tree_stats(model, uint32_t(config.max_leaf_size));
     if (n > 0) {
-        std::vector<PrimRef> refs(n);
-        std::vector<Triangle> by_id(n);  // make_triangles(mesh), read in the same pass as the refs
-        for (uint32_t i = 0; i < n; ++i) {
-            const Vec3 p0 = mesh.vertex(i, 0), p1 = mesh.vertex(i, 1), p2 = mesh.vertex(i, 2);
-            refs[i] = make_prim_ref(p0, p1, p2, i);
-            by_id[i] = Triangle::from_points(p0, p1, p2);  // exactly as Mesh::triangle
-        }
+        std::vector<PrimRef> refs;
+        refs.reserve(n);
+        for (uint32_t i = 0; i < n; ++i) refs.push_back(make_prim_ref(mesh.vertex(i, 0), mesh.vertex(i, 1), mesh.vertex(i, 2), i));
         const std::unique_ptr<Splitter> splitter = make_splitter(config, std::move(refs));
 
         bvh.nodes.reserve(2 * size_t(n) - 1);  // a binary tree with at most n leaves
         bvh.nodes.emplace_back();
-        bvh.prim_ids.resize(n);
-        bvh.triangles.resize(n);
         /// A node still to build; its boxes come along when the parent's partition measured them.
         struct Task {
             uint32_t node, begin, end, depth;
@@ -790,9 +801,12 @@ Bvh build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecorder* recor
                 recorder->steps.push_back(std::move(*step));
             }
         }
+        // Leaf order: the triangles of each leaf next to each other, as the traversal reads them.
+        bvh.prim_ids.reserve(n);
+        bvh.triangles.reserve(n);
         for (uint32_t k = 0; k < n; ++k) {
-            bvh.prim_ids[k] = splitter->prim_id(k);
-            bvh.triangles[k] = by_id[bvh.prim_ids[k]];
+            bvh.prim_ids.push_back(splitter->prim_id(k));
+            bvh.triangles.push_back(mesh.triangle(bvh.prim_ids[k]));
         }
     }
 
