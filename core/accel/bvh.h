@@ -11,9 +11,7 @@
 /// (except where Möller–Trumbore itself is unreliable: see box_test.h, "Limit").
 /// Box events report the widened interval, clipped to the ray's [t_min, t_max].
 
-#include <cstddef>
 #include <cstdint>
-#include <new>
 #include <string>
 #include <vector>
 
@@ -23,6 +21,7 @@
 #include "core/accel/bvh_config.h"
 #include "core/geometry/triangle.h"
 #include "core/traversal/observers.h"
+#include "core/util/large_array.h"
 
 namespace accelviz {
 
@@ -39,30 +38,13 @@ struct BvhNode {
 };
 static_assert(sizeof(BvhNode) == 32, "a BVH node is 32 bytes: two fit in a cache line");
 
-/// Places an array of BvhNodes so that nodes[1] starts a 64-byte cache line. The
-/// root is alone at nodes[0]; every other node has its sibling next to it, pairs
-/// starting at odd indices, so each pair then fills exactly one line: algorithm 2,
-/// which tests both children's boxes of a node, reads one cache line per step
-/// instead of often two.
-template <class T>
-struct SiblingPairAllocator {
-    using value_type = T;
-    static constexpr size_t kLine = 64;
-    static_assert(sizeof(T) * 2 == kLine, "a sibling pair is one cache line");
-
-    SiblingPairAllocator() = default;
-    template <class U>
-    SiblingPairAllocator(const SiblingPairAllocator<U>&) {}
-    T* allocate(size_t n) {
-        char* line = static_cast<char*>(::operator new(n * sizeof(T) + sizeof(T), std::align_val_t(kLine)));
-        return reinterpret_cast<T*>(line + sizeof(T));  // element 1 at the start of the next line
-    }
-    void deallocate(T* p, size_t) {
-        ::operator delete(reinterpret_cast<char*>(p) - sizeof(T), std::align_val_t(kLine));
-    }
-    template <class U>
-    bool operator==(const SiblingPairAllocator<U>&) const { return true; }
-};
+/// The node array's allocator: nodes[1] starts a 64-byte cache line. The root is
+/// alone at nodes[0]; every other node has its sibling next to it, pairs starting at
+/// odd indices, so each pair fills exactly one line: algorithm 2, which tests both
+/// children's boxes of a node, reads one cache line per step instead of often two.
+/// (Big arrays also get huge pages: core/util/large_array.h.)
+using BvhNodeAllocator = LargeArrayAllocator<BvhNode, sizeof(BvhNode)>;
+static_assert(2 * sizeof(BvhNode) == BvhNodeAllocator::kLine, "a sibling pair is one cache line");
 
 /// A BVH over a mesh's triangles.
 /// Invariants: nodes[0] is the root (nodes is empty iff there are no triangles);
@@ -70,9 +52,9 @@ struct SiblingPairAllocator {
 /// triangles[k] == mesh.triangle(prim_ids[k]) (a copy in leaf order, so a leaf's
 /// triangles are contiguous in memory); no leaf is deeper than kBvhMaxDepth.
 struct Bvh {
-    std::vector<BvhNode, SiblingPairAllocator<BvhNode>> nodes;
-    std::vector<uint32_t> prim_ids;   ///< leaf order → triangle id
-    std::vector<Triangle> triangles;  ///< leaf order, triangles[k] is triangle prim_ids[k]
+    std::vector<BvhNode, BvhNodeAllocator> nodes;
+    std::vector<uint32_t, LargeArrayAllocator<uint32_t>> prim_ids;   ///< leaf order → triangle id
+    std::vector<Triangle, LargeArrayAllocator<Triangle>> triangles;  ///< leaf order, triangles[k] is triangle prim_ids[k]
     BvhConfig build_config;           ///< what it was built with
     BvhBuildStats build_stats;        ///< what the build produced
     BvhTraversal traversal = BvhTraversal::Ordered;  ///< which closest-hit algorithm intersect_closest runs

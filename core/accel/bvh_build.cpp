@@ -99,6 +99,7 @@ struct PrimRef {
     Vec3 centroid() const { return center; }
 };
 static_assert(offsetof(PrimRef, center) % 16 == 0, "the centroid is read as four aligned floats (with the id)");
+using PrimRefs = std::vector<PrimRef, LargeArrayAllocator<PrimRef>>;
 
 /// The lecture splits by "the position of the primitive's centroid" (重心): the
 /// mean of the three corners, summed in corner order.
@@ -171,7 +172,7 @@ int longest_axis(const Aabb& centroid_bounds) {
 /// Splitters that reorder one array of PrimRefs in place (all but the sweep).
 class InPlaceSplitter : public Splitter {
 public:
-    explicit InPlaceSplitter(std::vector<PrimRef> refs) : refs_(std::move(refs)) {}
+    explicit InPlaceSplitter(PrimRefs refs) : refs_(std::move(refs)) {}
     void measure(Range range, Aabb& bounds, Aabb& centroid_bounds) const override {
         measure_refs(refs_.data(), range, bounds, centroid_bounds);
     }
@@ -190,7 +191,7 @@ protected:
         return refs_[mid].centroid()[axis];
     }
 
-    std::vector<PrimRef> refs_;
+    PrimRefs refs_;
 };
 
 // ---------------------------------------------------------------------------
@@ -285,7 +286,7 @@ struct BinMap {
 
 class BinnedSahSplitter final : public InPlaceSplitter {
 public:
-    BinnedSahSplitter(std::vector<PrimRef> refs, int bins, SahCostModel model)
+    BinnedSahSplitter(PrimRefs refs, int bins, SahCostModel model)
         : InPlaceSplitter(std::move(refs)), bin_count_(bins), model_(model) {}
     bool uses_sah() const override { return true; }
 
@@ -497,7 +498,7 @@ private:
 
 class SweepSahSplitter final : public Splitter {
 public:
-    SweepSahSplitter(std::vector<PrimRef> refs, SahCostModel model)
+    SweepSahSplitter(PrimRefs refs, SahCostModel model)
         : refs_(std::move(refs)), model_(model), goes_left_(refs_.size(), 0), scratch_(refs_.size()),
           right_area_(refs_.size()) {
         for (int axis = 0; axis < 3; ++axis) {
@@ -579,7 +580,7 @@ private:
         return mid;
     }
 
-    std::vector<PrimRef> refs_;  ///< by triangle id; never moved
+    PrimRefs refs_;  ///< by triangle id; never moved
     SahCostModel model_;
     std::array<std::vector<uint32_t>, 3> order_;  ///< per axis: refs sorted by centroid within each node range
     std::vector<uint8_t> goes_left_;
@@ -591,7 +592,7 @@ private:
 // [SECTION] The driver: one decision per node, explicit work stack
 // ---------------------------------------------------------------------------
 
-std::unique_ptr<Splitter> make_splitter(const BvhConfig& config, std::vector<PrimRef> refs) {
+std::unique_ptr<Splitter> make_splitter(const BvhConfig& config, PrimRefs refs) {
     const SahCostModel model{config.cost_trav, config.cost_isect};
     switch (config.builder) {
         case BvhBuilder::Midpoint: return std::make_unique<MidpointSplitter>(std::move(refs));
@@ -726,7 +727,7 @@ Bvh build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecorder* recor
 
     TreeStats tree_stats(model, uint32_t(config.max_leaf_size));
     if (n > 0) {
-        std::vector<PrimRef> refs;
+        PrimRefs refs;
         refs.reserve(n);
         for (uint32_t i = 0; i < n; ++i) refs.push_back(make_prim_ref(mesh.vertex(i, 0), mesh.vertex(i, 1), mesh.vertex(i, 2), i));
         const std::unique_ptr<Splitter> splitter = make_splitter(config, std::move(refs));
