@@ -15,6 +15,7 @@
 /// pairs begin, starts a cache line (see bvh.h).
 
 #include <cstddef>
+#include <cstdint>
 #include <cstdlib>
 #include <new>
 
@@ -41,6 +42,7 @@ struct LargeArrayAllocator {
     LargeArrayAllocator(const LargeArrayAllocator<U, kOther>&) {}
 
     T* allocate(size_t n) {
+        if (n > (size_t(PTRDIFF_MAX) - 2 * kHugePage) / sizeof(T)) throw std::bad_array_new_length();
         const size_t bytes = block_bytes(n);
         char* block = nullptr;
         if (huge(bytes)) {
