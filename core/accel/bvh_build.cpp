@@ -83,9 +83,18 @@ struct alignas(16) Box4 {
     Aabb aabb() const { return {{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}}; }
     /// Aabb::area(), the same arithmetic in the same order (so the same float).
     float area() const {
+#if defined(__SSE__)
+        const __m128 l = _mm_load_ps(lo), h = _mm_load_ps(hi);
+        if ((_mm_movemask_ps(_mm_cmple_ps(l, h)) & 7) != 7) return 0.0f;  // empty (or NaN)
+        const __m128 e = _mm_sub_ps(h, l);                                  // ex ey ez
+        const __m128 p = _mm_mul_ps(e, _mm_shuffle_ps(e, e, _MM_SHUFFLE(3, 0, 2, 1)));  // ex·ey ey·ez ez·ex
+        const float sum = (_mm_cvtss_f32(p) + _mm_cvtss_f32(_mm_shuffle_ps(p, p, 1))) + _mm_cvtss_f32(_mm_shuffle_ps(p, p, 2));
+        return 2.0f * sum;
+#else
         if (!(lo[0] <= hi[0] && lo[1] <= hi[1] && lo[2] <= hi[2])) return 0.0f;  // empty
         const float ex = hi[0] - lo[0], ey = hi[1] - lo[1], ez = hi[2] - lo[2];
         return 2.0f * (ex * ey + ey * ez + ez * ex);
+#endif
     }
 };
 
