@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <bit>
 #include <chrono>
-#include <climits>
 #include <cstddef>
 #include <cmath>
 #include <memory>

@@ -5,6 +5,7 @@
 // the decisions.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cstring>
 
@@ -107,6 +108,15 @@ bool notes_mention(const BvhBuildStats& stats, const std::string& text) {
     for (const std::string& note : stats.notes)
         if (note.find(text) != std::string::npos) return true;
     return false;
+}
+
+/// Two trees with the same nodes (bit for bit) and the same triangle order.
+void expect_same_tree(const Bvh& a, const Bvh& b) {
+    ASSERT_EQ(a.nodes.size(), b.nodes.size());
+    for (size_t i = 0; i < a.nodes.size(); ++i)
+        ASSERT_EQ(std::memcmp(&a.nodes[i], &b.nodes[i], sizeof(BvhNode)), 0) << "node " << i;
+    EXPECT_TRUE(std::equal(a.prim_ids.begin(), a.prim_ids.end(), b.prim_ids.begin(), b.prim_ids.end()));
+    EXPECT_EQ(a.build_stats.sah_cost, b.build_stats.sah_cost);
 }
 
 }  // namespace
@@ -266,7 +276,7 @@ TEST(BvhBuild, RecorderReplaysEveryDecision) {
         BuildRecorder recorder;
         const BvhConfig config{.builder = builder, .bins = 8};
         const Bvh bvh = build_bvh(mesh, config, &recorder);
-        EXPECT_EQ(build_bvh(mesh, config).nodes.size(), bvh.nodes.size()) << "recording must not change the tree";
+        expect_same_tree(build_bvh(mesh, config), bvh);  // recording must not change the tree
         ASSERT_EQ(recorder.steps.size(), bvh.nodes.size());
         EXPECT_EQ(recorder.steps[0].node, 0u);
         std::vector<const BuildStep*> step_of(bvh.nodes.size(), nullptr);
@@ -306,6 +316,24 @@ TEST(BvhBuild, RecorderReplaysEveryDecision) {
             }
         }
         EXPECT_EQ(counts, bvh.build_stats.decisions);
+    }
+}
+
+TEST(BvhBuild, BinnedShortcutsBuildTheSameTreeAsTheFullBinning) {
+    // Recording every candidate makes sah-binned bin every node in full (all B bins per
+    // axis); without it, nodes of few triangles take find_split_among_few and big ones
+    // two sets of bins. Both must make the same decisions, so the same tree.
+    std::vector<std::string> sources = {"builtin:teapot?n=4", "builtin:stadium", "builtin:soup?n=3000",
+                                        "builtin:same-centroid", "builtin:same-box", "builtin:cornell"};
+    if (test::shared_asset_exists("bunny.obj")) sources.push_back(test::shared_asset("bunny.obj"));
+    for (const std::string& source : sources) {
+        const Mesh mesh = scene(source);
+        for (int bins : {2, 5, 16, 64}) {
+            SCOPED_TRACE(source + ", " + std::to_string(bins) + " bins");
+            const BvhConfig config{.builder = BvhBuilder::SahBinned, .bins = bins};
+            BuildRecorder recorder;  // record_candidates: every node binned in full
+            expect_same_tree(build_bvh(mesh, config, &recorder), build_bvh(mesh, config));
+        }
     }
 }
 
