@@ -748,10 +748,20 @@ Bvh build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecorder* recor
             bool measured = false;
             Aabb bounds, centroid_bounds;
         };
-        std::vector<Task> work = {{0, 0, n, 0, false, {}, {}}};
-        while (!work.empty()) {
-            const Task task = work.back();
-            work.pop_back();
+        // The left child goes straight on as the next task; the right one waits on the
+        // stack: left subtrees are built (and laid out) first, depth first.
+        std::vector<Task> work;
+        Task next{0, 0, n, 0, false, {}, {}};
+        bool have_next = true;
+        while (have_next || !work.empty()) {
+            Task task;
+            if (have_next) {
+                task = next;
+                have_next = false;
+            } else {
+                task = work.back();
+                work.pop_back();
+            }
             const Range range{task.begin, task.end};
             Aabb bounds = task.bounds, centroid_bounds = task.centroid_bounds;
             if (!task.measured) splitter->measure(range, bounds, centroid_bounds);
@@ -783,11 +793,10 @@ Bvh build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecorder* recor
                 bvh.nodes.emplace_back();
                 bvh.nodes[task.node].first = left;
                 bvh.nodes[task.node].count = 0;
-                // Right pushed first so the left subtree is built (and laid out) first: depth-first order.
                 work.push_back({left + 1, mid, range.end, task.depth + 1, true, children.bounds[1],
                                 children.centroid_bounds[1]});
-                work.push_back({left, range.begin, mid, task.depth + 1, true, children.bounds[0],
-                                children.centroid_bounds[0]});
+                next = {left, range.begin, mid, task.depth + 1, true, children.bounds[0], children.centroid_bounds[0]};
+                have_next = true;
                 if (step) {
                     step->split_cost = model.split_cost(bounds.area(), children.bounds[0].area(), mid - range.begin,
                                                         children.bounds[1].area(), range.end - mid);
