@@ -98,9 +98,10 @@ void bvh_overlay(const Bvh& bvh, const OverlaySettings& s, StructureOverlay& out
 
 void octree_overlay(const Octree& tree, const OverlaySettings& s, StructureOverlay& out) {
     if (tree.nodes.empty()) return;
+    const std::vector<Aabb> boxes = tree.node_boxes();
     struct Cell { uint32_t node; Aabb box; int depth; };
-    std::vector<Cell> cells;  // every cell with its box (the nodes store only the centre)
-    std::vector<Cell> stack = {{0, tree.bounds, 0}};
+    std::vector<Cell> cells;  // every cell with its box and depth, depth first
+    std::vector<Cell> stack = {{0, boxes[0], 0}};
     while (!stack.empty()) {
         const Cell c = stack.back();
         stack.pop_back();
@@ -108,7 +109,10 @@ void octree_overlay(const Octree& tree, const OverlaySettings& s, StructureOverl
         out.deepest_level = std::max(out.deepest_level, c.depth);
         const OctreeNode& n = tree.nodes[c.node];
         if (!n.is_leaf())
-            for (int o = 7; o >= 0; --o) stack.push_back({n.first + uint32_t(o), octant_box(c.box, n.centre, o), c.depth + 1});
+            for (int o = 7; o >= 0; --o) {
+                const uint32_t child = n.first + uint32_t(o);
+                stack.push_back({child, boxes[child], c.depth + 1});
+            }
     }
     std::vector<size_t> per_level;
     for (const Cell& c : cells) {
@@ -131,9 +135,10 @@ void octree_overlay(const Octree& tree, const OverlaySettings& s, StructureOverl
 
 void kd_overlay(const KdTree& tree, const OverlaySettings& s, StructureOverlay& out) {
     if (tree.nodes.empty()) return;
+    const std::vector<Aabb> boxes = tree.node_boxes();
     struct Cell { uint32_t node; Aabb box; int depth; };
-    std::vector<Cell> cells;
-    std::vector<Cell> stack = {{0, tree.bounds, 0}};
+    std::vector<Cell> cells;  // every node with its box and depth, depth first
+    std::vector<Cell> stack = {{0, boxes[0], 0}};
     while (!stack.empty()) {
         const Cell c = stack.back();
         stack.pop_back();
@@ -141,11 +146,8 @@ void kd_overlay(const KdTree& tree, const OverlaySettings& s, StructureOverlay& 
         out.deepest_level = std::max(out.deepest_level, c.depth);
         const KdNode& n = tree.nodes[c.node];
         if (n.is_leaf()) continue;
-        Aabb lower = c.box, upper = c.box;
-        lower.hi[n.axis] = n.split;
-        upper.lo[n.axis] = n.split;
-        stack.push_back({n.first + 1, upper, c.depth + 1});
-        stack.push_back({n.first, lower, c.depth + 1});
+        stack.push_back({n.upper_child(), boxes[n.upper_child()], c.depth + 1});
+        stack.push_back({n.lower_child(), boxes[n.lower_child()], c.depth + 1});
     }
     std::vector<size_t> per_level;  // one box (a leaf, or a plane's outline) per counted node
     for (const Cell& c : cells) {

@@ -379,4 +379,20 @@ nlohmann::json KdTree::stats() const {
             {"notes", s.notes}};
 }
 
+std::vector<Aabb> KdTree::node_boxes() const {
+    std::vector<Aabb> boxes(nodes.size());
+    if (!nodes.empty()) boxes[0] = bounds;
+    // Children follow their parent in the flat array (first > parent), so one pass fills them.
+    for (size_t i = 0; i < nodes.size(); ++i) {
+        const KdNode& n = nodes[i];
+        if (n.is_leaf()) continue;
+        Aabb lower = boxes[i], upper = boxes[i];
+        lower.hi[n.axis] = n.split;
+        upper.lo[n.axis] = n.split;
+        boxes[n.lower_child()] = lower;
+        boxes[n.upper_child()] = upper;
+    }
+    return boxes;
+}
+
 }  // namespace accelviz

@@ -129,6 +129,12 @@ struct KdTree {
     nlohmann::json config() const;
     nlohmann::json stats() const;
 
+    /// The box of every node, by index. Nodes store only their split planes: the root's
+    /// box is `bounds`, and a child's is its parent's cut at the parent's plane (the lower
+    /// child keeps the part below it, the upper one the part above). What the stepper
+    /// and the structure overlay draw.
+    std::vector<Aabb> node_boxes() const;
+
     /// Closest hit in [ray.t_min, ray.t_max]. Events: BoxTest (root), VisitNode,
     /// SplitPlane, Push, Pop, Cull, Leaf (t_enter/t_exit = the leaf's t_min/t_max),
     /// TriangleTest, MailboxSkip, HitOutsideCell, NewClosest, Done.

@@ -177,4 +177,16 @@ nlohmann::json Octree::stats() const {
             {"notes", s.notes}};
 }
 
+std::vector<Aabb> Octree::node_boxes() const {
+    std::vector<Aabb> boxes(nodes.size());
+    if (!nodes.empty()) boxes[0] = bounds;
+    // Children follow their parent in the flat array (first > parent), so one pass fills them.
+    for (size_t i = 0; i < nodes.size(); ++i) {
+        const OctreeNode& n = nodes[i];
+        if (n.is_leaf()) continue;
+        for (int o = 0; o < 8; ++o) boxes[n.first + uint32_t(o)] = octant_box(boxes[i], n.centre, o);
+    }
+    return boxes;
+}
+
 }  // namespace accelviz

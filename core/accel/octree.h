@@ -80,6 +80,11 @@ struct Octree {
     nlohmann::json config() const;
     nlohmann::json stats() const;
 
+    /// The box of every node, by index. Nodes store only their centres: the root's box
+    /// is `bounds`, and child o's is octant_box(parent's box, parent's centre, o). What
+    /// the stepper and the structure overlay draw.
+    std::vector<Aabb> node_boxes() const;
+
     /// Closest hit in [ray.t_min, ray.t_max]. Events: BoxTest (root), VisitNode,
     /// SplitPlane (three per interior node), Push, Pop, Cull, Leaf, TriangleTest,
     /// MailboxSkip, HitOutsideCell, NewClosest, Done.

@@ -35,28 +35,9 @@ NodeBoxes::NodeBoxes(const Accelerator& accel) {
         boxes_.reserve(b.nodes.size());
         for (const BvhNode& n : b.nodes) boxes_.push_back(n.bounds);
     } else if (auto* kd = dynamic_cast<const AcceleratorFor<KdTree>*>(&accel)) {
-        const KdTree& t = kd->structure();
-        boxes_.resize(t.nodes.size());
-        if (!t.nodes.empty()) boxes_[0] = t.bounds;
-        // Children follow their parent in the flat array (first > parent), so one pass fills them.
-        for (size_t i = 0; i < t.nodes.size(); ++i) {
-            const KdNode& n = t.nodes[i];
-            if (n.is_leaf()) continue;
-            Aabb lower = boxes_[i], upper = boxes_[i];
-            lower.hi[n.axis] = n.split;
-            upper.lo[n.axis] = n.split;
-            boxes_[n.lower_child()] = lower;
-            boxes_[n.upper_child()] = upper;
-        }
+        boxes_ = kd->structure().node_boxes();
     } else if (auto* octree = dynamic_cast<const AcceleratorFor<Octree>*>(&accel)) {
-        const Octree& t = octree->structure();
-        boxes_.resize(t.nodes.size());
-        if (!t.nodes.empty()) boxes_[0] = t.bounds;
-        for (size_t i = 0; i < t.nodes.size(); ++i) {
-            const OctreeNode& n = t.nodes[i];
-            if (n.is_leaf()) continue;
-            for (int o = 0; o < 8; ++o) boxes_[n.first + uint32_t(o)] = octant_box(boxes_[i], n.centre, o);
-        }
+        boxes_ = octree->structure().node_boxes();
     } else if (auto* grid = dynamic_cast<const AcceleratorFor<UniformGrid>*>(&accel)) {
         const UniformGrid& g = grid->structure();
         grid_ = true;
