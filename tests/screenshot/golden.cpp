@@ -1,5 +1,7 @@
 #include "golden.h"
 
+#include "app/gui/headless.h"
+
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
@@ -76,6 +78,13 @@ std::string screenshot_out_dir() {
                                          << kChannelTolerance << " (worst " << worst << ")\n  rendered: "
                                          << actual_path << "\n  diff:     " << diff_path
                                          << "\n  golden:   " << golden_path;
+}
+
+::testing::AssertionResult view_matches_golden(const AppState& state, const std::string& view, int width, int height,
+                                               const std::string& name) {
+    auto image = render_gui_view_headless(state, view, width, height);
+    if (!image) return ::testing::AssertionFailure() << "rendering " << view << " for " << name << ": " << image.error();
+    return matches_golden(*image, name);
 }
 
 }  // namespace accelviz::testing

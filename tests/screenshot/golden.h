@@ -20,6 +20,7 @@
 
 #include <gtest/gtest.h>
 
+#include "app/gui/app_state.h"
 #include "core/render/image.h"
 
 namespace accelviz::testing {
@@ -33,6 +34,11 @@ void set_update_golden_mode(bool on);
 
 /// Compares `actual` with golden/NAME.png (see the tolerance above).
 ::testing::AssertionResult matches_golden(const Image& actual, const std::string& name);
+
+/// Renders `view` of `state` headless (render_gui_view_headless) at width x height
+/// and compares it with golden/NAME.png; a failed render fails with its message.
+::testing::AssertionResult view_matches_golden(const AppState& state, const std::string& view, int width, int height,
+                                               const std::string& name);
 
 /// Where the tests write what they rendered (created on demand).
 std::string screenshot_out_dir();

@@ -15,6 +15,7 @@ namespace accelviz {
 namespace {
 
 using testing::matches_golden;
+using testing::view_matches_golden;
 
 std::string bunny() { return std::string(ACCELVIZ_SHARED_ASSETS) + "/bunny.obj"; }
 
@@ -51,9 +52,7 @@ TEST(BuildStepGolden, SameBoxChartShowsNoSplitHelps) {
     // Every triangle has the same box: every plane costs C_trav + N C_isect, above the leaf line.
     AppState state = build_step_state("builtin:same-box?n=40", BvhBuilder::SahBinned, 0);
     state.build_step.bins = 8;  // the chart's own B (live slider), not the tree's
-    auto image = render_gui_view_headless(state, "build-step", 1280, 800);
-    ASSERT_TRUE(image) << image.error();
-    EXPECT_TRUE(matches_golden(*image, "same_box_build_step"));
+    EXPECT_TRUE(view_matches_golden(state, "build-step", 1280, 800, "same_box_build_step"));
 }
 
 TEST(BuildStepHeadless, StepOutOfRangeIsAnErrorWithTheRange) {

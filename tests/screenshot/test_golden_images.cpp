@@ -12,6 +12,7 @@ namespace accelviz {
 namespace {
 
 using testing::matches_golden;
+using testing::view_matches_golden;
 
 AppState cube_state() {
     AppState state;
@@ -20,15 +21,11 @@ AppState cube_state() {
 }
 
 TEST(GoldenImage, CubeStructureViewShowsShadedMeshAndBounds) {
-    auto image = render_gui_view_headless(cube_state(), "structure", 320, 240);
-    ASSERT_TRUE(image) << image.error();
-    EXPECT_TRUE(matches_golden(*image, "cube_structure"));
+    EXPECT_TRUE(view_matches_golden(cube_state(), "structure", 320, 240, "cube_structure"));
 }
 
 TEST(GoldenImage, CubeGuiFrameShowsPanelsStatusAndView) {
-    auto image = render_gui_view_headless(cube_state(), "gui", 640, 400);
-    ASSERT_TRUE(image) << image.error();
-    EXPECT_TRUE(matches_golden(*image, "cube_gui"));
+    EXPECT_TRUE(view_matches_golden(cube_state(), "gui", 640, 400, "cube_gui"));
 }
 
 TEST(GoldenImage, CubeGuiFrameLightThemeAtProjectorScale) {
@@ -36,17 +33,13 @@ TEST(GoldenImage, CubeGuiFrameLightThemeAtProjectorScale) {
     state.view.light_theme = true;
     state.view.background = {236, 236, 232};
     state.view.ui_scale = 1.5f;
-    auto image = render_gui_view_headless(state, "gui", 960, 600);
-    ASSERT_TRUE(image) << image.error();
-    EXPECT_TRUE(matches_golden(*image, "cube_gui_light"));
+    EXPECT_TRUE(view_matches_golden(state, "gui", 960, 600, "cube_gui_light"));
 }
 
 TEST(GoldenImage, HelpWindowListsTheShortcuts) {
     AppState state = cube_state();
     state.view.show_help = true;
-    auto image = render_gui_view_headless(state, "gui", 800, 500);
-    ASSERT_TRUE(image) << image.error();
-    EXPECT_TRUE(matches_golden(*image, "cube_gui_help"));
+    EXPECT_TRUE(view_matches_golden(state, "gui", 800, 500, "cube_gui_help"));
 }
 
 // [SECTION] Structure overlays (the teapot, 4x4 segments per patch: small and
@@ -65,9 +58,7 @@ AppState teapot_with(const char* structure_json) {
 }
 
 void expect_structure_golden(const char* structure_json, const char* name) {
-    auto image = render_gui_view_headless(teapot_with(structure_json), "structure", 320, 240);
-    ASSERT_TRUE(image) << image.error();
-    EXPECT_TRUE(matches_golden(*image, name));
+    EXPECT_TRUE(view_matches_golden(teapot_with(structure_json), "structure", 320, 240, name));
 }
 
 TEST(GoldenImage, BvhBoxesColouredByDepth) {
@@ -103,9 +94,7 @@ TEST(GoldenImage, ThickLinesForProjectors) {
     AppState state = teapot_with(R"({"structure": {"type": "bvh"}, "overlay": {"level_min": 2, "level_max": 5},
                                      "view": {"line_width": 3}})");
     state.view.line_width = 3;
-    auto image = render_gui_view_headless(state, "structure", 480, 270);
-    ASSERT_TRUE(image) << image.error();
-    EXPECT_TRUE(matches_golden(*image, "teapot_bvh_thick_lines"));
+    EXPECT_TRUE(view_matches_golden(state, "structure", 480, 270, "teapot_bvh_thick_lines"));
 }
 
 TEST(GoldenImage, ThickLinesClippedAtTheNearPlaneFromInsideTheScene) {
@@ -114,9 +103,7 @@ TEST(GoldenImage, ThickLinesClippedAtTheNearPlaneFromInsideTheScene) {
     AppState state = teapot_with(R"({"structure": {"type": "bvh"}, "overlay": {"level_min": 0, "level_max": 3}})");
     state.view.line_width = 3;
     state.camera = CameraParams{{-0.2, 0.6, 0.3}, {3, 0.6, 0}, {0, 1, 0}, 70};
-    auto image = render_gui_view_headless(state, "structure", 320, 180);
-    ASSERT_TRUE(image) << image.error();
-    EXPECT_TRUE(matches_golden(*image, "teapot_inside_thick_lines"));
+    EXPECT_TRUE(view_matches_golden(state, "structure", 320, 180, "teapot_inside_thick_lines"));
 }
 
 // [SECTION] Raster vs ray cast (the ray caster's picture is waited for headless)
@@ -124,18 +111,14 @@ TEST(GoldenImage, ThickLinesClippedAtTheNearPlaneFromInsideTheScene) {
 TEST(GoldenImage, SplitRasterAndRayCastSideBySide) {
     AppState state = teapot_with(R"({"structure": {"type": "bvh"}, "overlay": {"show_structure": false}})");
     state.view.mode = "split";
-    auto image = render_gui_view_headless(state, "gui", 800, 450);
-    ASSERT_TRUE(image) << image.error();
-    EXPECT_TRUE(matches_golden(*image, "teapot_split_raycast"));
+    EXPECT_TRUE(view_matches_golden(state, "gui", 800, 450, "teapot_split_raycast"));
 }
 
 TEST(GoldenImage, SplitWithNodeHeatMap) {
     AppState state = teapot_with(R"({"structure": {"type": "bvh"}, "overlay": {"level_max": 3}})");
     state.view.mode = "split";
     state.view.right_view = "heat-nodes";
-    auto image = render_gui_view_headless(state, "gui", 800, 450);
-    ASSERT_TRUE(image) << image.error();
-    EXPECT_TRUE(matches_golden(*image, "teapot_split_heat_nodes"));
+    EXPECT_TRUE(view_matches_golden(state, "gui", 800, 450, "teapot_split_heat_nodes"));
 }
 
 // [SECTION] Errors
@@ -184,17 +167,13 @@ TEST(GoldenImage, SplitCpuRasterDepthNextToRayCastDepthDifference) {
     // Left: the core rasterizer's depth as grey; right: where it and the ray caster disagree.
     AppState state = teapot_state(R"({"structure": {"type": "bvh"}, "overlay": {"show_structure": false},
                                       "view": {"mode": "split", "left_view": "raster-depth", "right_view": "depth-diff"}})");
-    auto image = render_gui_view_headless(state, "gui", 800, 400);
-    ASSERT_TRUE(image) << image.error();
-    EXPECT_TRUE(matches_golden(*image, "teapot_gui_split_depth_diff"));
+    EXPECT_TRUE(view_matches_golden(state, "gui", 800, 400, "teapot_gui_split_depth_diff"));
 }
 
 TEST(GoldenImage, SplitCpuRasterImageNextToRayCastDepthOnOneScale) {
     AppState state = teapot_state(R"({"structure": {"type": "kd"}, "overlay": {"show_structure": false},
                                       "view": {"mode": "split", "left_view": "raster", "right_view": "depth"}})");
-    auto image = render_gui_view_headless(state, "structure", 480, 240);
-    ASSERT_TRUE(image) << image.error();
-    EXPECT_TRUE(matches_golden(*image, "teapot_split_raster_cpu_depth"));
+    EXPECT_TRUE(view_matches_golden(state, "structure", 480, 240, "teapot_split_raster_cpu_depth"));
 }
 
 
