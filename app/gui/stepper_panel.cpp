@@ -44,7 +44,7 @@ void grey_text(const char* text) {
 CameraParams stepper_side_view(const CameraParams& camera, const Ray& ray) {
     CameraParams side = camera;
     orbit(side, 35.0 * 3.14159265358979 / 180.0, 15.0 * 3.14159265358979 / 180.0);
-    const Vec3d o(ray.origin.x, ray.origin.y, ray.origin.z), d(ray.dir.x, ray.dir.y, ray.dir.z);
+    const Vec3d o{ray.origin.x, ray.origin.y, ray.origin.z}, d{ray.dir.x, ray.dir.y, ray.dir.z};
     const double dd = dot(d, d);
     if (!(dd > 0)) return side;
     const double t = std::max(0.0, dot(camera.target - o, d) / dd);
