@@ -5,6 +5,7 @@
 /// is an empty inline function and the optimizer removes the event entirely, so
 /// the fast path and the instrumented path are the same code.
 
+#include <type_traits>
 #include <vector>
 
 #include "core/traversal/events.h"
@@ -14,6 +15,28 @@ namespace accelviz {
 /// The fast path: sees nothing, costs nothing.
 struct NoObserver {
     void on(const TraversalEvent&) {}
+};
+
+/// Whether a traversal's events are looked at (by every observer but NoObserver).
+template <class Observer>
+inline constexpr bool kObserverWatches = !std::is_same_v<Observer, NoObserver>;
+
+/// A value a traversal keeps only so that it can report it in events (a node's id,
+/// an exit distance), when nobody watches: then it is an empty type that takes no
+/// room in a [[no_unique_address]] member and reads as T{}. The walk must not
+/// depend on it.
+template <class T, bool kKept>
+struct KeptForEvents {
+    T value;
+    KeptForEvents() = default;
+    KeptForEvents(T v) : value(v) {}
+    operator T() const { return value; }
+};
+template <class T>
+struct KeptForEvents<T, false> {
+    KeptForEvents() = default;
+    KeptForEvents(T) {}
+    operator T() const { return T{}; }
 };
 
 /// Work done by one ray (or summed over many): what heat maps and bench show.
