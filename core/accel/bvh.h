@@ -184,7 +184,7 @@ Hit Bvh::unordered(const Ray& ray, Observer& obs) const {
     const BoxTestRay box_ray(ray);
     Ray shrinking = ray;  // t_max follows the closest hit, for the triangle tests only
     StackEntry<true> stack[kBvhStackSize];  // always with the id: a popped node's own box is tested next
-    int stack_size = 0;
+    StackEntry<true>* top = stack;  // one past the last entry
     uint32_t node = 0;
     while (true) {
         const BvhNode& n = nodes[node];
@@ -203,14 +203,14 @@ Hit Bvh::unordered(const Ray& ray, Observer& obs) const {
                 // Left now, right later. The right box is not tested yet: the stack
                 // entry carries this node's interval, a bound on the child's.
                 const uint32_t right = n.first + 1;
-                stack[stack_size++] = {nodes[right].first, nodes[right].count, box.t_enter, right, box.t_exit};
+                *top++ = {nodes[right].first, nodes[right].count, box.t_enter, right, box.t_exit};
                 obs.on({.kind = EventKind::Push, .node = right, .t_enter = box.t_enter, .t_exit = box.t_exit});
                 node = n.first;
                 continue;
             }
         }
-        if (stack_size == 0) break;
-        const StackEntry<true> next = stack[--stack_size];
+        if (top == stack) break;
+        const StackEntry<true> next = *--top;
         obs.on({.kind = EventKind::Pop, .node = next.node, .t_enter = next.t_enter, .t_exit = next.t_exit});
         node = next.node;
     }
@@ -224,7 +224,7 @@ Hit Bvh::ordered(const Ray& ray, Observer& obs) const {
     const BoxTestRay box_ray(ray);
     Ray shrinking = ray;  // t_max follows the closest hit, for the triangle tests
     StackEntryFor<Observer> stack[kBvhStackSize];
-    int stack_size = 0;
+    StackEntryFor<Observer>* top = stack;  // one past the last entry
 
     // The root's box; after this, boxes are tested from the parent, both children at once.
     const SlabResult root = widened_slab_test<kMayStartBehind>(nodes[0].bounds, box_ray, ray.t_min, ray.t_max);
@@ -255,13 +255,13 @@ Hit Bvh::ordered(const Ray& ray, Observer& obs) const {
             if (keep_left && keep_right) {
                 // Nearer first (the left on a tie); the other waits on the stack with its interval.
                 if (b.t_enter < a.t_enter) {
-                    stack[stack_size++] = entry<Observer>(left, a.t_enter, a.t_exit);
+                    *top++ = entry<Observer>(left, a.t_enter, a.t_exit);
                     current = entry<Observer>(right, b.t_enter, b.t_exit);
                 } else {
-                    stack[stack_size++] = entry<Observer>(right, b.t_enter, b.t_exit);
+                    *top++ = entry<Observer>(right, b.t_enter, b.t_exit);
                     current = entry<Observer>(left, a.t_enter, a.t_exit);
                 }
-                const StackEntryFor<Observer>& far = stack[stack_size - 1];
+                const StackEntryFor<Observer>& far = top[-1];
                 obs.on({.kind = EventKind::Push, .node = far.node, .t_enter = far.t_enter, .t_exit = far.t_exit});
                 continue;
             }
@@ -276,8 +276,8 @@ Hit Bvh::ordered(const Ray& ray, Observer& obs) const {
         }
         // Next deferred node, skipping those the closest hit has overtaken meanwhile.
         bool found = false;
-        while (stack_size > 0) {
-            const StackEntryFor<Observer> next = stack[--stack_size];
+        while (top != stack) {
+            const StackEntryFor<Observer> next = *--top;
             obs.on({.kind = EventKind::Pop, .node = next.node, .t_enter = next.t_enter, .t_exit = next.t_exit});
             if (next.t_enter > best.t) {
                 obs.on({.kind = EventKind::Cull, .reason = CullReason::BeyondClosestHit, .node = next.node,
@@ -302,7 +302,7 @@ bool Bvh::any_hit(const Ray& ray, Observer& obs) const {
     if (nodes.empty()) return finish(Hit{});
     const BoxTestRay box_ray(ray);
     StackEntryFor<Observer> stack[kBvhStackSize];
-    int stack_size = 0;
+    StackEntryFor<Observer>* top = stack;  // one past the last entry
     const SlabResult root = widened_slab_test<kMayStartBehind>(nodes[0].bounds, box_ray, ray.t_min, ray.t_max);
     obs.on({.kind = EventKind::BoxTest, .hit = entered(root), .node = 0, .t_enter = root.t_enter, .t_exit = root.t_exit});
     if (!entered(root)) {
@@ -340,7 +340,7 @@ bool Bvh::any_hit(const Ray& ray, Observer& obs) const {
             if (keep[0] && keep[1]) {
                 const bool right_first = child[1].t_enter < child[0].t_enter;
                 const StackEntryFor<Observer>& far = child[right_first ? 0 : 1];
-                stack[stack_size++] = far;
+                *top++ = far;
                 obs.on({.kind = EventKind::Push, .node = far.node, .t_enter = far.t_enter, .t_exit = far.t_exit});
                 current = child[right_first ? 1 : 0];
                 continue;
@@ -350,8 +350,8 @@ bool Bvh::any_hit(const Ray& ray, Observer& obs) const {
                 continue;
             }
         }
-        if (stack_size == 0) break;
-        current = stack[--stack_size];
+        if (top == stack) break;
+        current = *--top;
         obs.on({.kind = EventKind::Pop, .node = current.node, .t_enter = current.t_enter, .t_exit = current.t_exit});
     }
     return finish(Hit{});
