@@ -21,10 +21,10 @@ struct NoObserver {
 template <class Observer>
 inline constexpr bool kObserverWatches = !std::is_same_v<Observer, NoObserver>;
 
-/// A value a traversal keeps only so that it can report it in events (a node's id,
-/// an exit distance), when nobody watches: then it is an empty type that takes no
-/// room in a [[no_unique_address]] member and reads as T{}. The walk must not
-/// depend on it.
+/// A value a traversal carries only to report it in events (a node's id, an exit
+/// distance). When nobody watches (kKept false) it is an empty type: as a
+/// [[no_unique_address]] member it takes no room, and it reads as T{}. So the walk
+/// itself must never depend on it (the brute-force tests run the unwatched walk).
 template <class T, bool kKept>
 struct KeptForEvents {
     T value;
