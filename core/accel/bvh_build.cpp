@@ -43,43 +43,13 @@ struct alignas(16) Box4 {
         }
 #endif
     }
-    /// Grows by a point given as four floats at a 16-byte aligned address (the fourth
-    /// is read and ignored).
-    void grow_point(const float* p) {
-#if defined(__SSE__)
-        const __m128 v = _mm_load_ps(p);
-        _mm_store_ps(lo, _mm_min_ps(_mm_load_ps(lo), v));
-        _mm_store_ps(hi, _mm_max_ps(_mm_load_ps(hi), v));
-#else
-        for (int i = 0; i < 3; ++i) {
-            lo[i] = std::min(lo[i], p[i]);
-            hi[i] = std::max(hi[i], p[i]);
-        }
-#endif
-    }
     /// grow(b) if `yes`, else nothing; without a branch.
-    void grow_if(bool yes, const Box4& b) {
-#if defined(__SSE4_1__)
-        const __m128 mask = _mm_castsi128_ps(_mm_set1_epi32(-int(yes)));
-        const __m128 l = _mm_load_ps(lo), h = _mm_load_ps(hi);
-        _mm_store_ps(lo, _mm_blendv_ps(l, _mm_min_ps(l, _mm_load_ps(b.lo)), mask));
-        _mm_store_ps(hi, _mm_blendv_ps(h, _mm_max_ps(h, _mm_load_ps(b.hi)), mask));
-#else
-        if (yes) grow(b);
-#endif
-    }
-    /// grow_point(p) if `yes`, else nothing; without a branch.
-    void grow_point_if(bool yes, const float* p) {
-#if defined(__SSE4_1__)
-        const __m128 mask = _mm_castsi128_ps(_mm_set1_epi32(-int(yes)));
-        const __m128 v = _mm_load_ps(p), l = _mm_load_ps(lo), h = _mm_load_ps(hi);
-        _mm_store_ps(lo, _mm_blendv_ps(l, _mm_min_ps(l, v), mask));
-        _mm_store_ps(hi, _mm_blendv_ps(h, _mm_max_ps(h, v), mask));
-#else
-        if (yes) grow_point(p);
-#endif
-    }
+    void grow_if(bool yes, const Box4& b) { grow_by_if(yes, b.lo, b.hi); }
+    /// The same for a point given as four floats at a 16-byte aligned address (the
+    /// fourth is read and ignored).
+    void grow_point_if(bool yes, const float* p) { grow_by_if(yes, p, p); }
     Aabb aabb() const { return {{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}}; }
+
     /// Aabb::area(), the same arithmetic in the same order (so the same float).
     float area() const {
 #if defined(__SSE__)
@@ -93,6 +63,23 @@ struct alignas(16) Box4 {
         if (!(lo[0] <= hi[0] && lo[1] <= hi[1] && lo[2] <= hi[2])) return 0.0f;  // empty
         const float ex = hi[0] - lo[0], ey = hi[1] - lo[1], ez = hi[2] - lo[2];
         return 2.0f * (ex * ey + ey * ez + ez * ex);
+#endif
+    }
+
+private:
+    /// Grows to take in the box [low, high] (four aligned floats each) if `yes`.
+    void grow_by_if(bool yes, const float* low, const float* high) {
+#if defined(__SSE4_1__)
+        const __m128 mask = _mm_castsi128_ps(_mm_set1_epi32(-int(yes)));
+        const __m128 l = _mm_load_ps(lo), h = _mm_load_ps(hi);
+        _mm_store_ps(lo, _mm_blendv_ps(l, _mm_min_ps(l, _mm_load_ps(low)), mask));
+        _mm_store_ps(hi, _mm_blendv_ps(h, _mm_max_ps(h, _mm_load_ps(high)), mask));
+#else
+        if (!yes) return;
+        for (int i = 0; i < 3; ++i) {
+            lo[i] = std::min(lo[i], low[i]);
+            hi[i] = std::max(hi[i], high[i]);
+        }
 #endif
     }
 };
@@ -386,11 +373,7 @@ public:
             for (int j = 1; j < filled_count; ++j)
                 cost_after[j] = model_.split_cost(area, left_area[j], left_count[j], right_area[j], right_count[j]);
             for (int j = 1; j < filled_count; ++j) {
-                if (cost_after[j] < best.cost) {  // strict: the first axis and plane win a tie
-                    const int plane = filled[j - 1] + 1;
-                    best = {.found = true, .axis = axis, .position = plane_position(axis, plane),
-                            .left_count = left_count[j], .cost = cost_after[j], .index = uint32_t(plane)};
-                }
+                keep_if_cheaper(best, cost_after[j], axis, filled[j - 1] + 1, left_count[j]);
             }
             if (step) {  // every plane for the stepper: +inf where one side is empty
                 int j = 0;  // non-empty bins left of plane i
@@ -444,12 +427,8 @@ public:
             for (uint32_t i = 1; i < n; ++i) {
                 left.grow(refs[order[i - 1]].box);
                 if (bin_at(i - 1) == bin_at(i)) continue;  // no plane between two triangles of one bin
-                const float cost = model_.split_cost(area, left.area(), i, right_area[i], n - i);
-                if (cost < best.cost) {  // strict: the first axis and plane win a tie
-                    const int plane = bin_at(i - 1) + 1;
-                    best = {.found = true, .axis = axis, .position = plane_position(axis, plane), .left_count = i,
-                            .cost = cost, .index = uint32_t(plane)};
-                }
+                keep_if_cheaper(best, model_.split_cost(area, left.area(), i, right_area[i], n - i), axis,
+                                bin_at(i - 1) + 1, i);
             }
         }
         return best;
@@ -491,6 +470,14 @@ private:
     };
 
     float plane_position(int axis, int plane) const { return map_.origin[axis] + float(plane) / map_.scale[axis]; }
+
+    /// The plane before bin `plane` on `axis` replaces `best` if strictly cheaper (so
+    /// the first axis, then the first plane, wins a tie).
+    void keep_if_cheaper(SplitChoice& best, float cost, int axis, int plane, uint32_t left_count) const {
+        if (!(cost < best.cost)) return;
+        best = {.found = true, .axis = axis, .position = plane_position(axis, plane), .left_count = left_count,
+                .cost = cost, .index = uint32_t(plane)};
+    }
 
     int bin_count_;
     SahCostModel model_;
@@ -751,13 +738,12 @@ Bvh build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecorder* recor
         // The left child goes straight on as the next task; the right one waits on the
         // stack: left subtrees are built (and laid out) first, depth first.
         std::vector<Task> work;
-        Task next{0, 0, n, 0, false, {}, {}};
-        bool have_next = true;
-        while (have_next || !work.empty()) {
+        std::optional<Task> left_next = Task{0, 0, n, 0, false, {}, {}};
+        while (left_next || !work.empty()) {
             Task task;
-            if (have_next) {
-                task = next;
-                have_next = false;
+            if (left_next) {
+                task = *left_next;
+                left_next.reset();
             } else {
                 task = work.back();
                 work.pop_back();
@@ -795,8 +781,8 @@ Bvh build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecorder* recor
                 bvh.nodes[task.node].count = 0;
                 work.push_back({left + 1, mid, range.end, task.depth + 1, true, children.bounds[1],
                                 children.centroid_bounds[1]});
-                next = {left, range.begin, mid, task.depth + 1, true, children.bounds[0], children.centroid_bounds[0]};
-                have_next = true;
+                left_next = Task{left, range.begin, mid, task.depth + 1, true, children.bounds[0],
+                                 children.centroid_bounds[0]};
                 if (step) {
                     step->split_cost = model.split_cost(bounds.area(), children.bounds[0].area(), mid - range.begin,
                                                         children.bounds[1].area(), range.end - mid);
