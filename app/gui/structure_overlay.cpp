@@ -99,9 +99,9 @@ void bvh_overlay(const Bvh& bvh, const OverlaySettings& s, StructureOverlay& out
 void octree_overlay(const Octree& tree, const OverlaySettings& s, StructureOverlay& out) {
     if (tree.nodes.empty()) return;
     const std::vector<Aabb> boxes = tree.node_boxes();
-    struct Cell { uint32_t node; Aabb box; int depth; };
-    std::vector<Cell> cells;  // every cell with its box and depth, depth first
-    std::vector<Cell> stack = {{0, boxes[0], 0}};
+    struct Cell { uint32_t node; int depth; };
+    std::vector<Cell> cells;  // every cell with its depth, depth first
+    std::vector<Cell> stack = {{0, 0}};
     while (!stack.empty()) {
         const Cell c = stack.back();
         stack.pop_back();
@@ -109,10 +109,7 @@ void octree_overlay(const Octree& tree, const OverlaySettings& s, StructureOverl
         out.deepest_level = std::max(out.deepest_level, c.depth);
         const OctreeNode& n = tree.nodes[c.node];
         if (!n.is_leaf())
-            for (int o = 7; o >= 0; --o) {
-                const uint32_t child = n.first + uint32_t(o);
-                stack.push_back({child, boxes[child], c.depth + 1});
-            }
+            for (int o = 7; o >= 0; --o) stack.push_back({n.first + uint32_t(o), c.depth + 1});
     }
     std::vector<size_t> per_level;
     for (const Cell& c : cells) {
@@ -125,7 +122,8 @@ void octree_overlay(const Octree& tree, const OverlaySettings& s, StructureOverl
         const OctreeNode& n = tree.nodes[c.node];
         if (!levels.contains(c.depth)) continue;
         if (s.leaves_only && (!n.is_leaf() || n.count == 0)) continue;
-        out.boxes.push_back({c.box.lo, c.box.hi, level_colour(level_position(c.depth, levels.lo, levels.hi))});
+        const Aabb& box = boxes[c.node];
+        out.boxes.push_back({box.lo, box.hi, level_colour(level_position(c.depth, levels.lo, levels.hi))});
     }
     out.legend = range_legend(s.leaves_only ? "Octree non-empty leaves" : "Octree cells", shown, out.deepest_level,
                               s.max_boxes);
@@ -136,9 +134,9 @@ void octree_overlay(const Octree& tree, const OverlaySettings& s, StructureOverl
 void kd_overlay(const KdTree& tree, const OverlaySettings& s, StructureOverlay& out) {
     if (tree.nodes.empty()) return;
     const std::vector<Aabb> boxes = tree.node_boxes();
-    struct Cell { uint32_t node; Aabb box; int depth; };
-    std::vector<Cell> cells;  // every node with its box and depth, depth first
-    std::vector<Cell> stack = {{0, boxes[0], 0}};
+    struct Cell { uint32_t node; int depth; };
+    std::vector<Cell> cells;  // every node with its depth, depth first
+    std::vector<Cell> stack = {{0, 0}};
     while (!stack.empty()) {
         const Cell c = stack.back();
         stack.pop_back();
@@ -146,8 +144,8 @@ void kd_overlay(const KdTree& tree, const OverlaySettings& s, StructureOverlay& 
         out.deepest_level = std::max(out.deepest_level, c.depth);
         const KdNode& n = tree.nodes[c.node];
         if (n.is_leaf()) continue;
-        stack.push_back({n.upper_child(), boxes[n.upper_child()], c.depth + 1});
-        stack.push_back({n.lower_child(), boxes[n.lower_child()], c.depth + 1});
+        stack.push_back({n.upper_child(), c.depth + 1});
+        stack.push_back({n.lower_child(), c.depth + 1});
     }
     std::vector<size_t> per_level;  // one box (a leaf, or a plane's outline) per counted node
     for (const Cell& c : cells) {
@@ -160,19 +158,20 @@ void kd_overlay(const KdTree& tree, const OverlaySettings& s, StructureOverlay& 
         const KdNode& n = tree.nodes[c.node];
         if (!levels.contains(c.depth)) continue;
         const double x = level_position(c.depth, levels.lo, levels.hi);
+        const Aabb& box = boxes[c.node];
         if (s.leaves_only) {
-            if (n.is_leaf() && n.count > 0) out.boxes.push_back({c.box.lo, c.box.hi, level_colour(x)});
+            if (n.is_leaf() && n.count > 0) out.boxes.push_back({box.lo, box.hi, level_colour(x)});
             continue;
         }
         if (n.is_leaf()) continue;
         // The plane x_axis = split, as a rectangle spanning the node's box.
         ColouredQuad quad;
-        const std::array<Vec3, 4> corners = plane_across_box(c.box, n.axis, n.split);
+        const std::array<Vec3, 4> corners = plane_across_box(box, n.axis, n.split);
         std::copy(corners.begin(), corners.end(), quad.corners);
         quad.colour = level_colour(x, 70);
         out.quads.push_back(quad);
         // The rectangle's outline, so the plane reads edge-on too: a flat box.
-        Aabb rim = c.box;
+        Aabb rim = box;
         rim.lo[n.axis] = rim.hi[n.axis] = n.split;
         out.boxes.push_back({rim.lo, rim.hi, level_colour(x, 200)});
     }
