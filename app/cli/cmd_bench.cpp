@@ -10,8 +10,10 @@
 // machine shared with other work, is the steadier figure for one thread). per_ray is
 // the work behind them (nodes visited, box and triangle tests, mailbox skips), from
 // one more, untimed pass with the counting observer. With a reference, ours and the
-// reference alternate run by run (build, build, ..., trace, trace, ...), so their
-// ratio holds on a machine whose speed drifts.
+// reference alternate run by run (build, build, ..., trace, trace, ...), and each ratio
+// is the median of the run-by-run ratios (each of our runs against the reference's run
+// right after it): a machine whose speed drifts, or a burst of load from elsewhere,
+// then spoils a pair, not the ratio.
 #include <time.h>
 #include <unistd.h>
 
@@ -60,6 +62,15 @@ double median(std::vector<double> values) {
     std::sort(values.begin(), values.end());
     const size_t n = values.size();
     return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+/// The median over runs of numerator_ms[i] / denominator_ms[i]: the two runs of a pair
+/// ran back to back, under the same load.
+double median_of_run_ratios(const std::vector<double>& numerator_ms, const std::vector<double>& denominator_ms) {
+    std::vector<double> ratios;
+    for (size_t i = 0; i < std::min(numerator_ms.size(), denominator_ms.size()); ++i)
+        ratios.push_back(numerator_ms[i] / denominator_ms[i]);
+    return ratios.empty() ? 0.0 : median(ratios);
 }
 
 /// Progress lines go to stderr, and only to a terminal (never into a captured log).
@@ -210,8 +221,8 @@ int run_bench(const BenchOptions& opt) {
         const nlohmann::ordered_json embree_summary = summary(embree, rays.size());
         for (const auto& [key, value] : embree_summary.items()) ref[key] = value;
         ref["same_triangle_percent"] = 100.0 * double(same) / double(rays.size());
-        ref["speed_ratio"] = ours.mrays_per_s(rays.size()) / embree.mrays_per_s(rays.size());
-        ref["build_ratio"] = median(ours.build_ms) / median(embree.build_ms);
+        ref["speed_ratio"] = median_of_run_ratios(embree.frame_ms, ours.frame_ms);  // our speed / Embree's
+        ref["build_ratio"] = median_of_run_ratios(ours.build_ms, embree.build_ms);  // our build time / Embree's
         out["reference"] = ref;
     }
 #endif
@@ -240,7 +251,8 @@ int run_bench(const BenchOptions& opt) {
     if (out.contains("reference")) {
         const auto& ref = out["reference"];
         row("embree", ref);
-        std::printf("ratio      speed %.2fx Embree, build %.2fx Embree's time; same triangle on %.3f%% of pixels\n",
+        std::printf("ratio      speed %.2fx Embree, build %.2fx Embree's time (medians of run-by-run ratios); "
+                    "same triangle on %.3f%% of pixels\n",
                     ref["speed_ratio"].get<double>(), ref["build_ratio"].get<double>(),
                     ref["same_triangle_percent"].get<double>());
     }
