@@ -122,13 +122,17 @@ private:
         [[no_unique_address]] KeptForEvents<float, kWatched> t_exit;
 
         bool is_leaf() const { return count > 0; }
+        /// The entry of node `id` (= n), whose box the ray enters at t_enter and leaves at t_exit.
+        static StackEntry of(const BvhNode& n, uint32_t id, float t_enter, float t_exit) {
+            return {n.first, n.count, t_enter, id, t_exit};
+        }
     };
     static_assert(sizeof(StackEntry<false>) == 12, "unwatched, a stack entry is first, count and t_enter");
     template <class Observer>
     using StackEntryFor = StackEntry<kObserverWatches<Observer>>;
     template <class Observer>
     StackEntryFor<Observer> entry(uint32_t node, float t_enter, float t_exit) const {
-        return {nodes[node].first, nodes[node].count, t_enter, node, t_exit};
+        return StackEntryFor<Observer>::of(nodes[node], node, t_enter, t_exit);
     }
 
     /// Tests the triangles of `leaf` against `ray` (whose t_max is the closest
@@ -198,12 +202,12 @@ Hit Bvh::unordered(const Ray& ray, Observer& obs) const {
         } else {
             obs.on({.kind = EventKind::VisitNode, .node = node, .t_enter = box.t_enter, .t_exit = box.t_exit});
             if (n.is_leaf()) {
-                intersect_leaf<Observer>({n.first, n.count, box.t_enter, node, box.t_exit}, shrinking, best, obs);
+                intersect_leaf(StackEntryFor<Observer>::of(n, node, box.t_enter, box.t_exit), shrinking, best, obs);
             } else {
                 // Left now, right later. The right box is not tested yet: the stack
                 // entry carries this node's interval, a bound on the child's.
                 const uint32_t right = n.first + 1;
-                *top++ = {nodes[right].first, nodes[right].count, box.t_enter, right, box.t_exit};
+                *top++ = StackEntry<true>::of(nodes[right], right, box.t_enter, box.t_exit);
                 obs.on({.kind = EventKind::Push, .node = right, .t_enter = box.t_enter, .t_exit = box.t_exit});
                 node = n.first;
                 continue;
