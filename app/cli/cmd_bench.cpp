@@ -42,6 +42,7 @@ struct BenchOptions {
     int repeat = 5;
     bool json = false;
     std::string reference;
+    int embree_width = 0;  ///< children per node of Embree's BVH: 4, 8, or 0 = Embree's choice
     CameraFlags camera;
     AccelConfig accel;
 };
@@ -116,6 +117,7 @@ int run_bench(const BenchOptions& opt) {
 #ifndef ACCELVIZ_HAVE_EMBREE
     if (!opt.reference.empty()) return fail("--reference embree: this build has no Embree (CMake did not find embree 3)");
 #endif
+    if (opt.embree_width != 0 && opt.reference != "embree") return fail("--embree-width needs --reference embree");
     auto mesh = load_scene(opt.scene);
     if (!mesh) return fail(mesh.error());
     auto camera_params = opt.camera.resolve(mesh->bounds());
@@ -129,7 +131,7 @@ int run_bench(const BenchOptions& opt) {
 #ifdef ACCELVIZ_HAVE_EMBREE
     std::unique_ptr<EmbreeReference> reference;
     Measured embree;
-    if (opt.reference == "embree") reference = std::make_unique<EmbreeReference>(opt.threads);
+    if (opt.reference == "embree") reference = std::make_unique<EmbreeReference>(opt.threads, opt.embree_width);
 #endif
     Measured ours;
     std::shared_ptr<const Accelerator> accel;
@@ -217,6 +219,7 @@ int run_bench(const BenchOptions& opt) {
         ref["name"] = "embree";
         ref["version"] = EmbreeReference::version();
         ref["build_quality"] = "high";
+        ref["bvh"] = reference->bvh_description();
         ref["call"] = "rtcIntersect1, one ray per call";
         const nlohmann::ordered_json embree_summary = summary(embree, rays.size());
         for (const auto& [key, value] : embree_summary.items()) ref[key] = value;
@@ -250,6 +253,8 @@ int run_bench(const BenchOptions& opt) {
                 w["mailbox_skips"].get<double>());
     if (out.contains("reference")) {
         const auto& ref = out["reference"];
+        std::printf("reference  %s, high-quality BVH, %s, rtcIntersect1\n", ref["version"].get<std::string>().c_str(),
+                    ref["bvh"].get<std::string>().c_str());
         row("embree", ref);
         std::printf("ratio      speed %.2fx Embree, build %.2fx Embree's time (medians of run-by-run ratios); "
                     "same triangle on %.3f%% of pixels\n",
@@ -280,6 +285,10 @@ Command register_bench(CLI::App& app) {
 #endif
                     )
         ->check(CLI::IsMember({"embree"}));
+    sub->add_option("--embree-width", opt->embree_width,
+                    "With --reference embree: children per node of Embree's BVH, 4 or 8 "
+                    "(default: Embree's choice, 8 on a CPU with AVX)")
+        ->check(CLI::IsMember({4, 8}));
     opt->camera.add_to(*sub);
     add_accel_flags(*sub, opt->accel);
     return {sub, [opt] { return run_bench(*opt); }};

@@ -2,6 +2,10 @@
 /// Embree 3 as a production reference for `bench --reference embree` (only when
 /// CMake found Embree: ACCELVIZ_HAVE_EMBREE). Its high-quality BVH over the same
 /// triangles, traced with rtcIntersect1, one ray per call, on the same rays.
+///
+/// Embree's BVH is not binary: by default it picks 8 children per node on a CPU with
+/// AVX (BVH8, whose eight boxes one AVX/AVX-512 instruction tests at once) and 4
+/// without. `bvh_width` can ask for either, so the price of a wider node is measured.
 
 #include <memory>
 #include <string>
@@ -14,13 +18,17 @@ namespace accelviz::cli {
 
 class EmbreeReference {
 public:
-    /// A device limited to `threads` threads (0 = Embree's default, all cores).
-    explicit EmbreeReference(int threads);
+    /// A device limited to `threads` threads (0 = Embree's default, all cores),
+    /// building BVHs of `bvh_width` children per node (4 or 8; 0 = Embree's choice).
+    explicit EmbreeReference(int threads, int bvh_width = 0);
     ~EmbreeReference();
     EmbreeReference(const EmbreeReference&) = delete;
     EmbreeReference& operator=(const EmbreeReference&) = delete;
 
+    /// The BVH it builds, for people: "8-wide (Embree's choice on this CPU)", "4-wide".
+    std::string bvh_description() const;
     /// Builds (or rebuilds) the scene over `mesh`; returns the wall time in ms.
+    /// Throws std::runtime_error if Embree reports an error.
     double build(const Mesh& mesh);
     /// Closest hit of every ray into `results` (primID, tfar), on `threads` threads.
     void trace(const std::vector<Ray>& rays, int threads, RayResults& results) const;
@@ -30,6 +38,7 @@ public:
 private:
     struct State;
     std::unique_ptr<State> state_;
+    int bvh_width_ = 0;
 };
 
 }  // namespace accelviz::cli
