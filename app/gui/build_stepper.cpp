@@ -79,10 +79,10 @@ BvhConfig chart_config(const BvhConfig& built, const BuildStepSettings& settings
 
 std::shared_ptr<const BuildTrace> record_build(std::shared_ptr<const LoadedScene> scene) {
     if (!scene || !scene->accel || !scene->mesh) return nullptr;
-    const auto* bvh = dynamic_cast<const AcceleratorFor<Bvh>*>(scene->accel.get());
+    const Bvh* bvh = structure_if<Bvh>(*scene->accel);
     if (!bvh) return nullptr;
     auto trace = std::make_shared<BuildTrace>();
-    trace->config = bvh->structure().build_config;
+    trace->config = bvh->build_config;
     BuildRecorder recorder;
     recorder.record_candidates = false;  // the chart recomputes one node's (sah_chart.h)
     const auto start = std::chrono::steady_clock::now();

@@ -214,21 +214,21 @@ LeafHistogram leaf_histogram(const Accelerator& accel) {
         if (out.counts.size() <= triangles) out.counts.resize(triangles + 1, 0);
         ++out.counts[triangles];
     };
-    if (auto* bvh = dynamic_cast<const AcceleratorFor<Bvh>*>(&accel)) {
+    if (const Bvh* bvh = structure_if<Bvh>(accel)) {
         out.what = "BVH leaves";
-        for (const BvhNode& n : bvh->structure().nodes)
+        for (const BvhNode& n : bvh->nodes)
             if (n.is_leaf()) add(n.count);
-    } else if (auto* octree = dynamic_cast<const AcceleratorFor<Octree>*>(&accel)) {
+    } else if (const Octree* octree = structure_if<Octree>(accel)) {
         out.what = "octree leaves";
-        for (const OctreeNode& n : octree->structure().nodes)
+        for (const OctreeNode& n : octree->nodes)
             if (n.is_leaf()) add(n.count);
-    } else if (auto* kd = dynamic_cast<const AcceleratorFor<KdTree>*>(&accel)) {
+    } else if (const KdTree* kd = structure_if<KdTree>(accel)) {
         out.what = "KD leaves";
-        for (const KdNode& n : kd->structure().nodes)
+        for (const KdNode& n : kd->nodes)
             if (n.is_leaf()) add(n.count);
-    } else if (auto* grid = dynamic_cast<const AcceleratorFor<UniformGrid>*>(&accel)) {
+    } else if (const UniformGrid* grid = structure_if<UniformGrid>(accel)) {
         out.what = "grid cells";
-        const auto& start = grid->structure().cell_start;
+        const auto& start = grid->cell_start;
         for (size_t c = 0; c + 1 < start.size(); ++c) add(start[c + 1] - start[c]);
     }
     return out;
@@ -236,14 +236,14 @@ LeafHistogram leaf_histogram(const Accelerator& accel) {
 
 StructureOverlay make_structure_overlay(const Accelerator& accel, const OverlaySettings& settings) {
     StructureOverlay out;
-    if (auto* bvh = dynamic_cast<const AcceleratorFor<Bvh>*>(&accel))
-        bvh_overlay(bvh->structure(), settings, out);
-    else if (auto* octree = dynamic_cast<const AcceleratorFor<Octree>*>(&accel))
-        octree_overlay(octree->structure(), settings, out);
-    else if (auto* kd = dynamic_cast<const AcceleratorFor<KdTree>*>(&accel))
-        kd_overlay(kd->structure(), settings, out);
-    else if (auto* grid = dynamic_cast<const AcceleratorFor<UniformGrid>*>(&accel))
-        grid_overlay(grid->structure(), out);
+    if (const Bvh* bvh = structure_if<Bvh>(accel))
+        bvh_overlay(*bvh, settings, out);
+    else if (const Octree* octree = structure_if<Octree>(accel))
+        octree_overlay(*octree, settings, out);
+    else if (const KdTree* kd = structure_if<KdTree>(accel))
+        kd_overlay(*kd, settings, out);
+    else if (const UniformGrid* grid = structure_if<UniformGrid>(accel))
+        grid_overlay(*grid, out);
     else
         out.legend = "naive: no structure, every ray tests every triangle";
     return out;

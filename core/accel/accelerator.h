@@ -62,4 +62,12 @@ private:
     S s_;
 };
 
+/// The structure behind `accel` if it is an S (a Bvh, a KdTree, ...), else nullptr:
+/// for the code that draws or inspects one kind of structure in its own way.
+template <class S>
+const S* structure_if(const Accelerator& accel) {
+    const auto* adapted = dynamic_cast<const AcceleratorFor<S>*>(&accel);
+    return adapted ? &adapted->structure() : nullptr;
+}
+
 }  // namespace accelviz

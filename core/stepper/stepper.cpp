@@ -30,19 +30,17 @@ SteppedRay record_ray(const Accelerator& accel, const Ray& ray) {
 // [SECTION] Node boxes
 
 NodeBoxes::NodeBoxes(const Accelerator& accel) {
-    if (auto* bvh = dynamic_cast<const AcceleratorFor<Bvh>*>(&accel)) {
-        const Bvh& b = bvh->structure();
-        boxes_.reserve(b.nodes.size());
-        for (const BvhNode& n : b.nodes) boxes_.push_back(n.bounds);
-    } else if (auto* kd = dynamic_cast<const AcceleratorFor<KdTree>*>(&accel)) {
-        boxes_ = kd->structure().node_boxes();
-    } else if (auto* octree = dynamic_cast<const AcceleratorFor<Octree>*>(&accel)) {
-        boxes_ = octree->structure().node_boxes();
-    } else if (auto* grid = dynamic_cast<const AcceleratorFor<UniformGrid>*>(&accel)) {
-        const UniformGrid& g = grid->structure();
+    if (const Bvh* bvh = structure_if<Bvh>(accel)) {
+        boxes_.reserve(bvh->nodes.size());
+        for (const BvhNode& n : bvh->nodes) boxes_.push_back(n.bounds);
+    } else if (const KdTree* kd = structure_if<KdTree>(accel)) {
+        boxes_ = kd->node_boxes();
+    } else if (const Octree* octree = structure_if<Octree>(accel)) {
+        boxes_ = octree->node_boxes();
+    } else if (const UniformGrid* grid = structure_if<UniformGrid>(accel)) {
         grid_ = true;
-        grid_bounds_ = g.bounds;
-        planes_ = g.planes;
+        grid_bounds_ = grid->bounds;
+        planes_ = grid->planes;
     }
 }
 
@@ -399,8 +397,8 @@ Expected<CompareSet> build_compare_set(const Mesh& mesh) {
     if (!bvh_accel) return Error{"bvh: " + bvh_accel.error()};
     set.entries.push_back({"BVH alg. 1 (unordered)", *bvh_accel});
     // One build, the other traversal: a copy of the same tree.
-    if (auto* b = dynamic_cast<const AcceleratorFor<Bvh>*>(bvh_accel->get())) {
-        Bvh ordered = b->structure();
+    if (const Bvh* built = structure_if<Bvh>(**bvh_accel)) {
+        Bvh ordered = *built;
         ordered.traversal = BvhTraversal::Ordered;
         set.entries.push_back(
             {"BVH alg. 2 (ordered)", std::make_shared<AcceleratorFor<Bvh>>(std::move(ordered))});

@@ -20,7 +20,8 @@ std::shared_ptr<const LoadedScene> teapot_with(const char* type) {
 TEST(StructureOverlay, BvhAllLevelsIsEveryNodeAndLeavesOnlyIsEveryLeaf) {
     auto scene = teapot_with("bvh");
     ASSERT_TRUE(scene);
-    const Bvh& bvh = dynamic_cast<const AcceleratorFor<Bvh>&>(*scene->accel).structure();
+    ASSERT_NE(structure_if<Bvh>(*scene->accel), nullptr);
+    const Bvh& bvh = *structure_if<Bvh>(*scene->accel);
     OverlaySettings all;
     all.max_boxes = 0;
     EXPECT_EQ(make_structure_overlay(*scene->accel, all).boxes.size(), bvh.nodes.size());
@@ -74,7 +75,8 @@ TEST(LeafHistogram, BvhLeavesHoldEveryTriangleOnce) {
     ASSERT_TRUE(scene);
     const LeafHistogram h = leaf_histogram(*scene->accel);
     EXPECT_EQ(h.what, "BVH leaves");
-    const Bvh& bvh = dynamic_cast<const AcceleratorFor<Bvh>&>(*scene->accel).structure();
+    ASSERT_NE(structure_if<Bvh>(*scene->accel), nullptr);
+    const Bvh& bvh = *structure_if<Bvh>(*scene->accel);
     uint64_t leaves = 0, references = 0;
     for (const BvhNode& n : bvh.nodes) leaves += n.is_leaf();
     for (size_t k = 0; k < h.counts.size(); ++k) references += k * h.counts[k];
@@ -90,7 +92,8 @@ TEST(LeafHistogram, GridCountsEveryCellIncludingEmptyOnes) {
     ASSERT_TRUE(scene);
     const LeafHistogram h = leaf_histogram(*scene->accel);
     EXPECT_EQ(h.what, "grid cells");
-    const UniformGrid& grid = dynamic_cast<const AcceleratorFor<UniformGrid>&>(*scene->accel).structure();
+    ASSERT_NE(structure_if<UniformGrid>(*scene->accel), nullptr);
+    const UniformGrid& grid = *structure_if<UniformGrid>(*scene->accel);
     EXPECT_EQ(h.total(), uint64_t(grid.res[0]) * grid.res[1] * grid.res[2]);
     uint64_t references = 0;
     for (size_t k = 0; k < h.counts.size(); ++k) references += k * h.counts[k];
