@@ -25,7 +25,7 @@ public:
     EmbreeReference(const EmbreeReference&) = delete;
     EmbreeReference& operator=(const EmbreeReference&) = delete;
 
-    /// The BVH it builds, for people: "8-wide (Embree's choice on this CPU)", "4-wide".
+    /// The BVH it builds, for people: "4-wide", "8-wide (Embree's choice on CPUs with AVX, ...)".
     std::string bvh_description() const;
     /// Builds (or rebuilds) the scene over `mesh`; returns the wall time in ms.
     /// Throws std::runtime_error if Embree reports an error.
