@@ -253,7 +253,8 @@ int run_bench(const BenchOptions& opt) {
                 w["mailbox_skips"].get<double>());
     if (out.contains("reference")) {
         const auto& ref = out["reference"];
-        std::printf("reference  %s, rtcIntersect1, high-quality BVH: %s\n", ref["version"].get<std::string>().c_str(),
+        std::printf("reference  %s, %s, %s-quality BVH: %s\n", ref["version"].get<std::string>().c_str(),
+                    ref["call"].get<std::string>().c_str(), ref["build_quality"].get<std::string>().c_str(),
                     ref["bvh"].get<std::string>().c_str());
         row("embree", ref);
         std::printf("ratio      speed %.2fx Embree, build %.2fx Embree's time (medians of run-by-run ratios); "

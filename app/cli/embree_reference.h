@@ -4,7 +4,7 @@
 /// triangles, traced with rtcIntersect1, one ray per call, on the same rays.
 ///
 /// Embree's BVH is not binary: by default it picks 8 children per node on a CPU with
-/// AVX (BVH8, whose eight boxes one AVX/AVX-512 instruction tests at once) and 4
+/// AVX (BVH8: a node's eight boxes are tested together, one per SIMD lane) and 4
 /// without. `bvh_width` can ask for either, so the price of a wider node is measured.
 
 #include <memory>
