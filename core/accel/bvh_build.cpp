@@ -368,12 +368,12 @@ public:
                 left_count[j] = count;
             }
             // The cost of the plane just after each non-empty bin (one loop the compiler
-            // vectorizes), then the cheapest.
+            // vectorizes), then the best (is_better_split).
             float cost_after[kMaxBins];
             for (int j = 1; j < filled_count; ++j)
                 cost_after[j] = model_.split_cost(area, left_area[j], left_count[j], right_area[j], right_count[j]);
             for (int j = 1; j < filled_count; ++j) {
-                keep_if_cheaper(best, cost_after[j], axis, filled[j - 1] + 1, left_count[j]);
+                keep_if_better(best, cost_after[j], axis, filled[j - 1] + 1, left_count[j], range.count());
             }
             if (step) {  // every plane for the stepper: +inf where one side is empty
                 int j = 0;  // non-empty bins left of plane i
@@ -427,8 +427,8 @@ public:
             for (uint32_t i = 1; i < n; ++i) {
                 left.grow(refs[order[i - 1]].box);
                 if (bin_at(i - 1) == bin_at(i)) continue;  // no plane between two triangles of one bin
-                keep_if_cheaper(best, model_.split_cost(area, left.area(), i, right_area[i], n - i), axis,
-                                bin_at(i - 1) + 1, i);
+                keep_if_better(best, model_.split_cost(area, left.area(), i, right_area[i], n - i), axis,
+                               bin_at(i - 1) + 1, i, n);
             }
         }
         return best;
@@ -471,10 +471,11 @@ private:
 
     float plane_position(int axis, int plane) const { return map_.origin[axis] + float(plane) / map_.scale[axis]; }
 
-    /// The plane before bin `plane` on `axis` replaces `best` if strictly cheaper (so
-    /// the first axis, then the first plane, wins a tie).
-    void keep_if_cheaper(SplitChoice& best, float cost, int axis, int plane, uint32_t left_count) const {
-        if (!(cost < best.cost)) return;
+    /// The plane before bin `plane` on `axis` replaces `best` if it is the better split
+    /// of the node's `count` triangles (is_better_split: cheaper, or as cheap and more even).
+    void keep_if_better(SplitChoice& best, float cost, int axis, int plane, uint32_t left_count,
+                        uint32_t count) const {
+        if (!is_better_split(cost, left_count, best.cost, best.left_count, count)) return;
         best = {.found = true, .axis = axis, .position = plane_position(axis, plane), .left_count = left_count,
                 .cost = cost, .index = uint32_t(plane)};
     }
@@ -543,7 +544,7 @@ public:
                     step->candidate_positions[axis].push_back(after);
                     step->candidate_costs[axis].push_back(cost);
                 }
-                if (cost < best.cost)
+                if (is_better_split(cost, i, best.cost, best.left_count, n))
                     best = {.found = true, .axis = axis, .position = after, .left_count = i, .cost = cost, .index = i};
             }
         }

@@ -73,11 +73,16 @@ HeuristicCut midpoint_cut(const std::vector<Ref>& refs, const Aabb& centroid_bou
     return cut;
 }
 
-/// The chart's cheapest plane so far, across the three axes: a strictly cheaper
-/// one replaces it (so the first axis, then the first plane, wins a tie, as in the builder).
-void keep_if_cheapest(SahChart& chart, float cost, int axis, float position, uint32_t left_count, const Aabb& left,
-                      const Aabb& right) {
-    if (!(cost < chart.best_cost)) return;
+/// The chart's best plane so far, across the three axes, of a node of `count`
+/// triangles: the same rule as the builder (is_better_split: cheaper, or as cheap and more even).
+void keep_if_best(SahChart& chart, float cost, int axis, float position, uint32_t left_count, uint32_t count,
+                  const Aabb& left, const Aabb& right) {
+    if (cost == chart.best_cost && cost < kInfinity &&
+        std::max(left_count, count - left_count) != std::max(chart.best_left_count, count - chart.best_left_count))
+        chart.best_tied = true;
+    else if (cost < chart.best_cost)
+        chart.best_tied = false;
+    if (!is_better_split(cost, left_count, chart.best_cost, chart.best_left_count, count)) return;
     chart.best_cost = cost;
     chart.best_axis = axis;
     chart.best_position = position;
@@ -128,7 +133,7 @@ void binned_axis(const std::vector<Ref>& refs, int axis, int bin_count, const Sa
         out.positions.push_back(position);
         out.costs.push_back(cost);
         out.left_counts.push_back(count);
-        keep_if_cheapest(chart, cost, axis, position, count, left, right_box[size_t(i)]);
+        keep_if_best(chart, cost, axis, position, count, uint32_t(refs.size()), left, right_box[size_t(i)]);
     }
 }
 
@@ -154,7 +159,7 @@ void sweep_axis(const std::vector<Ref>& refs, int axis, const SahCostModel& mode
         const float cost = before < after ? model.split_cost(area, left.area(), i, right_box[i].area(), n - i) : kInfinity;
         positions.push_back(after);
         costs.push_back(cost);
-        keep_if_cheapest(chart, cost, axis, after, i, left, right_box[i]);
+        keep_if_best(chart, cost, axis, after, i, n, left, right_box[i]);
     }
     out.candidates = positions.size();
     out.stride = 1;
@@ -162,12 +167,12 @@ void sweep_axis(const std::vector<Ref>& refs, int axis, const SahCostModel& mode
         out.subsampled = true;
         out.stride = (positions.size() + max_points - 1) / max_points;
     }
-    // Each listed candidate is the cheapest of its run of `stride` (the first on a tie).
+    // Each listed candidate is the best of its run of `stride` (the builder's rule).
     for (size_t start = 0; start < positions.size(); start += out.stride) {
         const size_t end = std::min(positions.size(), start + out.stride);
         size_t pick = start;
         for (size_t k = start + 1; k < end; ++k)
-            if (costs[k] < costs[pick]) pick = k;
+            if (is_better_split(costs[k], uint32_t(k + 1), costs[pick], uint32_t(pick + 1), n)) pick = k;
         out.positions.push_back(positions[pick]);
         out.costs.push_back(costs[pick]);
         out.left_counts.push_back(uint32_t(pick + 1));
@@ -186,6 +191,7 @@ void write_verdict(SahChart& chart) {
     const bool sah = chart.builder == BvhBuilder::SahBinned || chart.builder == BvhBuilder::SahSweep;
     const std::string leaf = format_cost(chart.leaf_cost), best = format_cost(chart.best_cost);
     const std::string limit = std::to_string(chart.max_leaf_size);
+    const std::string tie = chart.best_tied ? " (other planes cost the same: the most even one is taken)" : "";
     auto set = [&](ChartVerdict v, std::string text) {
         chart.verdict = v;
         chart.verdict_text = std::move(text);
@@ -201,7 +207,7 @@ void write_verdict(SahChart& chart) {
                                             "): split at the " + std::string(to_string(chart.builder)) + " plane.");
     }
     if (plane && chart.best_cost < chart.leaf_cost)
-        return set(ChartVerdict::Split, "Split: the cheapest plane costs " + best + " < leaf " + leaf + ".");
+        return set(ChartVerdict::Split, "Split: the cheapest plane costs " + best + " < leaf " + leaf + tie + ".");
     if (!plane) {
         const std::string why = "All centroids are equal: no plane separates them";
         if (fits) return set(ChartVerdict::LeafNoPlane, why + "; a leaf (" + std::to_string(n) + " <= " + limit + ").");
@@ -210,7 +216,7 @@ void write_verdict(SahChart& chart) {
     const std::string why = "No split helps: the cheapest plane costs " + best + " >= leaf " + leaf;
     if (fits) return set(ChartVerdict::LeafCheaper, why + ": a leaf.");
     return set(ChartVerdict::SplitForcedBySize,
-               why + ", but " + std::to_string(n) + " > " + limit + " triangles: the cheapest split anyway.");
+               why + ", but " + std::to_string(n) + " > " + limit + " triangles: the cheapest split anyway" + tie + ".");
 }
 
 }  // namespace

@@ -32,7 +32,7 @@ struct SahChartAxis {
     std::vector<uint32_t> left_counts;
     size_t candidates = 0;          ///< how many planes the builder evaluates on this axis
     /// True when only some candidates are listed (sweep on a large node): each listed
-    /// one is the cheapest of a run of `stride` neighbours, so the minimum is kept.
+    /// one is the best of a run of `stride` neighbours (is_better_split), so the minimum is kept.
     bool subsampled = false;
     size_t stride = 1;
 };
@@ -75,12 +75,16 @@ struct SahChart {
     std::array<SahChartAxis, 3> axes;
     float leaf_cost = 0;   ///< N · C_isect
 
-    /// The cheapest candidate over all axes (first axis, then first plane, wins a tie,
-    /// as in the builder). best_axis = -1 when no candidate has a finite cost.
+    /// The cheapest candidate over all axes, by the builder's rule (is_better_split in
+    /// sah.h: of equal costs the most even, then the first). best_axis = -1 when no
+    /// candidate has a finite cost.
     int best_axis = -1;
     float best_position = 0;
     float best_cost = kInfinity;
     uint32_t best_left_count = 0;
+    /// Another candidate costs exactly best_cost but divides the triangles differently
+    /// (e.g. "all boxes equal": every plane ties), so evenness decided.
+    bool best_tied = false;
     Aabb best_children[2];  ///< the boxes the cheapest split would make ([0] left)
 
     HeuristicCut midpoint, median;

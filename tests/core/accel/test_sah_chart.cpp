@@ -71,6 +71,9 @@ void expect_chart_matches_recording(const Mesh& mesh, const BvhConfig& config, s
         if (step.decision == BuildDecision::SplitForcedBySize) {
             EXPECT_EQ(chart.verdict, ChartVerdict::SplitForcedBySize);
             EXPECT_EQ(chart.best_cost, step.split_cost);
+            EXPECT_EQ(chart.best_axis, step.axis);
+            EXPECT_EQ(chart.best_position, step.split_position);
+            EXPECT_EQ(chart.best_left_count, step.left_count);
         }
     }
     EXPECT_GT(splits_checked, 0u);
@@ -100,6 +103,7 @@ TEST(SahChart, WholeTreeAgreesWithEveryRecordedDecision) {
     const Bvh bvh = build_bvh(mesh, config, &recorder);
     for (const BuildStep& step : recorder.steps) {
         const SahChart chart = compute_sah_chart(mesh, prims(bvh, step), config);
+        EXPECT_FALSE(chart.best_tied);  // random triangles: no two different divisions cost exactly the same
         switch (step.decision) {
             case BuildDecision::LeafFits: EXPECT_EQ(chart.verdict, ChartVerdict::LeafOneTriangle); break;
             case BuildDecision::LeafCheaper: EXPECT_EQ(chart.verdict, ChartVerdict::LeafCheaper); break;
@@ -242,6 +246,22 @@ TEST(SahChart, SameBoxEverySplitCostsMoreThanTheLeaf) {
         EXPECT_EQ(recorder.steps[0].decision, BuildDecision::SplitForcedBySize);
         EXPECT_NE(chart.verdict_text.find("No split helps"), std::string::npos);
         EXPECT_EQ(chart.median.cost, chart.best_cost);
+        // All planes tie, so the builder and the chart both take the most even one
+        // (is_better_split), not the first: the tree stays shallow.
+        const BuildStep& root = recorder.steps[0];
+        EXPECT_EQ(chart.best_axis, root.axis);
+        EXPECT_EQ(chart.best_position, root.split_position);
+        EXPECT_EQ(chart.best_left_count, root.left_count);
+        const uint32_t n = chart.count;
+        uint32_t most_even = n;
+        for (const SahChartAxis& axis : chart.axes)
+            for (size_t i = 0; i < axis.costs.size(); ++i)
+                if (axis.costs[i] < kInfinity)
+                    most_even = std::min(most_even, std::max(axis.left_counts[i], n - axis.left_counts[i]));
+        EXPECT_LT(most_even, n);
+        EXPECT_EQ(std::max(root.left_count, n - root.left_count), most_even);
+        EXPECT_TRUE(chart.best_tied);
+        EXPECT_NE(chart.verdict_text.find("the most even one is taken"), std::string::npos) << chart.verdict_text;
     }
 }
 
