@@ -29,7 +29,21 @@ int main(int argc, char** argv) {
     std::string scene = default_window_scene();
     app.add_option("SCENE", scene, "Scene for the window: an OBJ path or builtin:NAME (default: " + scene + ")");
     const std::vector<Command> commands = {register_render(app), register_trace(app), register_bench(app)};
-    CLI11_PARSE(app, argc, argv);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        if (e.get_exit_code() == 0) return app.exit(e);  // --help: the help text, exit 0
+        // A mistake in the flags: one line, named like the program's other errors, with
+        // where to look (CLI11's own report adds a second line and no command name).
+        std::string who = "accelviz";
+        for (const Command& command : commands)
+            if (command.sub && (command.sub->parsed() || (argc > 1 && command.sub->get_name() == argv[1]))) {
+                who += " " + command.sub->get_name();
+                break;
+            }
+        std::cerr << who << ": " << e.what() << "; see " << who << " --help\n";
+        return e.get_exit_code();
+    }
     try {
         for (const Command& command : commands)
             if (command.sub && command.sub->parsed()) return command.run();

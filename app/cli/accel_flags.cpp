@@ -1,4 +1,5 @@
 #include "app/cli/accel_flags.h"
+#include "app/cli/flag_checks.h"
 
 namespace accelviz::cli {
 
@@ -11,12 +12,12 @@ void add_accel_flags(CLI::App& command, AccelConfig& config) {
         ->capture_default_str();
 
     // Shared by several structures (unset: each structure's default).
-    command.add_option("--leaf-size", config.leaf_size, "Leaf size limit (bvh, kd, octree); default: each structure's own")
-        ->check(CLI::Range(1, 1 << 20));
+    command.add_option("--leaf-size", config.leaf_size, "Leaf size limit (bvh: at most 255; kd, octree); default: each structure's own")
+        ->check(whole_number(1, 1 << 20));
     command.add_option("--cost-trav", config.cost_trav, "SAH cost of one interior-node step, C_trav (bvh, kd)")
-        ->check(CLI::Range(0.0, 1e6));
+        ->check(number_between(0.0, 1e6));
     command.add_option("--cost-isect", config.cost_isect, "SAH cost of one ray-triangle test, C_isect (bvh, kd)")
-        ->check(CLI::Range(1e-6, 1e6));
+        ->check(number_between(1e-6, 1e6));
 
     // BVH (issue 3). --leaf-size, --cost-trav and --cost-isect above apply too (default 4, 1, 1).
     command.add_option_function<std::string>(
@@ -25,7 +26,7 @@ void add_accel_flags(CLI::App& command, AccelConfig& config) {
                "or binned SAH (midpoint|median|sah-sweep|sah-binned, default sah-binned)")
         ->check(CLI::IsMember(bvh_builder_names()));
     command.add_option("--bins", config.bvh.bins, "bvh sah-binned: buckets per axis, B in 2..64")
-        ->check(CLI::Range(2, 64))
+        ->check(whole_number(2, 64))
         ->capture_default_str();
     command.add_option_function<std::string>(
                "--bvh-traversal", [&config](const std::string& v) { config.bvh_traversal = *parse_bvh_traversal(v); },
@@ -44,14 +45,14 @@ void add_accel_flags(CLI::App& command, AccelConfig& config) {
                "(on|off; default on for grid and octree, off for kd)")
         ->check(CLI::IsMember({"on", "off"}));
     command.add_option("--grid-density", config.grid.density, "grid: C in #cells = C * #triangles (lecture: 27)")
-        ->check(CLI::Range(0.001, 10000.0))
+        ->check(number_between(0.001, 10000.0))
         ->capture_default_str();
     command.add_option_function<std::string>(
                "--grid-insert", [&config](const std::string& v) { config.grid.insert = *parse_grid_insert(v); },
                "grid: cells a triangle goes into: those its box overlaps, or those it overlaps (box|exact, default box)")
         ->check(CLI::IsMember(grid_insert_names()));
     command.add_option("--grid-max-cells-per-axis", config.grid.max_cells_per_axis, "grid: resolution cap per axis (reported when it applies)")
-        ->check(CLI::Range(1, 4096))
+        ->check(whole_number(1, 4096))
         ->capture_default_str();
     command.add_option_function<std::string>(
                "--kd-build", [&config](const std::string& v) { config.kd.builder = *parse_kd_builder(v); },
@@ -62,17 +63,17 @@ void add_accel_flags(CLI::App& command, AccelConfig& config) {
                                              "off shows the lecture's wrong answers)")
         ->check(CLI::IsMember({"on", "off"}));
     command.add_option("--kd-max-depth", config.kd.max_depth, "kd: max depth, 0 = 8 + 1.3*log2(N)")
-        ->check(CLI::Range(0, kKdMaxDepth))
+        ->check(whole_number(0, kKdMaxDepth))
         ->capture_default_str();
     command.add_option("--kd-empty-bonus", config.kd.empty_bonus, "kd SAH: cost discount for cutting off empty space, in [0, 1)")
-        ->check(CLI::Range(0.0, 0.999))
+        ->check(number_between(0.0, 0.999))
         ->capture_default_str();
     command.add_option_function<std::string>(
                "--kd-clip", [&config](const std::string& v) { config.kd.clip = config.octree.clip = *parse_clip_mode(v); },
                "kd/octree: a straddling triangle's box per side: box intersection or exact polygon clipping (box|exact, default exact)")
         ->check(CLI::IsMember(clip_mode_names()));
     command.add_option("--octree-max-depth", config.octree.max_depth, "octree: max depth")
-        ->check(CLI::Range(1, kOctreeMaxDepth))
+        ->check(whole_number(1, kOctreeMaxDepth))
         ->capture_default_str();
 }
 

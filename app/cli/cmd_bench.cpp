@@ -28,9 +28,11 @@
 #include "app/cli/accel_flags.h"
 #include "app/cli/camera_flags.h"
 #include "app/cli/commands.h"
+#include "app/cli/flag_checks.h"
 #include "app/cli/embree_reference.h"
 #include "app/cli/ray_batch.h"
 #include "core/geometry/scene.h"
+#include "core/render/ray_caster.h"
 
 namespace accelviz::cli {
 namespace {
@@ -124,6 +126,7 @@ int run_bench(const BenchOptions& opt) {
     if (!camera_params) return fail(camera_params.error());
     const Camera camera(*camera_params, opt.width, opt.height);
     const std::vector<Ray> rays = camera_rays(camera);
+    const int threads = effective_threads(opt.threads);  // what runs: 0 and too many ask for all cores
 
     // Ours (and the reference, when asked for) build R times, then trace R times. With a
     // reference the two alternate run by run, so a machine that slows down or speeds up
@@ -131,7 +134,7 @@ int run_bench(const BenchOptions& opt) {
 #ifdef ACCELVIZ_HAVE_EMBREE
     std::unique_ptr<EmbreeReference> reference;
     Measured embree;
-    if (opt.reference == "embree") reference = std::make_unique<EmbreeReference>(opt.threads, opt.embree_width);
+    if (opt.reference == "embree") reference = std::make_unique<EmbreeReference>(threads, opt.embree_width);
 #endif
     Measured ours;
     std::shared_ptr<const Accelerator> accel;
@@ -162,7 +165,7 @@ int run_bench(const BenchOptions& opt) {
         progress("bench: tracing with %s (%d/%d)\n", opt.accel.type, run + 1, opt.repeat);
         const auto start = clock::now();
         const double cpu_start = process_cpu_ms();
-        for_each_ray_chunk(rays.size(), opt.threads, [&](size_t begin, size_t end) {
+        for_each_ray_chunk(rays.size(), threads, [&](size_t begin, size_t end) {
             for (size_t i = begin; i < end; ++i) {
                 const Hit hit = accel->intersect_closest(rays[i]);
                 ours.results.t[i] = hit.t;
@@ -176,7 +179,7 @@ int run_bench(const BenchOptions& opt) {
             progress("bench: tracing with %s (%d/%d)\n", "embree", run + 1, opt.repeat);
             const auto embree_start = clock::now();
             const double embree_cpu_start = process_cpu_ms();
-            reference->trace(rays, opt.threads, embree.results);
+            reference->trace(rays, threads, embree.results);
             embree.frame_cpu_ms.push_back(process_cpu_ms() - embree_cpu_start);
             embree.frame_ms.push_back(ms_since(embree_start));
         }
@@ -197,7 +200,8 @@ int run_bench(const BenchOptions& opt) {
     out["triangles"] = mesh->triangle_count();
     out["accel"] = accel->name();
     out["config"] = accel->config();
-    out["threads"] = opt.threads;
+    out["threads"] = threads;
+    if (threads != opt.threads) out["threads_requested"] = opt.threads;
     out["width"] = opt.width;
     out["height"] = opt.height;
     out["repeat"] = opt.repeat;
@@ -234,8 +238,12 @@ int run_bench(const BenchOptions& opt) {
         std::cout << out.dump(2) << "\n";
         return 0;
     }
-    std::printf("scene      %s (%zu triangles), %dx%d, %d thread%s, median of %d\n", opt.scene.c_str(),
-                mesh->triangle_count(), opt.width, opt.height, opt.threads, opt.threads == 1 ? "" : "s", opt.repeat);
+    const std::string asked = threads == opt.threads ? ""
+                              : opt.threads == 0 ? " (0 = all cores)"
+                                                 : " (" + std::to_string(opt.threads) + " asked: all cores)";
+    std::printf("scene      %s (%zu triangles), %dx%d, %d thread%s%s, median of %d\n", opt.scene.c_str(),
+                mesh->triangle_count(), opt.width, opt.height, threads, threads == 1 ? "" : "s", asked.c_str(),
+                opt.repeat);
     std::printf("structure  %s %s\n", accel->name().c_str(), accel->config().dump().c_str());
     std::printf("%-10s %10s %10s %10s %10s %10s %10s %10s %16s\n", "", "build ms", "(cpu)", "frame ms", "(cpu)",
                 "Mrays/s", "(cpu)", "hits", "depth sum");
@@ -271,12 +279,12 @@ Command register_bench(CLI::App& app) {
     auto opt = std::make_shared<BenchOptions>();
     CLI::App* sub = app.add_subcommand("bench", "Time building a structure and tracing one ray per pixel");
     sub->add_option("scene", opt->scene, "OBJ file, or builtin:NAME (e.g. builtin:soup?n=100000)")->required();
-    sub->add_option("--width", opt->width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
-    sub->add_option("--height", opt->height, "Image height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
-    sub->add_option("--threads", opt->threads, "Tracing threads (0 = all cores)")->check(CLI::Range(0, 1024))
+    sub->add_option("--width", opt->width, "Image width in pixels")->check(whole_number(1, 16384))->capture_default_str();
+    sub->add_option("--height", opt->height, "Image height in pixels")->check(whole_number(1, 16384))->capture_default_str();
+    sub->add_option("--threads", opt->threads, "Tracing threads (0 = all cores)")->check(whole_number(0, 1024))
         ->capture_default_str();
     sub->add_option("--repeat", opt->repeat, "Runs of build and of trace; the medians are reported")
-        ->check(CLI::Range(1, 1000))
+        ->check(whole_number(1, 1000))
         ->capture_default_str();
     sub->add_flag("--json", opt->json, "One JSON object instead of a table");
     sub->add_option("--reference", opt->reference,

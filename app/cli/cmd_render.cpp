@@ -7,12 +7,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <optional>
 
 #include "app/cli/accel_flags.h"
 #include "app/cli/camera_flags.h"
 #include "app/cli/commands.h"
+#include "app/cli/flag_checks.h"
 #include "app/gui/app_state.h"
 #include "app/gui/headless.h"
 #include "app/gui/stepper_panel.h"
@@ -126,7 +128,19 @@ int run_render_step(const RenderOptions& opt) {
     return 0;
 }
 
+/// The directory a file is written into must exist: checked before any work, so a
+/// typo in --out does not cost a whole render first. (Other write errors, such as
+/// permissions, are reported when the file is written.)
+std::string missing_directory(const std::string& path) {
+    const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+    std::error_code ec;
+    if (dir.empty() || std::filesystem::is_directory(dir, ec)) return {};
+    return path + ": cannot write there: " + dir.string() + " is not a directory";
+}
+
 int run_render(const RenderOptions& opt) {
+    for (const std::string& path : {opt.out, opt.depth_out})
+        if (const std::string problem = path.empty() ? "" : missing_directory(path); !problem.empty()) return fail(problem);
     if (opt.view == "step") return run_render_step(opt);
     if ((opt.step >= 0 && opt.view != "build-step") || !opt.pixel.empty())
         return fail("--step is for --view build-step or step, --pixel for --view step");
@@ -236,19 +250,20 @@ Command register_render(CLI::App& app) {
                     "flags, structure/gui frame the scene like the window does")
         ->check(CLI::IsMember(all_views()))
         ->capture_default_str();
-    sub->add_option("--width", opt->width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
-    sub->add_option("--height", opt->height, "Image height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
-    sub->add_option("--threads", opt->threads, "Ray-casting threads (0 = all cores)")->check(CLI::Range(0, 1024))
+    sub->add_option("--width", opt->width, "Image width in pixels")->check(whole_number(1, 16384))->capture_default_str();
+    sub->add_option("--height", opt->height, "Image height in pixels")->check(whole_number(1, 16384))->capture_default_str();
+    sub->add_option("--threads", opt->threads, "Ray-casting threads (0 = all cores)")->check(whole_number(0, 1024))
         ->capture_default_str();
     sub->add_option("--depth-out", opt->depth_out,
                     "CPU views: also write the ray-cast depth (hit distance t, +inf on a miss) as a PFM file");
     sub->add_option("--heat-max", opt->heat_max,
-                    "heat-nodes, heat-tris: top of the heat-map scale (default: the image's maximum)")
-        ->check(CLI::NonNegativeNumber);
+                    "heat-nodes, heat-tris: top of the heat-map scale, a count per pixel (default: the image's "
+                    "maximum)")
+        ->check(number_between(1, 1e9));
     sub->add_option("--step", opt->step,
                     "build-step: which decision of the BVH build to show (0 = the root's); step: events applied "
                     "(0 = before the first, the default; past the end = the final state)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(whole_number(0, INT32_MAX));
     sub->add_option("--pixel", opt->pixel,
                     "step: pixel X,Y (0,0 = top left) of the --width x --height image whose ray is stepped "
                     "(the ray `trace --pixel X,Y` prints)");

@@ -10,6 +10,7 @@
 #include "app/cli/accel_flags.h"
 #include "app/cli/camera_flags.h"
 #include "app/cli/commands.h"
+#include "app/cli/flag_checks.h"
 #include "core/geometry/scene.h"
 #include "core/traversal/event_json.h"
 
@@ -84,8 +85,8 @@ Command register_trace(CLI::App& app) {
     CLI::App* sub = app.add_subcommand("trace", "Print every traversal event of one pixel's ray (and the result)");
     sub->add_option("scene", opt->scene, "OBJ file, or builtin:NAME (e.g. builtin:teapot)")->required();
     sub->add_option("--pixel", opt->pixel, "Pixel X,Y (0,0 = top left)")->required();
-    sub->add_option("--width", opt->width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
-    sub->add_option("--height", opt->height, "Image height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
+    sub->add_option("--width", opt->width, "Image width in pixels")->check(whole_number(1, 16384))->capture_default_str();
+    sub->add_option("--height", opt->height, "Image height in pixels")->check(whole_number(1, 16384))->capture_default_str();
     sub->add_flag("--json", opt->json, "One JSON object: events (array), result, counters");
     opt->camera.add_to(*sub);
     add_accel_flags(*sub, opt->accel);

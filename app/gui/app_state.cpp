@@ -9,6 +9,7 @@
 #include <fstream>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include "core/traversal/event_json.h"
 
@@ -20,6 +21,21 @@ namespace {
 
 nlohmann::json vec3_json(Vec3d v) { return {v.x, v.y, v.z}; }
 nlohmann::json rgb_json(Rgb c) { return {c.r, c.g, c.b}; }
+
+/// obj[key] as a T when present (else `current`), or an error naming the field:
+/// `view.ui_scale: expected a number, got "big"` (nlohmann's own message names no field).
+template <class T>
+T read(const nlohmann::json& obj, const char* key, const T& current, const char* section) {
+    const auto it = obj.find(key);
+    if (it == obj.end()) return current;
+    try {
+        return it->template get<T>();
+    } catch (const nlohmann::json::exception&) {
+        const char* expected = std::is_same_v<T, bool> ? "true or false" : std::is_arithmetic_v<T> ? "a number" : "a string";
+        const std::string field = *section ? std::string(section) + "." + key : std::string(key);
+        throw std::runtime_error(field + ": expected " + expected + ", got " + it->dump());
+    }
+}
 
 Vec3d read_vec3(const nlohmann::json& j, const char* field) {
     if (!j.is_array() || j.size() != 3) throw std::runtime_error(std::string(field) + ": expected [x, y, z]");
@@ -93,44 +109,44 @@ nlohmann::json accel_config_json(const AccelConfig& a) {
 namespace {
 
 void read_accel(const nlohmann::json& j, AccelConfig& a) {
-    a.type = j.value("type", a.type);
+    a.type = read(j, "type", a.type, "structure");
     const std::vector<std::string>& types = accel_types();
     if (std::find(types.begin(), types.end(), a.type) == types.end())
         throw std::runtime_error("structure.type: unknown value '" + a.type + "'");
     if (j.contains("bvh")) {
         const auto& b = j["bvh"];
         if (b.contains("builder")) a.bvh.builder = read_enum(b["builder"], "structure.bvh.builder", parse_bvh_builder);
-        a.bvh.bins = b.value("bins", a.bvh.bins);
-        a.bvh.max_leaf_size = b.value("max_leaf_size", a.bvh.max_leaf_size);
-        a.bvh.cost_trav = b.value("cost_trav", a.bvh.cost_trav);
-        a.bvh.cost_isect = b.value("cost_isect", a.bvh.cost_isect);
+        a.bvh.bins = read(b, "bins", a.bvh.bins, "structure.bvh");
+        a.bvh.max_leaf_size = read(b, "max_leaf_size", a.bvh.max_leaf_size, "structure.bvh");
+        a.bvh.cost_trav = read(b, "cost_trav", a.bvh.cost_trav, "structure.bvh");
+        a.bvh.cost_isect = read(b, "cost_isect", a.bvh.cost_isect, "structure.bvh");
         if (b.contains("traversal"))
             a.bvh_traversal = read_enum(b["traversal"], "structure.bvh.traversal", parse_bvh_traversal);
     }
     if (j.contains("grid")) {
         const auto& g = j["grid"];
-        a.grid.density = g.value("density", a.grid.density);
+        a.grid.density = read(g, "density", a.grid.density, "structure.grid");
         if (g.contains("insert")) a.grid.insert = read_enum(g["insert"], "structure.grid.insert", parse_grid_insert);
-        a.grid.mailbox = g.value("mailbox", a.grid.mailbox);
+        a.grid.mailbox = read(g, "mailbox", a.grid.mailbox, "structure.grid");
     }
     if (j.contains("kd")) {
         const auto& k = j["kd"];
         if (k.contains("builder")) a.kd.builder = read_enum(k["builder"], "structure.kd.builder", parse_kd_builder);
-        a.kd.max_depth = k.value("max_depth", a.kd.max_depth);
-        a.kd.leaf_size = k.value("leaf_size", a.kd.leaf_size);
-        a.kd.cost_trav = k.value("cost_trav", a.kd.cost_trav);
-        a.kd.cost_isect = k.value("cost_isect", a.kd.cost_isect);
-        a.kd.empty_bonus = k.value("empty_bonus", a.kd.empty_bonus);
+        a.kd.max_depth = read(k, "max_depth", a.kd.max_depth, "structure.kd");
+        a.kd.leaf_size = read(k, "leaf_size", a.kd.leaf_size, "structure.kd");
+        a.kd.cost_trav = read(k, "cost_trav", a.kd.cost_trav, "structure.kd");
+        a.kd.cost_isect = read(k, "cost_isect", a.kd.cost_isect, "structure.kd");
+        a.kd.empty_bonus = read(k, "empty_bonus", a.kd.empty_bonus, "structure.kd");
         if (k.contains("clip")) a.kd.clip = read_enum(k["clip"], "structure.kd.clip", parse_clip_mode);
-        a.kd.strict_cell = k.value("strict_cell", a.kd.strict_cell);
-        a.kd.mailbox = k.value("mailbox", a.kd.mailbox);
+        a.kd.strict_cell = read(k, "strict_cell", a.kd.strict_cell, "structure.kd");
+        a.kd.mailbox = read(k, "mailbox", a.kd.mailbox, "structure.kd");
     }
     if (j.contains("octree")) {
         const auto& o = j["octree"];
-        a.octree.max_depth = o.value("max_depth", a.octree.max_depth);
-        a.octree.leaf_size = o.value("leaf_size", a.octree.leaf_size);
+        a.octree.max_depth = read(o, "max_depth", a.octree.max_depth, "structure.octree");
+        a.octree.leaf_size = read(o, "leaf_size", a.octree.leaf_size, "structure.octree");
         if (o.contains("clip")) a.octree.clip = read_enum(o["clip"], "structure.octree.clip", parse_clip_mode);
-        a.octree.mailbox = o.value("mailbox", a.octree.mailbox);
+        a.octree.mailbox = read(o, "mailbox", a.octree.mailbox, "structure.octree");
     }
     if (j.contains("leaf_size")) a.leaf_size = j["leaf_size"].get<int>();
     if (j.contains("cost_trav")) a.cost_trav = j["cost_trav"].get<float>();
@@ -184,16 +200,19 @@ Expected<AppState> app_state_from_json(const nlohmann::json& j) {
     AppState s;
     try {
         if (!j.is_object()) return Error{"state: expected a JSON object"};
-        s.scene = j.value("scene", s.scene);
-        if (j.contains("structure")) read_accel(j["structure"], s.accel);
+        s.scene = read(j, "scene", s.scene, "");
+        if (j.contains("structure")) {
+            read_accel(j["structure"], s.accel);
+            if (auto err = validate(s.accel)) return Error{"structure: " + err->message};
+        }
         if (j.contains("overlay")) {
             const auto& o = j["overlay"];
-            s.overlay.show_structure = o.value("show_structure", s.overlay.show_structure);
-            s.overlay.level_min = o.value("level_min", s.overlay.level_min);
-            s.overlay.level_max = o.value("level_max", s.overlay.level_max);
-            s.overlay.leaves_only = o.value("leaves_only", s.overlay.leaves_only);
-            s.overlay.mesh_opacity = o.value("mesh_opacity", s.overlay.mesh_opacity);
-            s.overlay.max_boxes = o.value("max_boxes", s.overlay.max_boxes);
+            s.overlay.show_structure = read(o, "show_structure", s.overlay.show_structure, "overlay");
+            s.overlay.level_min = read(o, "level_min", s.overlay.level_min, "overlay");
+            s.overlay.level_max = read(o, "level_max", s.overlay.level_max, "overlay");
+            s.overlay.leaves_only = read(o, "leaves_only", s.overlay.leaves_only, "overlay");
+            s.overlay.mesh_opacity = read(o, "mesh_opacity", s.overlay.mesh_opacity, "overlay");
+            s.overlay.max_boxes = read(o, "max_boxes", s.overlay.max_boxes, "overlay");
             if (!(s.overlay.mesh_opacity >= 0.0f && s.overlay.mesh_opacity <= 1.0f))
                 return Error{"overlay.mesh_opacity: must be between 0 and 1"};
         }
@@ -203,38 +222,38 @@ Expected<AppState> app_state_from_json(const nlohmann::json& j) {
             if (c.contains("eye")) p.eye = read_vec3(c["eye"], "camera.eye");
             if (c.contains("target")) p.target = read_vec3(c["target"], "camera.target");
             if (c.contains("up")) p.up = read_vec3(c["up"], "camera.up");
-            p.fov_deg = c.value("fov", p.fov_deg);
+            p.fov_deg = read(c, "fov", p.fov_deg, "camera");
             if (auto err = validate(p)) return *err;
             s.camera = p;
         }
         if (j.contains("view")) {
             const auto& v = j["view"];
-            s.view.ui_scale = v.value("ui_scale", s.view.ui_scale);
+            s.view.ui_scale = read(v, "ui_scale", s.view.ui_scale, "view");
             if (!(s.view.ui_scale >= 0.5f && s.view.ui_scale <= 4.0f))
                 return Error{"view.ui_scale: must be between 0.5 and 4"};
-            s.view.light_theme = v.value("light_theme", s.view.light_theme);
+            s.view.light_theme = read(v, "light_theme", s.view.light_theme, "view");
             if (v.contains("background")) s.view.background = read_rgb(v["background"], "view.background");
-            s.view.show_ui = v.value("show_ui", s.view.show_ui);
-            s.view.show_help = v.value("show_help", s.view.show_help);
-            s.view.show_bounds = v.value("show_bounds", s.view.show_bounds);
-            s.view.line_width = v.value("line_width", s.view.line_width);
+            s.view.show_ui = read(v, "show_ui", s.view.show_ui, "view");
+            s.view.show_help = read(v, "show_help", s.view.show_help, "view");
+            s.view.show_bounds = read(v, "show_bounds", s.view.show_bounds, "view");
+            s.view.line_width = read(v, "line_width", s.view.line_width, "view");
             if (!(s.view.line_width >= 1.0f && s.view.line_width <= 6.0f))
                 return Error{"view.line_width: must be between 1 and 6 pixels"};
-            s.view.mode = v.value("mode", s.view.mode);
+            s.view.mode = read(v, "mode", s.view.mode, "view");
             if (s.view.mode != "3d" && s.view.mode != "split") return Error{"view.mode: must be \"3d\" or \"split\""};
-            s.view.right_view = v.value("right_view", s.view.right_view);
+            s.view.right_view = read(v, "right_view", s.view.right_view, "view");
             if (std::find(std::begin(kRightViews), std::end(kRightViews), s.view.right_view) == std::end(kRightViews))
                 return Error{"view.right_view: must be raycast, heat-nodes, heat-tris, depth or depth-diff"};
-            s.view.left_view = v.value("left_view", s.view.left_view);
+            s.view.left_view = read(v, "left_view", s.view.left_view, "view");
             if (std::find(std::begin(kLeftViews), std::end(kLeftViews), s.view.left_view) == std::end(kLeftViews))
                 return Error{"view.left_view: must be opengl, raster, raster-depth or opengl-depth"};
-            s.view.heat_same_scale = v.value("heat_same_scale", s.view.heat_same_scale);
+            s.view.heat_same_scale = read(v, "heat_same_scale", s.view.heat_same_scale, "view");
         }
         if (j.contains("build_step")) {
             const auto& b = j["build_step"];
             BuildStepSettings& bs = s.build_step;
-            bs.active = b.value("active", bs.active);
-            bs.step = b.value("step", bs.step);
+            bs.active = read(b, "active", bs.active, "build_step");
+            bs.step = read(b, "step", bs.step, "build_step");
             if (bs.step < 0) return Error{"build_step.step: must be 0 or more"};
             if (b.contains("bins") && !b["bins"].is_null()) bs.bins = b["bins"].get<int>();
             if (b.contains("cost_trav") && !b["cost_trav"].is_null()) bs.cost_trav = b["cost_trav"].get<float>();
@@ -245,8 +264,8 @@ Expected<AppState> app_state_from_json(const nlohmann::json& j) {
         }
         if (j.contains("stepper")) {
             const auto& st = j["stepper"];
-            s.stepper.open = st.value("open", s.stepper.open);
-            s.stepper.step = st.value("step", s.stepper.step);
+            s.stepper.open = read(st, "open", s.stepper.open, "stepper");
+            s.stepper.step = read(st, "step", s.stepper.step, "stepper");
             if (st.contains("ray") && !st["ray"].is_null()) {
                 const auto& r = st["ray"];
                 Ray ray;
@@ -270,8 +289,11 @@ Expected<AppState> app_state_from_json(const nlohmann::json& j) {
                 s.stepper.pixel = std::array<int, 2>{p[0].get<int>(), p[1].get<int>()};
             }
         }
-    } catch (const std::exception& e) {  // nlohmann type errors and ours
-        return Error{std::string("state: ") + e.what()};
+    } catch (const std::exception& e) {  // ours name the field; nlohmann's, without their "[json.exception...] " tag
+        std::string what = e.what();
+        if (what.rfind("[json.exception.", 0) == 0)
+            if (const size_t tag = what.find("] "); tag != std::string::npos) what = what.substr(tag + 2);
+        return Error{what};
     }
     return s;
 }

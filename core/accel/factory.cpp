@@ -10,14 +10,45 @@ const std::vector<std::string>& accel_types() {
     return types;
 }
 
+namespace {
+
+// Each structure's parameters with the shared flags, when given, over its own.
+BvhConfig bvh_config_of(const AccelConfig& config) {
+    BvhConfig bvh = config.bvh;
+    if (config.leaf_size) bvh.max_leaf_size = *config.leaf_size;
+    if (config.cost_trav) bvh.cost_trav = *config.cost_trav;
+    if (config.cost_isect) bvh.cost_isect = *config.cost_isect;
+    return bvh;
+}
+KdConfig kd_config_of(const AccelConfig& config) {
+    KdConfig kd = config.kd;
+    if (config.leaf_size) kd.leaf_size = *config.leaf_size;
+    if (config.cost_trav) kd.cost_trav = *config.cost_trav;
+    if (config.cost_isect) kd.cost_isect = *config.cost_isect;
+    return kd;
+}
+OctreeConfig octree_config_of(const AccelConfig& config) {
+    OctreeConfig octree = config.octree;
+    if (config.leaf_size) octree.leaf_size = *config.leaf_size;
+    return octree;
+}
+
+}  // namespace
+
+std::optional<Error> validate(const AccelConfig& config) {
+    if (config.type == "naive") return std::nullopt;
+    if (config.type == "bvh") return validate(bvh_config_of(config));
+    if (config.type == "grid") return validate(config.grid);
+    if (config.type == "kd") return validate(kd_config_of(config));
+    if (config.type == "octree") return validate(octree_config_of(config));
+    return Error{"unknown structure '" + config.type + "'"};
+}
+
 Expected<std::shared_ptr<const Accelerator>> build_accelerator(const Mesh& mesh, const AccelConfig& config) {
     if (config.type == "naive")
         return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<BruteForce>>(BruteForce(mesh)));
     if (config.type == "bvh") {
-        BvhConfig bvh_config = config.bvh;  // the shared flags, when given, override
-        if (config.leaf_size) bvh_config.max_leaf_size = *config.leaf_size;
-        if (config.cost_trav) bvh_config.cost_trav = *config.cost_trav;
-        if (config.cost_isect) bvh_config.cost_isect = *config.cost_isect;
+        const BvhConfig bvh_config = bvh_config_of(config);
         if (auto err = validate(bvh_config)) return *err;
         Bvh bvh = build_bvh(mesh, bvh_config);
         bvh.traversal = config.bvh_traversal;
@@ -29,18 +60,12 @@ Expected<std::shared_ptr<const Accelerator>> build_accelerator(const Mesh& mesh,
         return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<UniformGrid>>(std::move(*grid)));
     }
     if (config.type == "kd") {
-        KdConfig kd = config.kd;
-        if (config.leaf_size) kd.leaf_size = *config.leaf_size;
-        if (config.cost_trav) kd.cost_trav = *config.cost_trav;
-        if (config.cost_isect) kd.cost_isect = *config.cost_isect;
-        auto tree = build_kd_tree(mesh, kd);
+        auto tree = build_kd_tree(mesh, kd_config_of(config));
         if (!tree) return Error{tree.error()};
         return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<KdTree>>(std::move(*tree)));
     }
     if (config.type == "octree") {
-        OctreeConfig octree = config.octree;
-        if (config.leaf_size) octree.leaf_size = *config.leaf_size;
-        auto tree = build_octree(mesh, octree);
+        auto tree = build_octree(mesh, octree_config_of(config));
         if (!tree) return Error{tree.error()};
         return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<Octree>>(std::move(*tree)));
     }

@@ -35,6 +35,11 @@ struct AccelConfig {
 /// The names `type` accepts.
 const std::vector<std::string>& accel_types();
 
+/// Whether the structure `config.type` names can be built with these parameters (the
+/// shared flags applied over its own); the first bad one as a one-line message naming
+/// its command-line flag. build_accelerator() checks the same.
+std::optional<Error> validate(const AccelConfig& config);
+
 /// Builds the structure over `mesh`. Errors are one-line messages (bad parameter).
 Expected<std::shared_ptr<const Accelerator>> build_accelerator(const Mesh& mesh, const AccelConfig& config);
 

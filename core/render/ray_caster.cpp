@@ -1,14 +1,21 @@
 #include "core/render/ray_caster.h"
 
+#include <algorithm>
+
 #include <tbb/blocked_range2d.h>
 #include <tbb/combinable.h>
-#include <tbb/global_control.h>
+#include <tbb/info.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include "core/render/shading.h"
 
 namespace accelviz {
+
+int effective_threads(int requested) {
+    const int cores = tbb::info::default_concurrency();
+    return requested <= 0 ? cores : std::min(requested, cores);
+}
 
 Frame ray_cast(const Accelerator& accel, const std::vector<Triangle>& triangles,
                const Camera& camera, const RayCastOptions& options) {
@@ -40,7 +47,7 @@ Frame ray_cast(const Accelerator& accel, const std::vector<Triangle>& triangles,
     };
     const tbb::blocked_range2d<int> all(0, camera.height(), 16, 0, camera.width(), 16);
     if (options.threads > 0) {
-        tbb::task_arena arena(options.threads);
+        tbb::task_arena arena(effective_threads(options.threads));
         arena.execute([&] { tbb::parallel_for(all, trace_tile); });
     } else {
         tbb::parallel_for(all, trace_tile);

@@ -8,8 +8,12 @@
 
 namespace accelviz {
 
+/// The threads a request for `requested` gets: 0 means all cores, and more than the
+/// cores oneTBB can use are capped to them (it would run no more, and print a warning).
+int effective_threads(int requested);
+
 struct RayCastOptions {
-    int threads = 0;            ///< 0 = all cores
+    int threads = 0;            ///< 0 = all cores; capped by effective_threads()
     bool count_work = false;    ///< fill Frame::nodes / Frame::tests (CountingObserver)
 };
 
