@@ -12,25 +12,24 @@ const std::vector<std::string>& accel_types() {
 
 namespace {
 
-// Each structure's parameters with the shared flags, when given, over its own.
+/// A structure's own parameters with the shared flags, when given, over them (a
+/// structure without a cost model passes no cost members).
+template <class Config>
+Config with_shared_flags(Config own, const AccelConfig& config, int Config::*leaf_size,
+                         float Config::*cost_trav = nullptr, float Config::*cost_isect = nullptr) {
+    if (config.leaf_size) own.*leaf_size = *config.leaf_size;
+    if (cost_trav && config.cost_trav) own.*cost_trav = *config.cost_trav;
+    if (cost_isect && config.cost_isect) own.*cost_isect = *config.cost_isect;
+    return own;
+}
 BvhConfig bvh_config_of(const AccelConfig& config) {
-    BvhConfig bvh = config.bvh;
-    if (config.leaf_size) bvh.max_leaf_size = *config.leaf_size;
-    if (config.cost_trav) bvh.cost_trav = *config.cost_trav;
-    if (config.cost_isect) bvh.cost_isect = *config.cost_isect;
-    return bvh;
+    return with_shared_flags(config.bvh, config, &BvhConfig::max_leaf_size, &BvhConfig::cost_trav, &BvhConfig::cost_isect);
 }
 KdConfig kd_config_of(const AccelConfig& config) {
-    KdConfig kd = config.kd;
-    if (config.leaf_size) kd.leaf_size = *config.leaf_size;
-    if (config.cost_trav) kd.cost_trav = *config.cost_trav;
-    if (config.cost_isect) kd.cost_isect = *config.cost_isect;
-    return kd;
+    return with_shared_flags(config.kd, config, &KdConfig::leaf_size, &KdConfig::cost_trav, &KdConfig::cost_isect);
 }
 OctreeConfig octree_config_of(const AccelConfig& config) {
-    OctreeConfig octree = config.octree;
-    if (config.leaf_size) octree.leaf_size = *config.leaf_size;
-    return octree;
+    return with_shared_flags(config.octree, config, &OctreeConfig::leaf_size);
 }
 
 }  // namespace
