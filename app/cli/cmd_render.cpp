@@ -30,6 +30,7 @@ struct RenderOptions {
     std::string scene;
     std::optional<AppState> preset;  ///< --preset, read while parsing (before the structure flags apply)
     std::string preset_error;        ///< why --preset could not be read
+    std::string preset_path;         ///< --preset's file, for messages
     std::string out;
     std::string view = "split";
     std::string depth_out;
@@ -138,9 +139,20 @@ std::string missing_directory(const std::string& path) {
     return path + ": cannot write there: " + dir.string() + " is not a directory";
 }
 
+/// The structure to build (the preset's, with the flags given over it) checked before
+/// any work; a bad value the preset brought is reported with the preset's file name.
+std::string structure_problem(const RenderOptions& opt) {
+    const auto err = validate(opt.accel);
+    if (!err) return {};
+    if (opt.preset && validate(opt.preset->accel)) return "--preset: " + opt.preset_path + ": structure: " + err->message;
+    return err->message;
+}
+
 int run_render(const RenderOptions& opt) {
     for (const std::string& path : {opt.out, opt.depth_out})
         if (const std::string problem = path.empty() ? "" : missing_directory(path); !problem.empty()) return fail(problem);
+    if (opt.preset_error.empty())
+        if (const std::string problem = structure_problem(opt); !problem.empty()) return fail(problem);
     if (opt.view == "step") return run_render_step(opt);
     if ((opt.step >= 0 && opt.view != "build-step") || !opt.pixel.empty())
         return fail("--step is for --view build-step or step, --pixel for --view step");
@@ -227,6 +239,7 @@ Command register_render(CLI::App& app) {
     sub->add_option_function<std::string>(
         "--preset",
         [opt](const std::string& path) {
+            opt->preset_path = path;
             auto state = load_app_state_file(path);
             if (!state) {
                 opt->preset_error = state.error();
@@ -252,7 +265,7 @@ Command register_render(CLI::App& app) {
         ->capture_default_str();
     sub->add_option("--width", opt->width, "Image width in pixels")->check(whole_number(1, 16384))->capture_default_str();
     sub->add_option("--height", opt->height, "Image height in pixels")->check(whole_number(1, 16384))->capture_default_str();
-    sub->add_option("--threads", opt->threads, "Ray-casting threads (0 = all cores)")->check(whole_number(0, 1024))
+    sub->add_option("--threads", opt->threads, "Ray-casting threads (0 = all cores; more than the cores run on all cores)")->check(whole_number(0, 1024))
         ->capture_default_str();
     sub->add_option("--depth-out", opt->depth_out,
                     "CPU views: also write the ray-cast depth (hit distance t, +inf on a miss) as a PFM file");
@@ -263,7 +276,7 @@ Command register_render(CLI::App& app) {
     sub->add_option("--step", opt->step,
                     "build-step: which decision of the BVH build to show (0 = the root's); step: events applied "
                     "(0 = before the first, the default; past the end = the final state)")
-        ->check(whole_number(0, INT32_MAX));
+        ->check(whole_number(0, INT32_MAX, ">= 0"));
     sub->add_option("--pixel", opt->pixel,
                     "step: pixel X,Y (0,0 = top left) of the --width x --height image whose ray is stepped "
                     "(the ray `trace --pixel X,Y` prints)");

@@ -8,8 +8,9 @@
 
 namespace accelviz::cli {
 
-/// A whole number (decimal digits, optional sign) in [lo, hi].
-CLI::Validator whole_number(long long lo, long long hi);
+/// A whole number in [lo, hi], read as CLI11 stores it (base prefixes: 0x10 is 16,
+/// 010 is 8). `shown` replaces the range in --help (e.g. ">= 0").
+CLI::Validator whole_number(long long lo, long long hi, const std::string& shown = "");
 
 /// A finite number in [lo, hi] (no NaN, no infinity).
 CLI::Validator number_between(double lo, double hi);

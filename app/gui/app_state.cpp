@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <iterator>
+#include <limits>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -24,21 +25,34 @@ nlohmann::json rgb_json(Rgb c) { return {c.r, c.g, c.b}; }
 
 /// obj[key] as a T when present (else `current`), or an error naming the field:
 /// `view.ui_scale: expected a number, got "big"` (nlohmann's own message names no field).
+/// Integer fields take only whole numbers that fit (no 16.9, true or 1e10), number
+/// fields only numbers (no true).
 template <class T>
 T read(const nlohmann::json& obj, const char* key, const T& current, const char* section) {
     const auto it = obj.find(key);
     if (it == obj.end()) return current;
-    try {
-        return it->template get<T>();
-    } catch (const nlohmann::json::exception&) {
-        const char* expected = std::is_same_v<T, bool> ? "true or false" : std::is_arithmetic_v<T> ? "a number" : "a string";
+    constexpr bool kFlag = std::is_same_v<T, bool>;
+    constexpr bool kWhole = std::is_integral_v<T> && !kFlag;
+    bool ok = false;
+    if constexpr (kFlag) ok = it->is_boolean();
+    else if constexpr (kWhole) {
+        ok = (it->is_number_integer() && !it->is_number_unsigned() &&
+              it->template get<int64_t>() >= int64_t(std::numeric_limits<T>::min()) &&
+              it->template get<int64_t>() <= int64_t(std::numeric_limits<T>::max())) ||
+             (it->is_number_unsigned() && it->template get<uint64_t>() <= uint64_t(std::numeric_limits<T>::max()));
+    } else if constexpr (std::is_arithmetic_v<T>) ok = it->is_number();
+    else ok = it->is_string();
+    if (!ok) {
+        const char* expected = kFlag ? "true or false" : kWhole ? "a whole number" : std::is_arithmetic_v<T> ? "a number" : "a string";
         const std::string field = *section ? std::string(section) + "." + key : std::string(key);
         throw std::runtime_error(field + ": expected " + expected + ", got " + it->dump());
     }
+    return it->template get<T>();
 }
 
 Vec3d read_vec3(const nlohmann::json& j, const char* field) {
-    if (!j.is_array() || j.size() != 3) throw std::runtime_error(std::string(field) + ": expected [x, y, z]");
+    const bool numbers = j.is_array() && j.size() == 3 && j[0].is_number() && j[1].is_number() && j[2].is_number();
+    if (!numbers) throw std::runtime_error(std::string(field) + ": expected [x, y, z] (three numbers), got " + j.dump());
     return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()};
 }
 
@@ -148,9 +162,9 @@ void read_accel(const nlohmann::json& j, AccelConfig& a) {
         if (o.contains("clip")) a.octree.clip = read_enum(o["clip"], "structure.octree.clip", parse_clip_mode);
         a.octree.mailbox = read(o, "mailbox", a.octree.mailbox, "structure.octree");
     }
-    if (j.contains("leaf_size")) a.leaf_size = j["leaf_size"].get<int>();
-    if (j.contains("cost_trav")) a.cost_trav = j["cost_trav"].get<float>();
-    if (j.contains("cost_isect")) a.cost_isect = j["cost_isect"].get<float>();
+    if (j.contains("leaf_size")) a.leaf_size = read(j, "leaf_size", 0, "structure");
+    if (j.contains("cost_trav")) a.cost_trav = read(j, "cost_trav", 0.0f, "structure");
+    if (j.contains("cost_isect")) a.cost_isect = read(j, "cost_isect", 0.0f, "structure");
 }
 
 }  // namespace
@@ -201,10 +215,7 @@ Expected<AppState> app_state_from_json(const nlohmann::json& j) {
     try {
         if (!j.is_object()) return Error{"state: expected a JSON object"};
         s.scene = read(j, "scene", s.scene, "");
-        if (j.contains("structure")) {
-            read_accel(j["structure"], s.accel);
-            if (auto err = validate(s.accel)) return Error{"structure: " + err->message};
-        }
+        if (j.contains("structure")) read_accel(j["structure"], s.accel);
         if (j.contains("overlay")) {
             const auto& o = j["overlay"];
             s.overlay.show_structure = read(o, "show_structure", s.overlay.show_structure, "overlay");
@@ -255,9 +266,10 @@ Expected<AppState> app_state_from_json(const nlohmann::json& j) {
             bs.active = read(b, "active", bs.active, "build_step");
             bs.step = read(b, "step", bs.step, "build_step");
             if (bs.step < 0) return Error{"build_step.step: must be 0 or more"};
-            if (b.contains("bins") && !b["bins"].is_null()) bs.bins = b["bins"].get<int>();
-            if (b.contains("cost_trav") && !b["cost_trav"].is_null()) bs.cost_trav = b["cost_trav"].get<float>();
-            if (b.contains("cost_isect") && !b["cost_isect"].is_null()) bs.cost_isect = b["cost_isect"].get<float>();
+            if (b.contains("bins") && !b["bins"].is_null()) bs.bins = read(b, "bins", 0, "build_step");
+            if (b.contains("cost_trav") && !b["cost_trav"].is_null()) bs.cost_trav = read(b, "cost_trav", 0.0f, "build_step");
+            if (b.contains("cost_isect") && !b["cost_isect"].is_null())
+                bs.cost_isect = read(b, "cost_isect", 0.0f, "build_step");
             if (bs.bins && (*bs.bins < 2 || *bs.bins > 64)) return Error{"build_step.bins: must be between 2 and 64"};
             if (bs.cost_trav && !(*bs.cost_trav >= 0.0f)) return Error{"build_step.cost_trav: must be 0 or more"};
             if (bs.cost_isect && !(*bs.cost_isect > 0.0f)) return Error{"build_step.cost_isect: must be more than 0"};
@@ -320,6 +332,13 @@ Expected<AppState> load_app_state_file(const std::string& path) {
         const fs::path beside = fs::path(path).parent_path() / scene;
         if (fs::is_regular_file(beside, ec)) state->scene = beside.lexically_normal().string();
     }
+    return state;
+}
+
+Expected<AppState> load_app_state_file_checked(const std::string& path) {
+    auto state = load_app_state_file(path);
+    if (!state) return state;
+    if (auto err = validate(state->accel)) return Error{path + ": structure: " + err->message};
     return state;
 }
 

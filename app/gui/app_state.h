@@ -138,4 +138,9 @@ Expected<AppState> app_state_from_json(const nlohmann::json& json);
 /// as written (relative to the working directory). Built-ins are unchanged.
 Expected<AppState> load_app_state_file(const std::string& path);
 
+/// load_app_state_file, then the structure it names checked as the build will
+/// (validate(AccelConfig)): for the window, which uses a loaded state as it is. (The
+/// command line checks after its flags are applied: they may replace a bad value.)
+Expected<AppState> load_app_state_file_checked(const std::string& path);
+
 }  // namespace accelviz

@@ -382,7 +382,7 @@ void ViewPanel::draw(AppState& state, Session& session, double view_aspect) {
     }
     ImGui::SameLine();
     if (ImGui::Button("Load")) {
-        if (auto loaded = load_app_state_file(state_path); !loaded) {
+        if (auto loaded = load_app_state_file_checked(state_path); !loaded) {
             session.notify(loaded.error(), true);
         } else {
             session.apply_state(state, *loaded);

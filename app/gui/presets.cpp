@@ -78,7 +78,7 @@ void PresetList::set_dir(std::string dir) {
 void PresetList::load(int index, AppState& state, Session& session) {
     const auto& list = entries();
     if (index < 0 || size_t(index) >= list.size()) return;
-    auto loaded = load_app_state_file(list[size_t(index)].path);
+    auto loaded = load_app_state_file_checked(list[size_t(index)].path);
     if (!loaded) {
         session.notify(loaded.error(), true);
         return;

@@ -34,6 +34,9 @@ struct SahCostModel {
     }
 };
 
+/// The larger of a split's two sides (of `count` triangles): the smaller, the more even.
+inline uint32_t larger_side(uint32_t left_count, uint32_t count) { return std::max(left_count, count - left_count); }
+
 /// How every SAH search here picks among candidate planes of a node of `count`
 /// triangles: a cheaper plane wins; of two that cost exactly the same, the one that
 /// divides the triangles more evenly (its larger side is smaller); of two equally
@@ -54,8 +57,7 @@ inline bool is_better_split(float cost, uint32_t left_count, float best_cost, ui
                             uint32_t count) {
     if (cost < best_cost) return true;
     if (!(cost == best_cost) || !(cost < std::numeric_limits<float>::infinity())) return false;
-    const auto larger_side = [count](uint32_t left) { return std::max(left, count - left); };
-    return larger_side(left_count) < larger_side(best_left_count);
+    return larger_side(left_count, count) < larger_side(best_left_count, count);
 }
 
 }  // namespace accelviz

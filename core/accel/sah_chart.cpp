@@ -78,7 +78,7 @@ HeuristicCut midpoint_cut(const std::vector<Ref>& refs, const Aabb& centroid_bou
 void keep_if_best(SahChart& chart, float cost, int axis, float position, uint32_t left_count, uint32_t count,
                   const Aabb& left, const Aabb& right) {
     if (cost == chart.best_cost && cost < kInfinity &&
-        std::max(left_count, count - left_count) != std::max(chart.best_left_count, count - chart.best_left_count))
+        larger_side(left_count, count) != larger_side(chart.best_left_count, count))
         chart.best_tied = true;
     else if (cost < chart.best_cost)
         chart.best_tied = false;

@@ -94,7 +94,7 @@ struct SahChart {
 
 struct SahChartOptions {
     /// Sweep on a node with more triangles than this: list at most this many candidates
-    /// per axis (each the cheapest of its run). 0: list every candidate.
+    /// per axis (each the best of its run, by is_better_split). 0: list every candidate.
     size_t max_points = 0;
 };
 

@@ -14,4 +14,5 @@ if [ "$mode" = fail ] && [ $rc -eq 0 ]; then echo "FAIL: expected a non-zero exi
 if [ "$mode" = ok ] && [ $rc -ne 0 ]; then echo "FAIL: expected success"; exit 1; fi
 if ! grep -qF -- "$text" <<<"$out"; then echo "FAIL: output does not contain '$text'"; exit 1; fi
 if [ "$mode" = fail ] && [ "$(grep -c . <<<"$stderr")" -gt 1 ]; then echo "FAIL: the error is more than one line"; exit 1; fi
+if [ "$mode" = fail ] && [ "$(grep -c . <<<"$out")" -gt 3 ]; then echo "FAIL: the output around the error is not short"; exit 1; fi
 exit 0

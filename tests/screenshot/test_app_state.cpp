@@ -66,6 +66,45 @@ TEST(AppStateJson, BadValuesAreOneLineErrorsNamingTheField) {
     EXPECT_NE(scale.error().find("ui_scale"), std::string::npos);
 }
 
+TEST(AppStateJson, WrongKindsOfValueNameTheField) {
+    // field -> the JSON that holds a value of the wrong kind there
+    const std::pair<const char*, const char*> cases[] = {
+        {"structure.bvh.bins: expected a whole number, got \"x\"", R"({"structure": {"bvh": {"bins": "x"}}})"},
+        {"structure.bvh.bins: expected a whole number, got 16.9", R"({"structure": {"bvh": {"bins": 16.9}}})"},
+        {"structure.bvh.bins: expected a whole number, got true", R"({"structure": {"bvh": {"bins": true}}})"},
+        {"structure.bvh.bins: expected a whole number, got 4294967300", R"({"structure": {"bvh": {"bins": 4294967300}}})"},
+        {"structure.leaf_size: expected a whole number", R"({"structure": {"leaf_size": "x"}})"},
+        {"structure.kd.cost_trav: expected a number, got true", R"({"structure": {"kd": {"cost_trav": true}}})"},
+        {"structure.grid.mailbox: expected true or false, got 1", R"({"structure": {"grid": {"mailbox": 1}}})"},
+        {"build_step.bins: expected a whole number", R"({"build_step": {"bins": 2.5}})"},
+        {"camera.eye: expected [x, y, z] (three numbers)", R"({"camera": {"eye": ["a", 0, 0]}})"},
+        {"view.ui_scale: expected a number, got \"big\"", R"({"view": {"ui_scale": "big"}})"},
+    };
+    for (const auto& [expected, json] : cases) {
+        auto state = app_state_from_json(nlohmann::json::parse(json));
+        ASSERT_FALSE(state) << json;
+        EXPECT_NE(state.error().find(expected), std::string::npos) << state.error();
+    }
+}
+
+TEST(AppStateFile, ACheckedLoadRefusesAStructureTheBuildWouldRefuse) {
+    // Reading keeps a bad structure value (command-line flags may still replace it);
+    // the window's checked load refuses it, naming the file.
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::path(ACCELVIZ_SCREENSHOT_OUT) / "preset_checked";
+    fs::create_directories(dir);
+    std::ofstream(dir / "bins1.json") << R"({"structure": {"type": "bvh", "bvh": {"bins": 1}}})";
+    std::ofstream(dir / "kd_unused.json") << R"({"structure": {"type": "kd", "bvh": {"bins": 1}}})";
+    const std::string bins1 = (dir / "bins1.json").string();
+    EXPECT_TRUE(load_app_state_file(bins1));
+    auto checked = load_app_state_file_checked(bins1);
+    ASSERT_FALSE(checked);
+    EXPECT_NE(checked.error().find("bins1.json: structure: --bins must be between 2 and 64 (got 1)"), std::string::npos)
+        << checked.error();
+    // Only the structure the state selects is checked, as only it is built.
+    EXPECT_TRUE(load_app_state_file_checked((dir / "kd_unused.json").string()));
+}
+
 TEST(AppStateFile, RelativeObjPathIsTakenFromThePresetsDirectoryWhenTheFileIsThere) {
     namespace fs = std::filesystem;
     const fs::path dir = fs::path(ACCELVIZ_SCREENSHOT_OUT) / "preset_paths";
