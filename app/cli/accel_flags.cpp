@@ -12,7 +12,8 @@ void add_accel_flags(CLI::App& command, AccelConfig& config) {
         ->capture_default_str();
 
     // Shared by several structures (unset: each structure's default).
-    command.add_option("--leaf-size", config.leaf_size, "Leaf size limit (bvh: 1..255; kd, octree: any); default: each structure's own")
+    command.add_option("--leaf-size", config.leaf_size,
+                       "Leaf size limit (bvh: 1..255; kd, octree: any); default: each structure's own")
         ->check(whole_number(1, 1 << 20));
     command.add_option("--cost-trav", config.cost_trav, "SAH cost of one interior-node step, C_trav (bvh, kd)")
         ->check(number_between(0.0, 1e6));

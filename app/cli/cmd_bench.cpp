@@ -281,7 +281,10 @@ Command register_bench(CLI::App& app) {
     sub->add_option("scene", opt->scene, "OBJ file, or builtin:NAME (e.g. builtin:soup?n=100000)")->required();
     sub->add_option("--width", opt->width, "Image width in pixels")->check(whole_number(1, 16384))->capture_default_str();
     sub->add_option("--height", opt->height, "Image height in pixels")->check(whole_number(1, 16384))->capture_default_str();
-    sub->add_option("--threads", opt->threads, "Tracing threads (0 = all cores; more than the cores run on all cores, and `threads` says how many ran)")->check(whole_number(0, 1024))
+    sub->add_option("--threads", opt->threads,
+                    "Tracing threads (0 = all cores; more than the cores run on all cores, and `threads` says "
+                    "how many ran)")
+        ->check(whole_number(0, 1024))
         ->capture_default_str();
     sub->add_option("--repeat", opt->repeat, "Runs of build and of trace; the medians are reported")
         ->check(whole_number(1, 1000))

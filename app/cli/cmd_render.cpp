@@ -265,7 +265,8 @@ Command register_render(CLI::App& app) {
         ->capture_default_str();
     sub->add_option("--width", opt->width, "Image width in pixels")->check(whole_number(1, 16384))->capture_default_str();
     sub->add_option("--height", opt->height, "Image height in pixels")->check(whole_number(1, 16384))->capture_default_str();
-    sub->add_option("--threads", opt->threads, "Ray-casting threads (0 = all cores; more than the cores run on all cores)")->check(whole_number(0, 1024))
+    sub->add_option("--threads", opt->threads, "Ray-casting threads (0 = all cores; more than the cores run on all cores)")
+        ->check(whole_number(0, 1024))
         ->capture_default_str();
     sub->add_option("--depth-out", opt->depth_out,
                     "CPU views: also write the ray-cast depth (hit distance t, +inf on a miss) as a PFM file");

@@ -43,7 +43,10 @@ T read(const nlohmann::json& obj, const char* key, const T& current, const char*
     } else if constexpr (std::is_arithmetic_v<T>) ok = it->is_number();
     else ok = it->is_string();
     if (!ok) {
-        const char* expected = kFlag ? "true or false" : kWhole ? "a whole number" : std::is_arithmetic_v<T> ? "a number" : "a string";
+        const char* expected = kFlag                     ? "true or false"
+                               : kWhole                  ? "a whole number"
+                               : std::is_arithmetic_v<T> ? "a number"
+                                                         : "a string";
         const std::string field = *section ? std::string(section) + "." + key : std::string(key);
         throw std::runtime_error(field + ": expected " + expected + ", got " + it->dump());
     }
