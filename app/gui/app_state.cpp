@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <iterator>
 #include <limits>
+#include <optional>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -34,14 +35,18 @@ T read(const nlohmann::json& obj, const char* key, const T& current, const char*
     constexpr bool kFlag = std::is_same_v<T, bool>;
     constexpr bool kWhole = std::is_integral_v<T> && !kFlag;
     bool ok = false;
-    if constexpr (kFlag) ok = it->is_boolean();
-    else if constexpr (kWhole) {
-        ok = (it->is_number_integer() && !it->is_number_unsigned() &&
-              it->template get<int64_t>() >= int64_t(std::numeric_limits<T>::min()) &&
-              it->template get<int64_t>() <= int64_t(std::numeric_limits<T>::max())) ||
-             (it->is_number_unsigned() && it->template get<uint64_t>() <= uint64_t(std::numeric_limits<T>::max()));
-    } else if constexpr (std::is_arithmetic_v<T>) ok = it->is_number();
-    else ok = it->is_string();
+    if constexpr (kFlag) {
+        ok = it->is_boolean();
+    } else if constexpr (kWhole) {  // JSON keeps non-negative integers as unsigned, negative ones as signed
+        using Limits = std::numeric_limits<T>;
+        if (it->is_number_unsigned()) ok = it->template get<uint64_t>() <= uint64_t(Limits::max());
+        else if (it->is_number_integer())
+            ok = it->template get<int64_t>() >= int64_t(Limits::min()) && it->template get<int64_t>() <= int64_t(Limits::max());
+    } else if constexpr (std::is_arithmetic_v<T>) {
+        ok = it->is_number();
+    } else {
+        ok = it->is_string();
+    }
     if (!ok) {
         const char* expected = kFlag                     ? "true or false"
                                : kWhole                  ? "a whole number"
@@ -51,6 +56,22 @@ T read(const nlohmann::json& obj, const char* key, const T& current, const char*
         throw std::runtime_error(field + ": expected " + expected + ", got " + it->dump());
     }
     return it->template get<T>();
+}
+
+/// An optional field: absent keeps `current`, null unsets it, otherwise read() as a T.
+template <class T>
+std::optional<T> read(const nlohmann::json& obj, const char* key, const std::optional<T>& current, const char* section) {
+    const auto it = obj.find(key);
+    if (it == obj.end()) return current;
+    if (it->is_null()) return std::nullopt;
+    return read(obj, key, T{}, section);
+}
+
+/// nlohmann's message without its "[json.exception.type_error.302] " tag.
+std::string without_json_tag(const std::string& what) {
+    if (what.rfind("[json.exception.", 0) != 0) return what;
+    const size_t tag = what.find("] ");
+    return tag == std::string::npos ? what : what.substr(tag + 2);
 }
 
 Vec3d read_vec3(const nlohmann::json& j, const char* field) {
@@ -165,9 +186,9 @@ void read_accel(const nlohmann::json& j, AccelConfig& a) {
         if (o.contains("clip")) a.octree.clip = read_enum(o["clip"], "structure.octree.clip", parse_clip_mode);
         a.octree.mailbox = read(o, "mailbox", a.octree.mailbox, "structure.octree");
     }
-    if (j.contains("leaf_size")) a.leaf_size = read(j, "leaf_size", 0, "structure");
-    if (j.contains("cost_trav")) a.cost_trav = read(j, "cost_trav", 0.0f, "structure");
-    if (j.contains("cost_isect")) a.cost_isect = read(j, "cost_isect", 0.0f, "structure");
+    a.leaf_size = read(j, "leaf_size", a.leaf_size, "structure");
+    a.cost_trav = read(j, "cost_trav", a.cost_trav, "structure");
+    a.cost_isect = read(j, "cost_isect", a.cost_isect, "structure");
 }
 
 }  // namespace
@@ -269,10 +290,9 @@ Expected<AppState> app_state_from_json(const nlohmann::json& j) {
             bs.active = read(b, "active", bs.active, "build_step");
             bs.step = read(b, "step", bs.step, "build_step");
             if (bs.step < 0) return Error{"build_step.step: must be 0 or more"};
-            if (b.contains("bins") && !b["bins"].is_null()) bs.bins = read(b, "bins", 0, "build_step");
-            if (b.contains("cost_trav") && !b["cost_trav"].is_null()) bs.cost_trav = read(b, "cost_trav", 0.0f, "build_step");
-            if (b.contains("cost_isect") && !b["cost_isect"].is_null())
-                bs.cost_isect = read(b, "cost_isect", 0.0f, "build_step");
+            bs.bins = read(b, "bins", bs.bins, "build_step");
+            bs.cost_trav = read(b, "cost_trav", bs.cost_trav, "build_step");
+            bs.cost_isect = read(b, "cost_isect", bs.cost_isect, "build_step");
             if (bs.bins && (*bs.bins < 2 || *bs.bins > 64)) return Error{"build_step.bins: must be between 2 and 64"};
             if (bs.cost_trav && !(*bs.cost_trav >= 0.0f)) return Error{"build_step.cost_trav: must be 0 or more"};
             if (bs.cost_isect && !(*bs.cost_isect > 0.0f)) return Error{"build_step.cost_isect: must be more than 0"};
@@ -304,11 +324,8 @@ Expected<AppState> app_state_from_json(const nlohmann::json& j) {
                 s.stepper.pixel = std::array<int, 2>{p[0].get<int>(), p[1].get<int>()};
             }
         }
-    } catch (const std::exception& e) {  // ours name the field; nlohmann's, without their "[json.exception...] " tag
-        std::string what = e.what();
-        if (what.rfind("[json.exception.", 0) == 0)
-            if (const size_t tag = what.find("] "); tag != std::string::npos) what = what.substr(tag + 2);
-        return Error{what};
+    } catch (const std::exception& e) {  // ours name the field; nlohmann's do not
+        return Error{without_json_tag(e.what())};
     }
     return s;
 }
@@ -323,10 +340,7 @@ Expected<AppState> load_app_state_file(const std::string& path) {
     try {
         json = nlohmann::json::parse(in);
     } catch (const nlohmann::json::parse_error& e) {
-        // "[json.exception.parse_error.101] parse error at line 3, column 5: ..." without the tag.
-        std::string what = e.what();
-        if (const size_t tag = what.find("] "); tag != std::string::npos) what = what.substr(tag + 2);
-        return Error{path + ": not valid JSON: " + what};
+        return Error{path + ": not valid JSON: " + without_json_tag(e.what())};  // "parse error at line 3, column 5: ..."
     }
     auto state = app_state_from_json(json);
     if (!state) return Error{path + ": " + state.error()};

@@ -44,12 +44,11 @@ std::optional<Error> validate(const AccelConfig& config) {
 }
 
 Expected<std::shared_ptr<const Accelerator>> build_accelerator(const Mesh& mesh, const AccelConfig& config) {
+    if (auto err = validate(config)) return *err;
     if (config.type == "naive")
         return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<BruteForce>>(BruteForce(mesh)));
     if (config.type == "bvh") {
-        const BvhConfig bvh_config = bvh_config_of(config);
-        if (auto err = validate(bvh_config)) return *err;
-        Bvh bvh = build_bvh(mesh, bvh_config);
+        Bvh bvh = build_bvh(mesh, bvh_config_of(config));
         bvh.traversal = config.bvh_traversal;
         return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<Bvh>>(std::move(bvh)));
     }

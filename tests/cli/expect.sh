@@ -7,7 +7,7 @@ set -u
 mode=$1; text=$2; shift 2; [ "$1" = "--" ] && shift
 err_file=$(mktemp); trap 'rm -f "$err_file"' EXIT
 stdout=$("$@" 2>"$err_file"); rc=$?; stderr=$(cat "$err_file")
-out="$stdout${stdout:+${stderr:+$'\n'}}$stderr"
+out=$(printf '%s\n%s' "$stdout" "$stderr")
 echo "$ $*"; echo "$out"; echo "exit code: $rc"
 if [ $rc -ge 128 ]; then echo "FAIL: killed by signal $((rc - 128))"; exit 1; fi
 if [ "$mode" = fail ] && [ $rc -eq 0 ]; then echo "FAIL: expected a non-zero exit"; exit 1; fi
