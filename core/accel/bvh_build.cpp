@@ -96,6 +96,22 @@ struct PrimRef {
 static_assert(offsetof(PrimRef, center) % 16 == 0, "the centroid is read as four aligned floats (with the id)");
 using PrimRefs = std::vector<PrimRef, LargeArrayAllocator<PrimRef>>;
 
+/// The binning and partition passes read the records front to back, and on the machine
+/// this was measured on (a 2-core AMD EPYC VM) the hardware prefetcher did not keep up
+/// with them: the passes ask for the record kRefsAhead places on (binning nodes smaller
+/// than kTwoBinSets, half as far). Only a hint: nothing changes but when the memory
+/// arrives. (871k triangles, one thread: build about 530 -> 450 ms, the same tree.)
+constexpr uint32_t kRefsAhead = 64;
+/// Asks for the cache line holding the start of refs[k], if k < end.
+inline void prefetch_record(const PrimRefs& refs, uint32_t k, uint32_t end, bool for_writing = false) {
+    if (k >= end) return;
+    if (for_writing) {
+        __builtin_prefetch(&refs[k], 1);
+    } else {
+        __builtin_prefetch(&refs[k], 0);
+    }
+}
+
 /// The lecture splits by "the position of the primitive's centroid" (重心): the
 /// mean of the three corners, summed in corner order.
 PrimRef make_prim_ref(Vec3 p0, Vec3 p1, Vec3 p2, uint32_t id) {
@@ -321,6 +337,8 @@ public:
         uint32_t k = range.begin;
         if (range.count() >= kTwoBinSets) {
             for (; k + 1 < range.end; k += 2) {
+                prefetch_record(refs_, k + kRefsAhead, range.end);
+                prefetch_record(refs_, k + 1 + kRefsAhead, range.end);
                 drop(0, refs_[k]);
                 drop(1, refs_[k + 1]);
             }
@@ -334,7 +352,10 @@ public:
                 }
             }
         }
-        for (; k < range.end; ++k) drop(0, refs_[k]);
+        for (; k < range.end; ++k) {
+            prefetch_record(refs_, k + kRefsAhead / 2, range.end);
+            drop(0, refs_[k]);
+        }
 
         // The plane i has bins [0, i) on the left and [i, B) on the right. Between two
         // non-empty bins every plane splits the triangles alike; the first such plane
@@ -446,6 +467,7 @@ public:
         const BinMap map = map_;
         uint32_t store = range.begin;
         for (uint32_t k = range.begin; k < range.end; ++k) {
+            prefetch_record(refs_, k + kRefsAhead, range.end, true);
             const PrimRef ref = refs_[k];
             const bool left = uint32_t(map(ref).index[choice.axis]) < choice.index;
             left_box.grow_if(left, ref.box);
@@ -645,6 +667,24 @@ BuildDecision decide(Splitter& splitter, Range range, uint32_t depth, const Aabb
     return within_budget ? BuildDecision::SplitForcedBySize : BuildDecision::SplitInHalfDepthBudget;
 }
 
+/// triangles[k] = mesh.triangle(prim_ids[k]) for every k. The ids jump around the mesh,
+/// so each triangle's index triple and corners are a cache miss of their own; the loop
+/// asks for them some triangles ahead (the index triple first, its corners once the
+/// triple has had time to arrive) so the misses overlap instead of following each other.
+template <typename Ids, typename Triangles>
+void copy_triangles_in_leaf_order(const Mesh& mesh, const Ids& prim_ids, Triangles& triangles) {
+    constexpr size_t kTriplesAhead = 16, kCornersAhead = 8;
+    const size_t n = prim_ids.size();
+    triangles.reserve(n);
+    for (size_t k = 0; k < n; ++k) {
+        if (k + kTriplesAhead < n) __builtin_prefetch(&mesh.indices[prim_ids[k + kTriplesAhead]]);
+        if (k + kCornersAhead < n) {
+            for (uint32_t corner : mesh.indices[prim_ids[k + kCornersAhead]]) __builtin_prefetch(&mesh.positions[corner]);
+        }
+        triangles.push_back(mesh.triangle(prim_ids[k]));
+    }
+}
+
 /// Depths, leaf sizes and SAH cost of the tree, gathered as the build makes its nodes
 /// (parents before children, left subtree first).
 class TreeStats {
@@ -807,12 +847,9 @@ Bvh build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecorder* recor
             }
         }
         // Leaf order: the triangles of each leaf next to each other, as the traversal reads them.
-        bvh.prim_ids.reserve(n);
-        bvh.triangles.reserve(n);
-        for (uint32_t k = 0; k < n; ++k) {
-            bvh.prim_ids.push_back(splitter->prim_id(k));
-            bvh.triangles.push_back(mesh.triangle(bvh.prim_ids[k]));
-        }
+        bvh.prim_ids.resize(n);
+        for (uint32_t k = 0; k < n; ++k) bvh.prim_ids[k] = splitter->prim_id(k);
+        copy_triangles_in_leaf_order(mesh, bvh.prim_ids, bvh.triangles);
     }
 
     tree_stats.finish(bvh, stats);
