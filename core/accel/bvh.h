@@ -106,6 +106,19 @@ private:
     template <bool kMayStartBehind, class Observer>
     bool any_hit(const Ray& ray, Observer& obs) const;
 
+    /// Asks the memory system for the children of node `child` (one cache line: the
+    /// sibling pair at nodes[first]) while the walk is still testing `child`'s own box:
+    /// the next step down waits on that line, and on an 871k-triangle tree it is mostly
+    /// not in the caches. Only a hint: nothing changes but when the memory arrives. For a
+    /// leaf, `first` counts triangles and the hint falls on some unrelated address,
+    /// harmless; choosing the leaf's triangles instead cost more than it saved (measured,
+    /// as the hint itself: 871k, one thread, 0.75 -> 0.80x Embree's speed on an AMD EPYC VM).
+    void prefetch_children(uint32_t child) const {
+        const uint32_t first = nodes[child].first;
+        __builtin_prefetch(reinterpret_cast<const void*>(reinterpret_cast<uintptr_t>(nodes.data()) +
+                                                         uintptr_t(first) * sizeof(BvhNode)));
+    }
+
     /// A node to visit now or later. The walk needs its `first` and `count`, copied
     /// when its box was tested (the same 32 bytes, so going down to its children waits
     /// on no second load of the node), and its box's entry distance (clipped to the
@@ -248,6 +261,8 @@ Hit Bvh::ordered(const Ray& ray, Observer& obs) const {
             // find_hit_order (lecture): test both children; keep those the ray enters
             // no later than the closest hit so far; go to the nearer, defer the other.
             const uint32_t left = current.first, right = current.first + 1;
+            prefetch_children(left);
+            prefetch_children(right);
             const SlabResult a = widened_slab_test<kMayStartBehind>(nodes[left].bounds, box_ray, ray.t_min, ray.t_max);
             const SlabResult b = widened_slab_test<kMayStartBehind>(nodes[right].bounds, box_ray, ray.t_min, ray.t_max);
             obs.on({.kind = EventKind::BoxTest, .hit = entered(a), .node = left, .t_enter = a.t_enter, .t_exit = a.t_exit});
@@ -330,6 +345,8 @@ bool Bvh::any_hit(const Ray& ray, Observer& obs) const {
         } else {
             StackEntryFor<Observer> child[2];
             bool keep[2];
+            prefetch_children(current.first);
+            prefetch_children(current.first + 1);
             for (int side = 0; side < 2; ++side) {
                 const uint32_t id = current.first + uint32_t(side);
                 const SlabResult box = widened_slab_test<kMayStartBehind>(nodes[id].bounds, box_ray, ray.t_min, ray.t_max);
