@@ -117,7 +117,7 @@ private:
 struct PrimRef {
     Box4 box;
     Vec3 center;  ///< the triangle's centroid (p0 + p1 + p2) / 3: what the splits divide
-    uint32_t id = 0;
+    uint32_t id = 0;  ///< right after the centroid: a four-float load of it must mask this off (load_xyz)
 
     Vec3 centroid() const { return center; }
 };
