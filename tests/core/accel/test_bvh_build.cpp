@@ -347,12 +347,15 @@ TEST(BvhBuild, BinnedShortcutsBuildTheSameTreeAsTheFullBinning) {
 #if defined(__SSE2__)
 TEST(BvhBuild, BuildsWithoutComputingOnSubnormalNumbers) {
     // Every builder keeps each triangle's id in the four bytes after its centroid, and
-    // read as a float an id is a subnormal number; a CPU computes with subnormals on a
-    // slow path (binning by those four floats once made the build twice as slow). The
-    // SSE status register's sticky "denormal operand" flag (MXCSR.DE, bit 1) tells
-    // whether any float operation of this thread saw one. The bunny's coordinates are
-    // ordinary numbers, so a clean build leaves the flag clear.
+    // read as a float an id from 1 to 2^23 - 1 is a subnormal number; a CPU computes
+    // with subnormals on a slow path (binning by those four floats once made the build
+    // twice as slow). The SSE status register's sticky "denormal operand" flag
+    // (MXCSR.DE, bit 1) tells whether any float operation of this thread saw one; the
+    // build runs on the calling thread. These scenes' coordinates are ordinary numbers,
+    // so a clean build leaves the flag clear.
     constexpr unsigned kDenormalFlag = 1u << 1, kAllFlags = 0x3f;
+    constexpr unsigned kDenormalsAreZero = 1u << 6;  // DAZ would hide subnormals (and the flag)
+    ASSERT_EQ(_mm_getcsr() & kDenormalsAreZero, 0u) << "compiled or run with denormals-are-zero: nothing to see";
     std::vector<std::string> sources = {"builtin:soup?n=5000", "builtin:teapot"};
     if (test::shared_asset_exists("bunny.obj")) sources.push_back(test::shared_asset("bunny.obj"));
     for (const std::string& source : sources) {
