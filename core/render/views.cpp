@@ -30,11 +30,16 @@ std::string with_commas(uint64_t n) {
 }
 
 /// A horizontal colour bar over [0, 1] of the colour map, on a black box, with a
-/// title above and three tick labels (left, middle, right) below.
+/// title above and three tick labels (left, middle, right) below. On a small image,
+/// where the title is wider than the bar, the bar widens to the title (so the ticks
+/// have room too) and the legend moves left as far as it must to stay in the image.
 void draw_legend_bar(Image& img, int x, int y, int w, int h, const std::string& title,
                      const std::string (&ticks)[3]) {
     const int s = label_scale(img.height);
     int tw = 0, th = 0;
+    text_size(title, s, &tw, &th);
+    w = std::max(w, tw);
+    x = std::max(4 * s, std::min(x, img.width - w - 4 * s));
     text_size("0", s, &tw, &th);
     fill_rect(img, x - 4 * s, y - th - 6 * s, w + 8 * s, h + 2 * th + 10 * s, {0, 0, 0});
     draw_text(img, x, y - th - 3 * s, title, s, {255, 255, 255});
