@@ -56,7 +56,7 @@ struct alignas(16) Box4 {
         }
 #endif
     }
-    /// grow(b) if `yes`, else nothing; without a branch.
+    /// grow(b) if `yes`, else nothing; without a branch where SSE4.1 has a blend.
     void grow_if(bool yes, const Box4& b) {
 #if defined(__SSE4_1__)
         grow_by_if(yes, _mm_load_ps(b.lo), _mm_load_ps(b.hi));

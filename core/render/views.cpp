@@ -36,10 +36,11 @@ std::string with_commas(uint64_t n) {
 void draw_legend_bar(Image& img, int x, int y, int w, int h, const std::string& title,
                      const std::string (&ticks)[3]) {
     const int s = label_scale(img.height);
-    int tw = 0, th = 0;
-    text_size(title, s, &tw, &th);
-    w = std::max(w, tw);
+    int title_w = 0, title_h = 0;
+    text_size(title, s, &title_w, &title_h);
+    w = std::max(w, title_w);
     x = std::max(4 * s, std::min(x, img.width - w - 4 * s));
+    int tw = 0, th = 0;  // a label's size: th of "0" places the rows, tw of each tick centres it
     text_size("0", s, &tw, &th);
     fill_rect(img, x - 4 * s, y - th - 6 * s, w + 8 * s, h + 2 * th + 10 * s, {0, 0, 0});
     draw_text(img, x, y - th - 3 * s, title, s, {255, 255, 255});
