@@ -13,6 +13,7 @@
 #include "app/gl/texture.h"
 #include "app/gl/view3d.h"
 #include "app/gui/camera_control.h"
+#include "app/gui/widget_audit.h"
 #include "core/render/colormap.h"
 #include "core/render/views.h"
 
@@ -374,6 +375,7 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
 
     // 2. Fonts and colours (a changed UI scale rebuilds the font atlas), then ImGui's frame.
     session.style.apply(state.view, renderer);
+    widget_audit::begin_frame();
     ImGui::NewFrame();
 
     // 3. Layout, then the 3D view's input (ImGui's capture flags are from this NewFrame).

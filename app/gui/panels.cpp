@@ -126,7 +126,7 @@ void StructurePanel::draw(AppState& state, Session& session) {
     AccelConfig& a = state.accel;
     bool rebuild = false;
     ImGui::PushItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);
-    rebuild |= name_combo("Structure", a.type, accel_types());
+    rebuild |= name_combo("Structure###structure_type", a.type, accel_types());  // not the header's ID
     if (a.type == "bvh") {
         rebuild |= enum_combo("Build", a.bvh.builder, bvh_builder_names(), parse_bvh_builder);
         if (a.bvh.builder == BvhBuilder::SahBinned) rebuild |= int_slider("Bins (B)", a.bvh.bins, 2, 64);
@@ -362,7 +362,8 @@ void ViewPanel::draw(AppState& state, Session& session, double view_aspect) {
         state.camera = default_camera(session.scene->bounds);
         frame_bounds(*state.camera, session.scene->bounds, view_aspect);
     }
-    if (ImGui::Button(copied ? "Copied to clipboard" : "Copy camera as CLI flags") && state.camera) {
+    if (ImGui::Button(copied ? "Copied to clipboard###copy_camera" : "Copy camera as CLI flags###copy_camera") &&
+        state.camera) {
         ImGui::SetClipboardText(camera_cli_flags(*state.camera).c_str());
         copied = true;
     }
@@ -427,6 +428,7 @@ void StatsBar::draw(const AppState& state, const Session& session, double frame_
     if (session.loader.busy()) line += "  |  " + session.loader.activity() + " ...";
     if (const std::string caption = session.presets.caption(); !caption.empty()) line = caption + "  |  " + line;
     ImGui::TextUnformatted(line.c_str());
+    last_line = line;
     ImGui::SameLine(ImGui::GetWindowContentRegionMax().x - ImGui::CalcTextSize("F1: help").x);
     ImGui::TextDisabled("F1: help");
 }

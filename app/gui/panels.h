@@ -49,6 +49,7 @@ struct ViewPanel {
 struct StatsBar {
     /// `frame_ms` <= 0 or `deterministic`: times are left out (golden images).
     void draw(const AppState& state, const Session& session, double frame_ms, bool deterministic);
+    std::string last_line;  ///< the text drawn last (scripted window tests read it)
 };
 
 /// The keyboard and mouse shortcuts (F1).

@@ -174,7 +174,7 @@ void StepperPanel::draw_controls(AppState& state) {
     ImGui::SameLine();
     if (ImGui::Button("<") && step > 0) --step;
     ImGui::SameLine();
-    if (ImGui::Button(playing ? "Pause" : "Play")) {
+    if (ImGui::Button(playing ? "Pause###play" : "Play###play")) {  // one ID whichever it reads
         playing = !playing;
         if (playing && step >= end) step = 0;
         play_clock = 0;

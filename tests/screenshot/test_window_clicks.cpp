@@ -1,0 +1,360 @@
+// The real window, driven as a person drives it: `accelviz SCENE` runs in its own
+// process under Xvfb (CTest: xvfb-run), and every action is a real pointer or
+// key event sent to the X server by xdotool (XTEST): move, press, release, wheel,
+// key. What the window did is read back from its ACCELVIZ_UI_SNAPSHOT file (the
+// app state, the status line and every widget's label and rectangle, rewritten
+// after each frame that changed anything), so each step waits for the state it
+// expects instead of sleeping for a fixed time.
+#include <signal.h>
+#include <spawn.h>
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+extern char** environ;
+
+namespace {
+
+using nlohmann::json;
+using Clock = std::chrono::steady_clock;
+constexpr auto kTimeout = std::chrono::seconds(30);  // a build on a slow, shared machine
+
+/// Runs a command line, returns its standard output (trailing newline removed).
+std::string run(const std::string& command) {
+    std::string out;
+    if (FILE* pipe = popen(command.c_str(), "r")) {
+        char buffer[256];
+        while (fgets(buffer, sizeof buffer, pipe)) out += buffer;
+        pclose(pipe);
+    }
+    while (!out.empty() && (out.back() == '\n' || out.back() == '\r')) out.pop_back();
+    return out;
+}
+
+/// One widget as the snapshot lists it.
+struct Widget {
+    std::string label, text, window;
+    double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    double cx() const { return std::floor(0.5 * (x0 + x1)); }
+    double cy() const { return std::floor(0.5 * (y0 + y1)); }
+};
+
+class Window {
+public:
+    /// Starts `accelviz scene` and waits until the scene is on screen with nothing pending.
+    void start(const std::string& scene) {
+        dir_ = std::filesystem::temp_directory_path() /
+               ("accelviz-clicks-" + std::to_string(getpid()) + "-" + std::to_string(counter_++));
+        std::filesystem::create_directories(dir_);
+        snapshot_path_ = (dir_ / "ui.json").string();
+        log_path_ = (dir_ / "stderr.txt").string();
+        setenv("ACCELVIZ_UI_SNAPSHOT", snapshot_path_.c_str(), 1);
+        posix_spawn_file_actions_t actions;
+        posix_spawn_file_actions_init(&actions);
+        posix_spawn_file_actions_addopen(&actions, 2, log_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+        std::string binary = ACCELVIZ_BINARY;
+        std::vector<char*> argv = {binary.data(), const_cast<char*>(scene.c_str()), nullptr};
+        ASSERT_EQ(posix_spawn(&pid_, binary.c_str(), &actions, nullptr, argv.data(), environ), 0);
+        posix_spawn_file_actions_destroy(&actions);
+        unsetenv("ACCELVIZ_UI_SNAPSHOT");
+        wait_for("the scene on screen", [&](const json& s) {
+            return s.contains("shown") && !s["busy"].get<bool>() && s["shown"]["scene"] == scene;
+        });
+        window_id_ = run("xdotool search --sync --onlyvisible --name '^accelviz$' | head -n 1");
+        ASSERT_FALSE(window_id_.empty()) << "xdotool found no window named accelviz";
+        run("xdotool windowfocus --sync " + window_id_ + " 2>/dev/null");
+    }
+
+    ~Window() {
+        if (pid_ > 0) {
+            kill(pid_, SIGTERM);
+            waitpid(pid_, nullptr, 0);
+        }
+        std::error_code ignored;
+        if (!::testing::Test::HasFailure()) std::filesystem::remove_all(dir_, ignored);
+    }
+
+    /// The newest snapshot (parsed), or null while there is none.
+    json snapshot() const {
+        std::ifstream in(snapshot_path_);
+        if (!in) return nullptr;
+        try {
+            return json::parse(in);
+        } catch (const json::exception&) {
+            return nullptr;
+        }
+    }
+
+    /// Waits until `pred` holds for the snapshot; fails the test (naming `what`) on time-out.
+    json wait_for(const std::string& what, const std::function<bool(const json&)>& pred) {
+        const auto start = Clock::now();
+        json s;
+        while (Clock::now() - start < kTimeout) {
+            s = snapshot();
+            if (!s.is_null() && pred(s)) return s;
+            int status = 0;
+            if (pid_ > 0 && waitpid(pid_, &status, WNOHANG) == pid_) {
+                pid_ = -1;
+                ADD_FAILURE() << "accelviz exited while waiting for " << what << "; stderr:\n" << stderr_text();
+                return s;
+            }
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        }
+        ADD_FAILURE() << "timed out waiting for " << what << "; status line: "
+                      << (s.is_null() ? std::string("(no snapshot)") : s["status"].get<std::string>())
+                      << "\nstderr:\n" << stderr_text();
+        return s;
+    }
+
+    /// The state once nothing is pending (no load, build or ray cast under way).
+    json settled_state() {
+        return wait_for("the window to settle", [](const json& s) { return !s["busy"].get<bool>(); })["state"];
+    }
+
+    /// The widget whose label is `label` (exactly, "##" part included) or, failing
+    /// that, whose visible text is `label`, in a window whose name starts with
+    /// `window`; `occurrence` picks the second (1), third (2) ... of several.
+    std::optional<Widget> find(const json& s, const std::string& label, const std::string& window = "##sidebar",
+                               int occurrence = 0) const {
+        for (int pass = 0; pass < 2; ++pass) {
+            int seen = 0;
+            for (const json& w : s["widgets"]) {
+                const std::string& key = pass == 0 ? w["label"].get_ref<const std::string&>()
+                                                   : w["text"].get_ref<const std::string&>();
+                if (key != label || w["window"].get<std::string>().rfind(window, 0) != 0) continue;
+                if (w["hidden"].get<bool>()) continue;  // laid out, not shown yet (a popup's first frame)
+                if (seen++ < occurrence) continue;
+                return Widget{w["label"], w["text"], w["window"], w["rect"][0], w["rect"][1], w["rect"][2], w["rect"][3]};
+            }
+        }
+        return std::nullopt;
+    }
+
+    /// Waits for the widget to be laid out inside the window (scrolling the
+    /// sidebar with the mouse wheel if it is below or above the visible part).
+    Widget visible(const std::string& label, const std::string& window = "##sidebar", int occurrence = 0) {
+        for (int attempt = 0; attempt < 40; ++attempt) {
+            const json s = wait_for("a widget '" + label + "' in " + window,
+                                    [&](const json& snap) { return find(snap, label, window, occurrence).has_value(); });
+            const auto w = find(s, label, window, occurrence);
+            if (!w) return {};
+            const double bottom = s["view"][1].get<double>() + s["view"][3].get<double>();
+            if (w->y0 >= 0 && w->y1 <= bottom) return *w;
+            // Scroll the sidebar towards it: wheel down (button 5) or up (button 4).
+            move_to(8, bottom / 2);
+            run("xdotool click " + std::string(w->y1 > bottom ? "5" : "4"));
+            const double before = w->y0;
+            wait_for("the sidebar to scroll", [&](const json& snap) {
+                const auto moved = find(snap, label, window, occurrence);
+                return moved && moved->y0 != before;
+            });
+        }
+        ADD_FAILURE() << "could not scroll '" << label << "' into view";
+        return {};
+    }
+
+    /// Moves the pointer (window pixels) and waits until ImGui has seen it there.
+    void move_to(double x, double y) {
+        run("xdotool mousemove --window " + window_id_ + " " + std::to_string(int(x)) + " " + std::to_string(int(y)));
+        wait_for("the pointer at " + std::to_string(int(x)) + "," + std::to_string(int(y)), [&](const json& s) {
+            return std::abs(s["mouse"]["x"].get<double>() - int(x)) < 0.5 &&
+                   std::abs(s["mouse"]["y"].get<double>() - int(y)) < 0.5;
+        });
+    }
+
+    /// Press and release of the left button where the pointer is, each waited for.
+    void press() {
+        run("xdotool mousedown 1");
+        wait_for("the button down", [](const json& s) { return s["mouse"]["down"][0].get<bool>(); });
+    }
+    void release() {
+        run("xdotool mouseup 1");
+        wait_for("the button up", [](const json& s) { return !s["mouse"]["down"][0].get<bool>(); });
+    }
+    void press_and_release() {
+        press();
+        release();
+    }
+
+    void click(const Widget& w) {
+        move_to(w.cx(), w.cy());
+        press_and_release();
+    }
+    void click(const std::string& label, const std::string& window = "##sidebar", int occurrence = 0) {
+        click(visible(label, window, occurrence));
+    }
+
+    /// Opens the combo `label` and picks `entry` from its list.
+    void pick(const std::string& label, const std::string& entry, int occurrence = 0) {
+        click(label, "##sidebar", occurrence);
+        const json s = wait_for("the list of '" + label + "' to open",
+                                [&](const json& snap) { return find(snap, entry, "##Combo").has_value(); });
+        click(*find(s, entry, "##Combo"));
+    }
+
+    /// Clicks a checkbox and waits for the state at `pointer` (a JSON pointer) to flip.
+    void toggle(const std::string& label, const std::string& pointer) {
+        const json::json_pointer at(pointer);
+        const bool before = settled_state()[at].get<bool>();
+        click(label);
+        wait_for("'" + label + "' to turn " + (before ? "off" : "on"),
+                 [&](const json& s) { return s["state"][at].get<bool>() != before; });
+    }
+
+    void key(const std::string& name) { run("xdotool key " + name); }
+
+    std::string stderr_text() const {
+        std::ifstream in(log_path_);
+        std::stringstream text;
+        text << in.rdbuf();
+        return text.str();
+    }
+
+private:
+    static inline int counter_ = 0;
+    std::filesystem::path dir_;
+    std::string snapshot_path_, log_path_, window_id_;
+    pid_t pid_ = -1;
+};
+
+/// The sidebar has two widgets reading "Structure": the section header, then the combo.
+constexpr int kCombo = 1;
+
+bool structure_shown(const json& s, const std::string& name) {
+    return !s["busy"].get<bool>() && s.contains("shown") && s["shown"]["structure"] == name &&
+           s["state"]["structure"]["type"] == name;
+}
+
+TEST(WindowClicks, StructureComboSwitchesEveryStructureAndTheHeaderStillFolds) {
+    Window w;
+    w.start("builtin:teapot");
+    for (const std::string name : {"grid", "kd", "octree", "naive", "bvh"}) {
+        w.pick("Structure", name, kCombo);
+        const json s = w.wait_for("structure " + name + " built and shown",
+                                  [&](const json& snap) { return structure_shown(snap, name); });
+        EXPECT_NE(s["status"].get<std::string>().find("structure: " + name), std::string::npos) << s["status"];
+    }
+    // The section header with the same visible text folds and unfolds the section.
+    w.click("Structure", "##sidebar");
+    w.wait_for("the Structure section folded",
+               [&](const json& s) { return !w.find(s, "Structure", "##sidebar", kCombo).has_value(); });
+    w.click("Structure", "##sidebar");
+    w.wait_for("the Structure section unfolded",
+               [&](const json& s) { return w.find(s, "Structure", "##sidebar", kCombo).has_value(); });
+    EXPECT_TRUE(w.snapshot()["duplicate_ids"].empty()) << w.snapshot()["duplicate_ids"].dump();
+}
+
+TEST(WindowClicks, EveryComboAndCheckboxOfTheSidebarResponds) {
+    Window w;
+    w.start("builtin:teapot");
+    // BVH: its combos and checkboxes.
+    w.pick("Build", "median");
+    w.wait_for("builder median", [](const json& s) { return s["state"]["structure"]["bvh"]["builder"] == "median"; });
+    w.pick("Traversal", "unordered");
+    w.wait_for("traversal unordered",
+               [](const json& s) { return s["state"]["structure"]["bvh"]["traversal"] == "unordered"; });
+    w.toggle("Show structure", "/overlay/show_structure");
+    w.toggle("Show structure", "/overlay/show_structure");
+    w.toggle("Leaves only", "/overlay/leaves_only");
+    w.toggle("Light theme", "/view/light_theme");
+    w.toggle("Scene bounds", "/view/show_bounds");
+    w.toggle("Step the BVH build", "/build_step/active");
+    w.toggle("Step the BVH build", "/build_step/active");
+    // Grid.
+    w.pick("Structure", "grid", kCombo);
+    w.wait_for("the grid", [](const json& s) { return structure_shown(s, "grid"); });
+    w.pick("Insert", "exact");
+    w.wait_for("grid insert exact", [](const json& s) { return s["state"]["structure"]["grid"]["insert"] == "exact"; });
+    w.toggle("Mailbox", "/structure/grid/mailbox");
+    // KD tree.
+    w.pick("Structure", "kd", kCombo);
+    w.wait_for("the KD tree", [](const json& s) { return structure_shown(s, "kd"); });
+    w.pick("Build", "median");
+    w.wait_for("kd builder median", [](const json& s) { return s["state"]["structure"]["kd"]["builder"] == "median"; });
+    w.toggle("Hit must be in cell", "/structure/kd/strict_cell");
+    w.toggle("Mailbox", "/structure/kd/mailbox");
+    // Octree.
+    w.pick("Structure", "octree", kCombo);
+    w.wait_for("the octree", [](const json& s) { return structure_shown(s, "octree"); });
+    w.toggle("Mailbox", "/structure/octree/mailbox");
+    // The split view: its checkbox, combos and checkbox, then S turns it off again.
+    w.click("Raster | ray cast (S)");
+    w.wait_for("the split view", [](const json& s) { return s["state"]["view"]["mode"] == "split"; });
+    w.pick("Raster shows", "CPU rasterizer");
+    w.wait_for("the CPU rasterizer on the left", [](const json& s) { return s["state"]["view"]["left_view"] == "raster"; });
+    w.pick("Ray cast shows", "heat: nodes visited");
+    w.wait_for("the heat map on the right", [](const json& s) { return s["state"]["view"]["right_view"] == "heat-nodes"; });
+    w.toggle("Heat: same scale for all structures", "/view/heat_same_scale");
+    w.key("s");
+    w.wait_for("S: back to the 3D view", [](const json& s) { return s["state"]["view"]["mode"] == "3d"; });
+    w.key("s");
+    w.wait_for("S: the split view again", [](const json& s) { return s["state"]["view"]["mode"] == "split"; });
+    // The built-in scenes combo (no visible label: its ID is "##builtin").
+    w.pick("##builtin", "cube");
+    w.wait_for("the cube loaded", [](const json& s) {
+        return !s["busy"].get<bool>() && s.contains("shown") && s["shown"]["scene"] == "builtin:cube";
+    });
+    EXPECT_TRUE(w.snapshot()["duplicate_ids"].empty()) << w.snapshot()["duplicate_ids"].dump();
+}
+
+TEST(WindowClicks, DraggingTheLeafSizeSliderRebuildsOnRelease) {
+    Window w;
+    w.start("builtin:teapot");
+    const Widget slider = w.visible("Max leaf size");
+    const int before = w.settled_state()["structure"]["bvh"]["max_leaf_size"];
+    // Press near the left end, drag to the right end, release.
+    w.move_to(slider.x0 + 4, slider.cy());
+    w.press();
+    w.move_to(slider.x1 - 4, slider.cy());
+    w.release();
+    const json s = w.wait_for("a larger leaf size, rebuilt", [&](const json& snap) {
+        return !snap["busy"].get<bool>() && snap["state"]["structure"]["bvh"]["max_leaf_size"].get<int>() > before + 10;
+    });
+    EXPECT_GE(s["state"]["structure"]["bvh"]["max_leaf_size"].get<int>(), 30);
+}
+
+TEST(WindowClicks, StepperPicksTheRayOfTheClickedPixel) {
+    Window w;
+    w.start("builtin:teapot");
+    w.toggle("Step one ray", "/stepper/open");
+    // The middle of the 3D view: the teapot's body in the default view.
+    const json s = w.snapshot();
+    const double x = s["view"][0].get<double>() + 0.5 * s["view"][2].get<double>();
+    const double y = s["view"][1].get<double>() + 0.5 * s["view"][3].get<double>();
+    w.move_to(x, y);
+    w.press_and_release();
+    const json picked = w.wait_for("the clicked pixel's ray stepped", [](const json& snap) {
+        return snap["state"]["stepper"]["ray"].is_object() && snap.contains("stepped_ray");
+    });
+    EXPECT_EQ(picked["state"]["stepper"]["pixel"][0].get<int>(), int(x) - s["view"][0].get<int>());
+    EXPECT_EQ(picked["state"]["stepper"]["pixel"][1].get<int>(), int(y) - s["view"][1].get<int>());
+    EXPECT_EQ(picked["stepped_ray"]["structure"], "bvh");
+    EXPECT_TRUE(picked["stepped_ray"]["hit_triangle"].is_number()) << "the ray of the view's middle missed the teapot";
+    EXPECT_GT(picked["stepped_ray"]["events"].get<int>(), 3);
+    // Right steps it: the step count follows the key.
+    w.key("Right");
+    w.wait_for("Right: one step", [](const json& snap) { return snap["state"]["stepper"]["step"].get<int>() == 1; });
+    w.key("End");
+    w.wait_for("End: the last step", [&](const json& snap) {
+        return snap["state"]["stepper"]["step"].get<int>() == picked["stepped_ray"]["events"].get<int>();
+    });
+}
+
+}  // namespace
