@@ -6,10 +6,12 @@ namespace accelviz::cli {
 void add_accel_flags(CLI::App& command, AccelConfig& config) {
     // The command line's default is the BVH: naive is the lecture's O(N) baseline,
     // minutes per frame on a real mesh, so it is asked for by name.
-    config.type = "bvh";
-    command.add_option("--accel", config.type, "Acceleration structure (naive = the O(N) baseline: every triangle per ray)")
-        ->check(CLI::IsMember(accel_types()))
-        ->capture_default_str();
+    config.type = AccelType::Bvh;
+    command.add_option_function<std::string>(
+               "--accel", [&config](const std::string& v) { config.type = *parse_accel_type(v); },
+               "Acceleration structure (naive = the O(N) baseline: every triangle per ray)")
+        ->check(CLI::IsMember(accel_type_names()))
+        ->default_str("bvh");
 
     // Shared by several structures (unset: each structure's default).
     command.add_option("--leaf-size", config.leaf_size,

@@ -139,7 +139,7 @@ int run_bench(const BenchOptions& opt) {
     Measured ours;
     std::shared_ptr<const Accelerator> accel;
     for (int run = 0; run < opt.repeat; ++run) {
-        progress("bench: building %s (%d/%d)\n", opt.accel.type, run + 1, opt.repeat);
+        progress("bench: building %s (%d/%d)\n", std::string(to_string(opt.accel.type)), run + 1, opt.repeat);
         accel.reset();  // free the previous one first: one structure in memory at a time
         const auto start = clock::now();
         const double cpu_start = process_cpu_ms();
@@ -162,7 +162,7 @@ int run_bench(const BenchOptions& opt) {
     embree.results = RayResults(rays.size());
 #endif
     for (int run = 0; run < opt.repeat; ++run) {
-        progress("bench: tracing with %s (%d/%d)\n", opt.accel.type, run + 1, opt.repeat);
+        progress("bench: tracing with %s (%d/%d)\n", std::string(to_string(opt.accel.type)), run + 1, opt.repeat);
         const auto start = clock::now();
         const double cpu_start = process_cpu_ms();
         for_each_ray_chunk(rays.size(), threads, [&](size_t begin, size_t end) {

@@ -26,6 +26,10 @@
 namespace accelviz::cli {
 namespace {
 
+/// The structure's name, for messages and titles.
+std::string accel_name(const AppState& state) { return std::string(to_string(state.accel.type)); }
+
+
 struct RenderOptions {
     std::string scene;
     std::optional<AppState> preset;  ///< --preset, read while parsing (before the structure flags apply)
@@ -75,7 +79,7 @@ int run_window_view(const RenderOptions& opt, AppState state) {
     auto render = render_headless(state, std::move(*loaded), opt.view, opt.width, opt.height);
     if (!render) return fail(render.error());
     std::fprintf(stderr, "%s view of %s (%s): build %.1f ms, frame %.1f ms (%s)\n", opt.view.c_str(),
-                 state.scene.c_str(), state.accel.type.c_str(), build_ms, render->frame_ms,
+                 state.scene.c_str(), accel_name(state).c_str(), build_ms, render->frame_ms,
                  render->gl_description.c_str());
     if (auto err = write_png(render->colour, opt.out)) return fail(err->message);
     std::cout << opt.out << "\n";
@@ -86,9 +90,9 @@ int run_window_view(const RenderOptions& opt, AppState state) {
 /// stepper at decision K of the BVH build.
 int run_build_step(const RenderOptions& opt, AppState state) {
     if (opt.step < 0) return fail("--view build-step needs --step K (the build decision to show, 0 = the root)");
-    if (!opt.preset && !opt.accel_given) state.accel.type = "bvh";
-    if (state.accel.type != "bvh")
-        return fail("--view build-step steps a BVH build (--accel bvh, not " + state.accel.type + ")");
+    if (!opt.preset && !opt.accel_given) state.accel.type = AccelType::Bvh;
+    if (state.accel.type != AccelType::Bvh)
+        return fail("--view build-step steps a BVH build (--accel bvh, not " + accel_name(state) + ")");
     // The shared flags (--leaf-size, --cost-*) as the tree and the chart take them.
     if (state.accel.leaf_size) state.accel.bvh.max_leaf_size = *state.accel.leaf_size;
     if (state.accel.cost_trav) state.accel.bvh.cost_trav = *state.accel.cost_trav;
@@ -182,7 +186,7 @@ int run_render(const RenderOptions& opt) {
 
     Frame ray_frame, raster_frame;
     WorkSummary work;
-    work.accel_name = state.accel.type;
+    work.accel_name = to_string(state.accel.type);
     if (needs_ray) {
         auto start = clock::now();
         auto accel = build_accelerator(*mesh, state.accel);
@@ -190,7 +194,7 @@ int run_render(const RenderOptions& opt) {
         const double build_ms = ms_since(start);
         start = clock::now();
         ray_frame = ray_cast(**accel, make_triangles(*mesh), camera, {.threads = opt.threads, .count_work = count_work});
-        std::fprintf(stderr, "ray cast (%s): build %.1f ms, frame %.1f ms\n", state.accel.type.c_str(), build_ms,
+        std::fprintf(stderr, "ray cast (%s): build %.1f ms, frame %.1f ms\n", accel_name(state).c_str(), build_ms,
                      ms_since(start));
         work.ray_work = ray_frame.work;
         work.ray_work_counted = count_work;
@@ -207,9 +211,9 @@ int run_render(const RenderOptions& opt) {
     else if (opt.view == "split") image = split_view(raster_frame, ray_frame, work);
     else if (opt.view == "depth-diff") image = depth_diff_view(raster_frame, ray_frame);
     else if (opt.view == "heat-nodes")
-        image = heat_view(ray_frame.nodes, opt.width, opt.height, "Nodes visited per pixel (" + state.accel.type + ")", opt.heat_max);
+        image = heat_view(ray_frame.nodes, opt.width, opt.height, "Nodes visited per pixel (" + accel_name(state) + ")", opt.heat_max);
     else if (opt.view == "heat-tris")
-        image = heat_view(ray_frame.tests, opt.width, opt.height, "Triangles tested per pixel (" + state.accel.type + ")", opt.heat_max);
+        image = heat_view(ray_frame.tests, opt.width, opt.height, "Triangles tested per pixel (" + accel_name(state) + ")", opt.heat_max);
 
     if (auto err = write_png(image, opt.out)) return fail(err->message);
     std::cout << opt.out << "\n";

@@ -99,6 +99,14 @@ auto read_enum(const nlohmann::json& j, const char* field, Parse parse) {
     return *value;
 }
 
+/// A value of an enum with a table of names, or fail naming the field and the names it takes.
+template <class Enum, size_t N>
+Enum read_named(const nlohmann::json& j, const char* field, const EnumNames<Enum, N>& names) {
+    if (!j.is_string()) throw std::runtime_error(std::string(field) + ": must be " + names.listed());
+    if (auto value = names.parse(j.get<std::string>())) return *value;
+    throw std::runtime_error(std::string(field) + ": must be " + names.listed() + " (got \"" + j.get<std::string>() + "\")");
+}
+
 /// A float written by float_to_json: a number, or "inf", "-inf", "nan".
 float read_float(const nlohmann::json& j, const char* field) {
     if (j.is_number()) return j.get<float>();
@@ -114,7 +122,7 @@ float read_float(const nlohmann::json& j, const char* field) {
 
 nlohmann::json accel_config_json(const AccelConfig& a) {
     nlohmann::json j;
-    j["type"] = a.type;
+    j["type"] = std::string(to_string(a.type));
     j["bvh"] = {{"builder", std::string(to_string(a.bvh.builder))},
                 {"bins", a.bvh.bins},
                 {"max_leaf_size", a.bvh.max_leaf_size},
@@ -147,10 +155,7 @@ nlohmann::json accel_config_json(const AccelConfig& a) {
 namespace {
 
 void read_accel(const nlohmann::json& j, AccelConfig& a) {
-    a.type = read(j, "type", a.type, "structure");
-    const std::vector<std::string>& types = accel_types();
-    if (std::find(types.begin(), types.end(), a.type) == types.end())
-        throw std::runtime_error("structure.type: unknown value '" + a.type + "'");
+    if (j.contains("type")) a.type = read_enum(j["type"], "structure.type", parse_accel_type);
     if (j.contains("bvh")) {
         const auto& b = j["bvh"];
         if (b.contains("builder")) a.bvh.builder = read_enum(b["builder"], "structure.bvh.builder", parse_bvh_builder);
@@ -213,8 +218,9 @@ nlohmann::json to_json(const AppState& s) {
     j["view"] = {{"ui_scale", s.view.ui_scale},   {"light_theme", s.view.light_theme},
                  {"background", rgb_json(s.view.background)}, {"show_ui", s.view.show_ui},
                  {"show_help", s.view.show_help}, {"show_bounds", s.view.show_bounds},
-                 {"mode", s.view.mode},           {"right_view", s.view.right_view},
-                 {"left_view", s.view.left_view}, {"heat_same_scale", s.view.heat_same_scale},
+                 {"mode", std::string(to_string(s.view.mode))},
+                 {"right_view", std::string(to_string(s.view.right_view))},
+                 {"left_view", std::string(to_string(s.view.left_view))}, {"heat_same_scale", s.view.heat_same_scale},
                  {"line_width", s.view.line_width}};
     nlohmann::json b = {{"active", s.build_step.active}, {"step", s.build_step.step}};
     if (s.build_step.bins) b["bins"] = *s.build_step.bins;
@@ -274,14 +280,9 @@ Expected<AppState> app_state_from_json(const nlohmann::json& j) {
             s.view.line_width = read(v, "line_width", s.view.line_width, "view");
             if (!(s.view.line_width >= 1.0f && s.view.line_width <= 6.0f))
                 return Error{"view.line_width: must be between 1 and 6 pixels"};
-            s.view.mode = read(v, "mode", s.view.mode, "view");
-            if (s.view.mode != "3d" && s.view.mode != "split") return Error{"view.mode: must be \"3d\" or \"split\""};
-            s.view.right_view = read(v, "right_view", s.view.right_view, "view");
-            if (std::find(std::begin(kRightViews), std::end(kRightViews), s.view.right_view) == std::end(kRightViews))
-                return Error{"view.right_view: must be raycast, heat-nodes, heat-tris, depth or depth-diff"};
-            s.view.left_view = read(v, "left_view", s.view.left_view, "view");
-            if (std::find(std::begin(kLeftViews), std::end(kLeftViews), s.view.left_view) == std::end(kLeftViews))
-                return Error{"view.left_view: must be opengl, raster, raster-depth or opengl-depth"};
+            if (v.contains("mode")) s.view.mode = read_named(v["mode"], "view.mode", kViewModeNames);
+            if (v.contains("right_view")) s.view.right_view = read_named(v["right_view"], "view.right_view", kRightViewNames);
+            if (v.contains("left_view")) s.view.left_view = read_named(v["left_view"], "view.left_view", kLeftViewNames);
             s.view.heat_same_scale = read(v, "heat_same_scale", s.view.heat_same_scale, "view");
         }
         if (j.contains("build_step")) {

@@ -7,6 +7,7 @@
 
 #include <array>
 #include <optional>
+#include <ostream>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -14,13 +15,45 @@
 #include "core/accel/factory.h"
 #include "core/render/camera.h"
 #include "core/render/frame.h"
+#include "core/util/enum_names.h"
 #include "core/util/expected.h"
 
 namespace accelviz {
 
-/// What the halves of the split view can show (ViewSettings::right_view, left_view).
-inline constexpr const char* kRightViews[] = {"raycast", "heat-nodes", "heat-tris", "depth", "depth-diff"};
-inline constexpr const char* kLeftViews[] = {"opengl", "raster", "raster-depth", "opengl-depth"};
+/// The 3D view alone, or raster vs ray cast side by side (S).
+enum class ViewMode { View3D, Split };
+inline constexpr EnumNames<ViewMode, 2> kViewModeNames{{{{ViewMode::View3D, "3d"}, {ViewMode::Split, "split"}}}};
+
+/// What the right half of the split view shows: the ray caster's picture of the
+/// camera, shaded; its work per pixel through the current structure (heat maps);
+/// its depth as grey, on one scale with the rasterizer's; or where the core
+/// rasterizer's and the ray caster's depths disagree.
+enum class RightView { RayCast, HeatNodes, HeatTris, Depth, DepthDiff };
+inline constexpr EnumNames<RightView, 5> kRightViewNames{{{{RightView::RayCast, "raycast"},
+                                                           {RightView::HeatNodes, "heat-nodes"},
+                                                           {RightView::HeatTris, "heat-tris"},
+                                                           {RightView::Depth, "depth"},
+                                                           {RightView::DepthDiff, "depth-diff"}}}};
+
+/// What the left half shows: the live OpenGL view (its own z-buffer), the core
+/// CPU rasterizer's image of the same camera, its depth as grey (one scale with
+/// the ray cast's), or OpenGL's depth buffer read back.
+enum class LeftView { OpenGl, Raster, RasterDepth, OpenGlDepth };
+inline constexpr EnumNames<LeftView, 4> kLeftViewNames{{{{LeftView::OpenGl, "opengl"},
+                                                         {LeftView::Raster, "raster"},
+                                                         {LeftView::RasterDepth, "raster-depth"},
+                                                         {LeftView::OpenGlDepth, "opengl-depth"}}}};
+
+constexpr std::string_view to_string(ViewMode v) { return kViewModeNames.name(v); }
+constexpr std::string_view to_string(RightView v) { return kRightViewNames.name(v); }
+constexpr std::string_view to_string(LeftView v) { return kLeftViewNames.name(v); }
+
+inline std::ostream& operator<<(std::ostream& out, ViewMode v) { return out << to_string(v); }
+inline std::ostream& operator<<(std::ostream& out, RightView v) { return out << to_string(v); }
+inline std::ostream& operator<<(std::ostream& out, LeftView v) { return out << to_string(v); }
+
+/// A heat map (work per pixel) on the right.
+constexpr bool is_heat(RightView v) { return v == RightView::HeatNodes || v == RightView::HeatTris; }
 
 /// How the window looks; the lecture-hall settings.
 struct ViewSettings {
@@ -31,18 +64,9 @@ struct ViewSettings {
     bool show_help = false;         ///< the keyboard shortcuts window (F1)
     bool show_bounds = true;        ///< the scene's bounding box as a wireframe
     float line_width = 1.0f;        ///< pixels, 1 to 6: box edges and segments (wider for projectors)
-    /// "3d": the 3D view. "split": raster vs ray cast, the OpenGL view (left)
-    /// next to the CPU ray caster's picture of the same camera (right).
-    std::string mode = "3d";
-    /// In "split": what the right half shows: "raycast" (shaded), "heat-nodes",
-    /// "heat-tris" (work per pixel through the current structure), "depth" (the
-    /// ray-cast depth as grey, on one scale with the rasterizer's), "depth-diff"
-    /// (where the core rasterizer's and the ray caster's depths disagree).
-    std::string right_view = "raycast";
-    /// In "split": what the left half shows: "opengl" (the live OpenGL view, its
-    /// own z-buffer), "raster" (the core CPU rasterizer's image of the same
-    /// camera), "raster-depth" (its depth as grey, on one scale with the ray cast's).
-    std::string left_view = "opengl";
+    ViewMode mode = ViewMode::View3D;
+    RightView right_view = RightView::RayCast;  ///< in the split view
+    LeftView left_view = LeftView::OpenGl;      ///< in the split view
     /// Heat maps keep the largest count seen since the scene was loaded as the top
     /// of their scale, so that switching structures compares like with like.
     bool heat_same_scale = false;
@@ -84,7 +108,7 @@ int font_pixels(float ui_scale);
 /// AccelConfig's defaults with type "bvh".
 inline AccelConfig bvh_config_default() {
     AccelConfig config;
-    config.type = "bvh";
+    config.type = AccelType::Bvh;
     return config;
 }
 

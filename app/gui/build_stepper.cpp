@@ -156,10 +156,10 @@ bool BuildStepper::shows_3d(const AppState& state) const {
 
 bool BuildStepper::draw_sidebar(AppState& state) {
     if (!ImGui::CollapsingHeader("Construction", ImGuiTreeNodeFlags_DefaultOpen)) return false;
-    if (state.accel.type != "bvh") {
+    if (state.accel.type != AccelType::Bvh) {
         ImGui::TextDisabled("Step the build of a BVH split by split.");
         if (!ImGui::Button("Use a BVH")) return false;
-        state.accel.type = "bvh";
+        state.accel.type = AccelType::Bvh;
         state.build_step.active = true;
         return true;
     }
@@ -185,7 +185,7 @@ void BuildStepper::draw_panel(AppState& state, float x, float y, float w, float 
     }
     if (!open) state.build_step.active = false;
     if (!trace_) {
-        ImGui::TextWrapped("%s", state.accel.type == "bvh" ? "Recording the build ..."
+        ImGui::TextWrapped("%s", state.accel.type == AccelType::Bvh ? "Recording the build ..."
                                                            : "The construction stepper needs a BVH (Structure: bvh).");
         ImGui::End();
         return;

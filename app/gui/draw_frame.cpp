@@ -84,7 +84,7 @@ void handle_view_input(AppState& state, Session& session, const Layout& layout) 
         if (ImGui::IsKeyPressed(GLFW_KEY_F1, false)) state.view.show_help = !state.view.show_help;
         if (ImGui::IsKeyPressed(GLFW_KEY_TAB, false)) state.view.show_ui = !state.view.show_ui;
         if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE, false)) state.view.show_help = false;
-        if (ImGui::IsKeyPressed(GLFW_KEY_S, false)) state.view.mode = state.view.mode == "split" ? "3d" : "split";
+        if (ImGui::IsKeyPressed(GLFW_KEY_S, false)) state.view.mode = state.view.mode == ViewMode::Split ? ViewMode::View3D : ViewMode::Split;
         // Presets in lecture order (a presentation clicker sends these keys).
         if (ImGui::IsKeyPressed(GLFW_KEY_PAGE_DOWN, false)) session.presets.step(+1, state, session);
         if (ImGui::IsKeyPressed(GLFW_KEY_PAGE_UP, false)) session.presets.step(-1, state, session);
@@ -242,7 +242,7 @@ void draw_split_labels(const AppState& state, const Session& session, const Layo
                       (unsigned long long)r.triangles_rasterized, (unsigned long long)r.pixels_tested,
                       (unsigned long long)r.fragments, (unsigned long long)r.depth_writes);
         std::string detail = text;
-        if (state.view.left_view == "raster-depth") {
+        if (state.view.left_view == LeftView::RasterDepth) {
             std::snprintf(text, sizeof text, "; grey: t %.3g (light) .. %.3g (dark), same scale as the ray cast's",
                           shown_cast->t_near, shown_cast->t_far);
             detail += text;
@@ -252,10 +252,10 @@ void draw_split_labels(const AppState& state, const Session& session, const Layo
             detail += text;
         }
         label("##raster_label", layout.gl_view,
-              state.view.left_view == "raster-depth" ? "Rasterized depth (CPU z-buffer, core)"
+              state.view.left_view == LeftView::RasterDepth ? "Rasterized depth (CPU z-buffer, core)"
                                                      : "Rasterized (CPU z-buffer, core)",
               detail, false);
-    } else if (state.view.left_view == "opengl-depth") {
+    } else if (state.view.left_view == LeftView::OpenGlDepth) {
         std::string detail = "the depth buffer read back, as the distance t along each pixel's ray";
         if (shown_cast && shown_cast->t_far > shown_cast->t_near) {
             std::snprintf(text, sizeof text, "; grey: t %.3g (light) .. %.3g (dark), same scale as the ray cast's",
@@ -268,7 +268,8 @@ void draw_split_labels(const AppState& state, const Session& session, const Layo
         label("##raster_label", layout.gl_view, "Rasterized (OpenGL z-buffer)", text, false);
     }
 
-    std::string title = "Ray cast (CPU, " + (session.scene ? session.scene->accel_config.type : std::string("?")) + ")";
+    const std::string structure = session.scene ? std::string(to_string(session.scene->accel_config.type)) : "?";
+    std::string title = "Ray cast (CPU, " + structure + ")";
     std::string detail = "computing ...";
     if (const auto& shown = session.ray_cast.shown()) {
         const Counters& w = shown->frame.work;
@@ -277,12 +278,11 @@ void draw_split_labels(const AppState& state, const Session& session, const Layo
                       "%.0f rays x (%.1f nodes, %.1f box tests, %.1f triangle tests) (naive: %zu triangle tests per ray)",
                       rays, w.nodes_visited / rays, w.box_tests / rays, w.triangle_tests / rays, triangles);
         detail = text;
-        if (state.view.right_view == "depth") {
+        if (state.view.right_view == RightView::Depth) {
             std::snprintf(text, sizeof text, "; grey: t %.3g (light) .. %.3g (dark)", shown->t_near, shown->t_far);
             detail += text;
         }
-        if ((state.view.right_view == "heat-nodes" || state.view.right_view == "heat-tris") &&
-            state.view.heat_same_scale)
+        if (is_heat(state.view.right_view) && state.view.heat_same_scale)
             detail += "; heat scale shared by all structures (largest since the scene loaded)";
         if (!deterministic) {
             std::snprintf(text, sizeof text, "  (%.0f ms)", shown->milliseconds);
@@ -290,13 +290,12 @@ void draw_split_labels(const AppState& state, const Session& session, const Layo
         }
         if (session.ray_cast.stale()) detail += "  updating ...";
     }
-    if (state.view.right_view == "heat-nodes") title += ": nodes visited";
-    if (state.view.right_view == "heat-tris") title += ": triangle tests";
-    if (state.view.right_view == "depth") title += ": depth";
-    if (state.view.right_view == "depth-diff") title = "Depth: CPU raster vs ray cast (" +
-                                                       (session.scene ? session.scene->accel_config.type : std::string("?")) + ")";
+    if (state.view.right_view == RightView::HeatNodes) title += ": nodes visited";
+    if (state.view.right_view == RightView::HeatTris) title += ": triangle tests";
+    if (state.view.right_view == RightView::Depth) title += ": depth";
+    if (state.view.right_view == RightView::DepthDiff) title = "Depth: CPU raster vs ray cast (" + structure + ")";
     label("##ray_label", layout.ray_view, title, detail,
-          state.view.right_view != "raycast" && state.view.right_view != "depth");
+          state.view.right_view != RightView::RayCast && state.view.right_view != RightView::Depth);
 
     // The divider between the halves.
     const float x = float(layout.ray_view.x) - 1.0f;
@@ -380,7 +379,7 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
 
     // 3. Layout, then the 3D view's input (ImGui's capture flags are from this NewFrame).
     const bool ui = input.draw_ui && state.view.show_ui;
-    const bool split = state.view.mode == "split";
+    const bool split = state.view.mode == ViewMode::Split;
     // One stepper at a time: the one switched on last wins.
     if (state.stepper.open && state.build_step.active) {
         if (session.stepper.was_open) state.stepper.open = false;
@@ -389,7 +388,7 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
     session.stepper.was_open = state.stepper.open;
     // The construction stepper: its recorded build and chart (on workers; headless waits).
     session.build_stepper.update(state, session.scene, input.deterministic);
-    const bool build_panel = state.build_step.active && state.accel.type == "bvh";
+    const bool build_panel = state.build_step.active && state.accel.type == AccelType::Bvh;
     const RightPanel right_panel =
         build_panel ? RightPanel::Build : state.stepper.open ? RightPanel::Stepper : RightPanel::None;
     const Layout layout = compute_layout(input.width, input.height, ui, split, right_panel);
@@ -404,8 +403,8 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
     // Split view: the ray caster's picture of this frame's camera (on the worker;
     // headless waits for it so the frame is complete).
     if (split && session.scene && state.camera && !layout.ray_view.empty()) {
-        const bool raster = state.view.left_view != "opengl" || state.view.right_view == "depth" ||
-                            state.view.right_view == "depth-diff";
+        const bool raster = state.view.left_view != LeftView::OpenGl || state.view.right_view == RightView::Depth ||
+                            state.view.right_view == RightView::DepthDiff;
         session.ray_cast.request(session.scene, *state.camera, layout.ray_view.width, layout.ray_view.height,
                                  input.deterministic, raster);
         session.ray_cast.update_texture(state.view);
@@ -463,7 +462,7 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
         if (session.presets.caption_fresh()) draw_preset_caption(session, layout.view);
         // (Not over the CPU rasterizer's picture in the left half: it draws no overlay.)
         if (state.overlay.show_structure && !session.build_stepper.shows_3d(state) && !stepping &&
-            !(split && (session.ray_cast.left_texture() || state.view.left_view == "opengl-depth")))
+            !(split && (session.ray_cast.left_texture() || state.view.left_view == LeftView::OpenGlDepth)))
             draw_legend(session, layout.gl_view);
         if (split) draw_split_labels(state, session, layout, input.deterministic);
         session.help_window.draw(state);
@@ -493,7 +492,7 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
         MeshStyle mesh_style;
         mesh_style.opacity = state.overlay.mesh_opacity;
         const bool build_step_3d = session.build_stepper.shows_3d(state);
-        const bool gl_depth_view = split && state.view.left_view == "opengl-depth";
+        const bool gl_depth_view = split && state.view.left_view == LeftView::OpenGlDepth;
         if (gl_depth_view) {
             draw_opengl_depth_as_grey(session, renderer, out.view, layout.gl_view);
         } else if (build_step_3d) {

@@ -100,7 +100,7 @@ Expected<HeadlessRender> render_headless(const AppState& state, std::shared_ptr<
     if (view == "build-step") {
         // The whole window with the construction stepper at build_step.step: check
         // the step against the recorded build first (the stepper would clamp it).
-        if (state.accel.type != "bvh") return Error{"the build-step view needs a BVH (--accel bvh)"};
+        if (state.accel.type != AccelType::Bvh) return Error{"the build-step view needs a BVH (--accel bvh)"};
         frame_state.build_step.active = true;
         Session& session = (*app)->session();
         session.build_stepper.update(frame_state, session.scene, true);

@@ -126,8 +126,9 @@ void StructurePanel::draw(AppState& state, Session& session) {
     AccelConfig& a = state.accel;
     bool rebuild = false;
     ImGui::PushItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);
-    rebuild |= name_combo("Structure###structure_type", a.type, accel_types());  // not the header's ID
-    if (a.type == "bvh") {
+    // "###": the combo reads "Structure" like the section's header, but has its own ID.
+    rebuild |= enum_combo("Structure###structure_type", a.type, accel_type_names(), parse_accel_type);
+    if (a.type == AccelType::Bvh) {
         rebuild |= enum_combo("Build", a.bvh.builder, bvh_builder_names(), parse_bvh_builder);
         if (a.bvh.builder == BvhBuilder::SahBinned) rebuild |= int_slider("Bins (B)", a.bvh.bins, 2, 64);
         rebuild |= int_slider("Max leaf size", a.bvh.max_leaf_size, 1, 32);
@@ -136,11 +137,11 @@ void StructurePanel::draw(AppState& state, Session& session) {
             rebuild |= float_slider("C_isect", a.bvh.cost_isect, 0.1f, 10.0f);
         }
         rebuild |= enum_combo("Traversal", a.bvh_traversal, bvh_traversal_names(), parse_bvh_traversal);
-    } else if (a.type == "grid") {
+    } else if (a.type == AccelType::Grid) {
         rebuild |= float_slider("Density C", a.grid.density, 0.5f, 100.0f, "%.1f", ImGuiSliderFlags_Logarithmic);
         rebuild |= enum_combo("Insert", a.grid.insert, grid_insert_names(), parse_grid_insert);
         rebuild |= ImGui::Checkbox("Mailbox", &a.grid.mailbox);
-    } else if (a.type == "kd") {
+    } else if (a.type == AccelType::Kd) {
         rebuild |= enum_combo("Build", a.kd.builder, kd_builder_names(), parse_kd_builder);
         rebuild |= int_slider("Max depth", a.kd.max_depth, 0, kKdMaxDepth, a.kd.max_depth == 0 ? "auto" : "%d");
         rebuild |= int_slider("Leaf size", a.kd.leaf_size, 1, 32);
@@ -151,7 +152,7 @@ void StructurePanel::draw(AppState& state, Session& session) {
         }
         rebuild |= ImGui::Checkbox("Hit must be in cell", &a.kd.strict_cell);
         rebuild |= ImGui::Checkbox("Mailbox", &a.kd.mailbox);
-    } else if (a.type == "octree") {
+    } else if (a.type == AccelType::Octree) {
         rebuild |= int_slider("Max depth", a.octree.max_depth, 1, kOctreeMaxDepth);
         rebuild |= int_slider("Leaf size", a.octree.leaf_size, 1, 64);
         rebuild |= ImGui::Checkbox("Mailbox", &a.octree.mailbox);
@@ -179,7 +180,7 @@ void StructurePanel::draw(AppState& state, Session& session) {
         ImGui::SameLine();
         if (ImGui::SmallButton("Level +")) o.level_min = o.level_max = std::min(deepest, std::min(o.level_min, deepest) + 1);
     }
-    if (a.type != "grid" && a.type != "naive") ImGui::Checkbox("Leaves only", &o.leaves_only);
+    if (a.type != AccelType::Grid && a.type != AccelType::Naive) ImGui::Checkbox("Leaves only", &o.leaves_only);
     {
         // The box budget in thousands (0: no limit).
         int thousands = int(o.max_boxes / 1000);
@@ -326,25 +327,21 @@ void ViewPanel::draw(AppState& state, Session& session, double view_aspect) {
     ImGui::Checkbox("Scene bounds", &view.show_bounds);
 
     // Raster vs ray cast (S).
-    bool split = view.mode == "split";
-    if (ImGui::Checkbox("Raster | ray cast (S)", &split)) view.mode = split ? "split" : "3d";
+    bool split = view.mode == ViewMode::Split;
+    if (ImGui::Checkbox("Raster | ray cast (S)", &split)) view.mode = split ? ViewMode::Split : ViewMode::View3D;
     if (split) {
         static constexpr const char* kLeftLabels[] = {"OpenGL (its z-buffer)", "CPU rasterizer", "CPU raster depth", "OpenGL depth (read back)"};
-        static_assert(std::size(kLeftLabels) == std::size(kLeftViews));
-        int left = 0;
-        for (size_t i = 0; i < std::size(kLeftViews); ++i)
-            if (view.left_view == kLeftViews[i]) left = int(i);
+        static_assert(std::size(kLeftLabels) == kLeftViewNames.entries.size());
+        int left = int(view.left_view);  // the labels are in the enum's order
         ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);
         if (ImGui::Combo("Raster shows", &left, kLeftLabels, int(std::size(kLeftLabels))))
-            view.left_view = kLeftViews[left];
+            view.left_view = LeftView(left);
         static constexpr const char* kLabels[] = {"shaded", "heat: nodes visited", "heat: triangle tests", "depth",
                                                   "depth difference"};
-        static_assert(std::size(kLabels) == std::size(kRightViews));
-        int current = 0;
-        for (size_t i = 0; i < std::size(kRightViews); ++i)
-            if (view.right_view == kRightViews[i]) current = int(i);
+        static_assert(std::size(kLabels) == kRightViewNames.entries.size());
+        int current = int(view.right_view);  // the labels are in the enum's order
         ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);
-        if (ImGui::Combo("Ray cast shows", &current, kLabels, int(std::size(kLabels)))) view.right_view = kRightViews[current];
+        if (ImGui::Combo("Ray cast shows", &current, kLabels, int(std::size(kLabels)))) view.right_view = RightView(current);
         ImGui::Checkbox("Heat: same scale for all structures", &view.heat_same_scale);
     }
 
@@ -404,7 +401,7 @@ void StatsBar::draw(const AppState& state, const Session& session, double frame_
     if (const LoadedScene* scene = session.scene.get()) {
         char text[256];
         std::snprintf(text, sizeof text, "%s  |  %zu triangles  |  structure: %s", state.scene.c_str(),
-                      scene->mesh->triangle_count(), scene->accel_config.type.c_str());
+                      scene->mesh->triangle_count(), std::string(to_string(scene->accel_config.type)).c_str());
         line = text;
         // The steppers draw their own boxes in place of the whole structure's.
         const bool stepper_3d = (state.stepper.open && state.stepper.ray) || session.build_stepper.shows_3d(state);

@@ -82,13 +82,13 @@ void RayCastView::update_texture(const ViewSettings& view) {
         if (!texture_) texture_ = std::make_unique<Texture>();
         const double nodes_max = view.heat_same_scale ? heat_max_nodes_ : 0;
         const double tests_max = view.heat_same_scale ? heat_max_tests_ : 0;
-        if (view.right_view == "heat-nodes")
+        if (view.right_view == RightView::HeatNodes)
             texture_->upload(heat_view(f.nodes, f.width, f.height, "Nodes / cells visited per pixel", nodes_max));
-        else if (view.right_view == "heat-tris")
+        else if (view.right_view == RightView::HeatTris)
             texture_->upload(heat_view(f.tests, f.width, f.height, "Triangle tests per pixel", tests_max));
-        else if (view.right_view == "depth")
+        else if (view.right_view == RightView::Depth)
             texture_->upload(depth_grey_view(f, shown_->t_near, shown_->t_far));
-        else if (view.right_view == "depth-diff" && have_raster)
+        else if (view.right_view == RightView::DepthDiff && have_raster)
             texture_->upload(depth_diff_view(shown_->raster, f));
         else
             texture_->upload(f.colour);
@@ -97,13 +97,13 @@ void RayCastView::update_texture(const ViewSettings& view) {
     }
 
     // Left: the CPU rasterizer's picture, when asked for.
-    if (view.left_view == "opengl" || view.left_view == "opengl-depth" || !have_raster) {  // drawn by OpenGL
-        left_view_ = "opengl";
+    if (view.left_view == LeftView::OpenGl || view.left_view == LeftView::OpenGlDepth || !have_raster) {  // drawn by OpenGL
+        left_view_ = LeftView::OpenGl;
         return;
     }
     if (changed || view.left_view != left_view_ || !left_texture_) {
         if (!left_texture_) left_texture_ = std::make_unique<Texture>();
-        if (view.left_view == "raster-depth")
+        if (view.left_view == LeftView::RasterDepth)
             left_texture_->upload(depth_grey_view(shown_->raster, shown_->t_near, shown_->t_far));
         else
             left_texture_->upload(shown_->raster.colour);

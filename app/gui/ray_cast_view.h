@@ -57,7 +57,7 @@ public:
     /// The texture (null before the first cast finishes) and what it shows.
     const Texture* texture() const { return texture_.get(); }
     /// The left half's CPU picture (null: none, or "opengl").
-    const Texture* left_texture() const { return left_view_ != "opengl" && left_texture_ ? left_texture_.get() : nullptr; }
+    const Texture* left_texture() const { return left_view_ != LeftView::OpenGl && left_texture_ ? left_texture_.get() : nullptr; }
     /// The heat maps' scale top (with same scale: the largest seen since the mesh loaded).
     double heat_max(bool nodes) const { return nodes ? heat_max_nodes_ : heat_max_tests_; }
     const std::optional<Result>& shown() const { return shown_; }
@@ -71,10 +71,10 @@ private:
     LatestJob<Result> job_;
     Key requested_;
     std::optional<Result> shown_;
-    std::string texture_view_;  ///< the right_view the texture was made for
+    RightView texture_view_ = RightView::RayCast;  ///< the right_view the texture was made for
     bool texture_same_scale_ = false;
     std::unique_ptr<Texture> texture_;
-    std::string left_view_ = "opengl";  ///< the left_view left_texture_ was made for
+    LeftView left_view_ = LeftView::OpenGl;  ///< the left_view left_texture_ was made for
     std::unique_ptr<Texture> left_texture_;
     // Same scale for all structures: the largest counts since this mesh loaded.
     const void* heat_mesh_ = nullptr;

@@ -45,7 +45,7 @@ LoadResult rebuild(const LoadedScene& from, const AccelConfig& config,
     scene->bounds = from.bounds;
     scene->load_seconds = from.load_seconds;
     scene->accel_config = config;
-    if (on_stage) on_stage("Building " + config.type);
+    if (on_stage) on_stage("Building " + std::string(to_string(config.type)));
     const auto start = std::chrono::steady_clock::now();
     auto accel = build_accelerator(*scene->mesh, config);
     if (!accel) return Error{accel.error()};

@@ -21,7 +21,7 @@ void Session::take_finished_load(AppState& state) {
         message_is_error = true;
         message = result->error();
         if (scene) {
-            message += "  (keeping " + scene->source + " with " + scene->accel_config.type + ")";
+            message += "  (keeping " + scene->source + " with " + std::string(to_string(scene->accel_config.type)) + ")";
             state.accel = scene->accel_config;  // the panels show what is built
         }
         return;

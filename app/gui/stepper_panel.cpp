@@ -366,11 +366,12 @@ void StepperPanel::draw_ray_fields(AppState& state, Session& session) {
 }
 
 void StepperPanel::draw(AppState& state, Session& session) {
-    const char* structure = session.scene ? session.scene->accel_config.type.c_str() : "?";
+    const std::string structure = session.scene ? std::string(to_string(session.scene->accel_config.type)) : "?";
     if (state.stepper.pixel)
-        ImGui::Text("Stepper: %s, ray of pixel (%d, %d)", structure, (*state.stepper.pixel)[0], (*state.stepper.pixel)[1]);
+        ImGui::Text("Stepper: %s, ray of pixel (%d, %d)", structure.c_str(), (*state.stepper.pixel)[0],
+                    (*state.stepper.pixel)[1]);
     else
-        ImGui::Text("Stepper: %s", structure);
+        ImGui::Text("Stepper: %s", structure.c_str());
     ImGui::SameLine(ImGui::GetWindowContentRegionMax().x - ImGui::CalcTextSize("Close").x -
                     2.0f * ImGui::GetStyle().FramePadding.x);
     if (ImGui::SmallButton("Close")) {

@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/accel/accel_type.h"
 #include "core/geometry/mesh.h"
 #include "core/traversal/observers.h"
 
@@ -20,7 +21,8 @@ namespace accelviz {
 class Accelerator {
 public:
     virtual ~Accelerator() = default;
-    /// "naive", "bvh", "grid", "kd", "octree".
+    virtual AccelType type() const = 0;
+    /// "naive", "bvh", "grid", "kd", "octree" (to_string(type())).
     virtual std::string name() const = 0;
     /// Closest hit in [ray.t_min, ray.t_max].
     virtual Hit intersect_closest(const Ray& ray) const = 0;
@@ -36,12 +38,14 @@ public:
 /// Adapts a structure S that provides
 ///   template <class Obs> Hit intersect_closest(const Ray&, Obs&) const;
 ///   bool intersect_any(const Ray&) const;
+///   static constexpr AccelType kType;
 ///   std::string name() const; json config() const; json stats() const;
 /// to the Accelerator interface.
 template <class S>
 class AcceleratorFor final : public Accelerator {
 public:
     explicit AcceleratorFor(S structure) : s_(std::move(structure)) {}
+    AccelType type() const override { return S::kType; }
     std::string name() const override { return s_.name(); }
     Hit intersect_closest(const Ray& ray) const override {
         NoObserver obs;

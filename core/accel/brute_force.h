@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/accel/accel_type.h"
 #include "core/geometry/mesh.h"
 #include "core/traversal/observers.h"
 
@@ -17,7 +18,8 @@ struct BruteForce {
 
     explicit BruteForce(const Mesh& mesh) : triangles(make_triangles(mesh)) {}
 
-    std::string name() const { return "naive"; }
+    static constexpr AccelType kType = AccelType::Naive;
+    std::string name() const { return std::string(to_string(kType)); }
     nlohmann::json config() const { return nlohmann::json::object(); }
     nlohmann::json stats() const { return {{"triangles", triangles.size()}}; }
 

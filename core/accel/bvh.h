@@ -19,6 +19,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/accel/accel_type.h"
 #include "core/accel/box_test.h"
 #include "core/accel/bvh_config.h"
 #include "core/geometry/triangle.h"
@@ -73,7 +74,8 @@ struct Bvh {
     BvhBuildStats build_stats;        ///< what the build produced
     BvhTraversal traversal = BvhTraversal::Ordered;  ///< which closest-hit algorithm intersect_closest runs
 
-    std::string name() const { return "bvh"; }
+    static constexpr AccelType kType = AccelType::Bvh;
+    std::string name() const { return std::string(to_string(kType)); }
     nlohmann::json config() const;  ///< build_config + traversal
     nlohmann::json stats() const;   ///< build_stats
 

@@ -5,11 +5,6 @@
 
 namespace accelviz {
 
-const std::vector<std::string>& accel_types() {
-    static const std::vector<std::string> types = {"naive", "bvh", "grid", "kd", "octree"};
-    return types;
-}
-
 namespace {
 
 /// A structure's own parameters with the shared flags, when given, over them (a
@@ -35,39 +30,43 @@ OctreeConfig octree_config_of(const AccelConfig& config) {
 }  // namespace
 
 std::optional<Error> validate(const AccelConfig& config) {
-    if (config.type == "naive") return std::nullopt;
-    if (config.type == "bvh") return validate(bvh_config_of(config));
-    if (config.type == "grid") return validate(config.grid);
-    if (config.type == "kd") return validate(kd_config_of(config));
-    if (config.type == "octree") return validate(octree_config_of(config));
-    return Error{"unknown structure '" + config.type + "'"};
+    switch (config.type) {
+        case AccelType::Naive: return std::nullopt;
+        case AccelType::Bvh: return validate(bvh_config_of(config));
+        case AccelType::Grid: return validate(config.grid);
+        case AccelType::Kd: return validate(kd_config_of(config));
+        case AccelType::Octree: return validate(octree_config_of(config));
+    }
+    return Error{"unknown structure"};
 }
 
 Expected<std::shared_ptr<const Accelerator>> build_accelerator(const Mesh& mesh, const AccelConfig& config) {
     if (auto err = validate(config)) return *err;
-    if (config.type == "naive")
-        return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<BruteForce>>(BruteForce(mesh)));
-    if (config.type == "bvh") {
-        Bvh bvh = build_bvh(mesh, bvh_config_of(config));
-        bvh.traversal = config.bvh_traversal;
-        return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<Bvh>>(std::move(bvh)));
+    switch (config.type) {
+        case AccelType::Naive:
+            return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<BruteForce>>(BruteForce(mesh)));
+        case AccelType::Bvh: {
+            Bvh bvh = build_bvh(mesh, bvh_config_of(config));
+            bvh.traversal = config.bvh_traversal;
+            return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<Bvh>>(std::move(bvh)));
+        }
+        case AccelType::Grid: {
+            auto grid = build_uniform_grid(mesh, config.grid);
+            if (!grid) return Error{grid.error()};
+            return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<UniformGrid>>(std::move(*grid)));
+        }
+        case AccelType::Kd: {
+            auto tree = build_kd_tree(mesh, kd_config_of(config));
+            if (!tree) return Error{tree.error()};
+            return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<KdTree>>(std::move(*tree)));
+        }
+        case AccelType::Octree: {
+            auto tree = build_octree(mesh, octree_config_of(config));
+            if (!tree) return Error{tree.error()};
+            return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<Octree>>(std::move(*tree)));
+        }
     }
-    if (config.type == "grid") {
-        auto grid = build_uniform_grid(mesh, config.grid);
-        if (!grid) return Error{grid.error()};
-        return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<UniformGrid>>(std::move(*grid)));
-    }
-    if (config.type == "kd") {
-        auto tree = build_kd_tree(mesh, kd_config_of(config));
-        if (!tree) return Error{tree.error()};
-        return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<KdTree>>(std::move(*tree)));
-    }
-    if (config.type == "octree") {
-        auto tree = build_octree(mesh, octree_config_of(config));
-        if (!tree) return Error{tree.error()};
-        return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<Octree>>(std::move(*tree)));
-    }
-    return Error{"unknown structure '" + config.type + "'"};
+    return Error{"unknown structure"};
 }
 
 }  // namespace accelviz

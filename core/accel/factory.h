@@ -17,7 +17,7 @@ namespace accelviz {
 /// Every structure's build parameters in one place (the CLI flags and the
 /// Structure panel both write here).
 struct AccelConfig {
-    std::string type = "naive";  ///< naive | bvh | grid | kd | octree
+    AccelType type = AccelType::Naive;
 
     // Space partitioning (issue 4). Each structure's own parameters; --mailbox sets all three.
     GridConfig grid;      ///< --grid-*
@@ -32,10 +32,7 @@ struct AccelConfig {
     BvhTraversal bvh_traversal = BvhTraversal::Ordered;  ///< bvh: --bvh-traversal
 };
 
-/// The names `type` accepts.
-const std::vector<std::string>& accel_types();
-
-/// Whether the structure `config.type` names can be built with these parameters (the
+/// Whether the structure `config.type` can be built with these parameters (the
 /// shared flags applied over its own); the first bad one as a one-line message naming
 /// its command-line flag. build_accelerator() checks the same.
 std::optional<Error> validate(const AccelConfig& config);

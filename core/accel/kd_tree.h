@@ -19,6 +19,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/accel/accel_type.h"
 #include "core/accel/cell_hits.h"
 #include "core/accel/spatial_refs.h"
 #include "core/geometry/mesh.h"
@@ -125,7 +126,8 @@ struct KdTree {
     KdConfig build_config;
     KdBuildStats build_stats;
 
-    std::string name() const { return "kd"; }
+    static constexpr AccelType kType = AccelType::Kd;
+    std::string name() const { return std::string(to_string(kType)); }
     nlohmann::json config() const;
     nlohmann::json stats() const;
 

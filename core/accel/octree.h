@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/accel/accel_type.h"
 #include "core/accel/cell_hits.h"
 #include "core/accel/spatial_refs.h"
 #include "core/geometry/mesh.h"
@@ -76,7 +77,8 @@ struct Octree {
     OctreeConfig build_config;
     OctreeBuildStats build_stats;
 
-    std::string name() const { return "octree"; }
+    static constexpr AccelType kType = AccelType::Octree;
+    std::string name() const { return std::string(to_string(kType)); }
     nlohmann::json config() const;
     nlohmann::json stats() const;
 

@@ -19,6 +19,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/accel/accel_type.h"
 #include "core/accel/cell_hits.h"
 #include "core/geometry/mesh.h"
 #include "core/util/expected.h"
@@ -82,7 +83,8 @@ struct UniformGrid {
     GridConfig build_config;
     GridBuildStats build_stats;
 
-    std::string name() const { return "grid"; }
+    static constexpr AccelType kType = AccelType::Grid;
+    std::string name() const { return std::string(to_string(kType)); }
     nlohmann::json config() const;
     nlohmann::json stats() const;
 

@@ -20,7 +20,7 @@ SteppedRay record_ray(const Accelerator& accel, const Ray& ray) {
     SteppedRay r;
     r.ray = ray;
     r.structure = accel.name();
-    r.widened_box_test = r.structure == "bvh";
+    r.widened_box_test = accel.type() == AccelType::Bvh;
     RecordingObserver recorder;
     r.hit = accel.intersect_closest(ray, recorder);
     r.events = std::move(recorder.events);
@@ -391,7 +391,7 @@ Expected<CompareSet> build_compare_set(const Mesh& mesh) {
     AccelConfig naive;
     if (auto err = add("naive", naive)) return *err;
     AccelConfig bvh;
-    bvh.type = "bvh";
+    bvh.type = AccelType::Bvh;
     bvh.bvh_traversal = BvhTraversal::Unordered;
     auto bvh_accel = build_accelerator(mesh, bvh);
     if (!bvh_accel) return Error{"bvh: " + bvh_accel.error()};
@@ -403,10 +403,10 @@ Expected<CompareSet> build_compare_set(const Mesh& mesh) {
         set.entries.push_back(
             {"BVH alg. 2 (ordered)", std::make_shared<AcceleratorFor<Bvh>>(std::move(ordered))});
     }
-    for (const char* type : {"grid", "kd", "octree"}) {
+    for (const AccelType type : {AccelType::Grid, AccelType::Kd, AccelType::Octree}) {
         AccelConfig config;
         config.type = type;
-        const std::string label = std::string(type) == "kd" ? "KD tree" : type;
+        const std::string label = type == AccelType::Kd ? "KD tree" : std::string(to_string(type));
         if (auto err = add(label, config)) return *err;
     }
     return set;

@@ -37,7 +37,7 @@ Mesh scaled(Mesh mesh, float factor) {
 Agreement compare_with_embree(const Mesh& mesh, int width, int height) {
     const Camera camera(default_camera(mesh.bounds()), width, height);
     AccelConfig config;
-    config.type = "bvh";  // the default BVH: SAH binned, ordered (exact against brute force: tests/core/accel)
+    config.type = AccelType::Bvh;  // the default BVH: SAH binned, ordered (exact against brute force: tests/core/accel)
     auto accel = build_accelerator(mesh, config);
     EXPECT_TRUE(bool(accel));
     const Frame ours = ray_cast(**accel, make_triangles(mesh), camera, {.threads = 0});

@@ -16,7 +16,7 @@ double distance(Vec3d a, Vec3d b) { return std::sqrt(dot(a - b, a - b)); }
 TEST(AppStateJson, RoundTripKeepsEveryField) {
     AppState s;
     s.scene = "builtin:teapot?n=4";
-    s.accel.type = "naive";
+    s.accel.type = AccelType::Naive;
     s.camera = CameraParams{{1, 2, 3}, {0, 0.5, 0}, {0, 1, 0}, 35};
     s.view.ui_scale = 2.0f;
     s.view.light_theme = true;

@@ -33,7 +33,7 @@ Image view_and_panel(const Image& frame) {
 AppState build_step_state(const std::string& scene, BvhBuilder builder, int step) {
     AppState state;
     state.scene = scene;
-    state.accel.type = "bvh";
+    state.accel.type = AccelType::Bvh;
     state.accel.bvh.builder = builder;
     state.build_step.active = true;
     state.build_step.step = step;
@@ -64,7 +64,7 @@ TEST(BuildStepHeadless, StepOutOfRangeIsAnErrorWithTheRange) {
 
 TEST(BuildStepHeadless, NeedsABvh) {
     AppState state = build_step_state("builtin:cube", BvhBuilder::SahBinned, 0);
-    state.accel.type = "grid";
+    state.accel.type = AccelType::Grid;
     auto image = render_gui_view_headless(state, "build-step", 64, 64);
     ASSERT_FALSE(image);
     EXPECT_NE(image.error().find("BVH"), std::string::npos) << image.error();

@@ -44,7 +44,7 @@ DepthAgreement gl_against_ray_caster(const DepthCase& c, int width, int height) 
     EXPECT_TRUE(mesh) << mesh.error();
     if (!mesh) return {};
     AccelConfig naive;
-    naive.type = "naive";
+    naive.type = AccelType::Naive;
     auto accel = build_accelerator(*mesh, naive);
     EXPECT_TRUE(accel) << accel.error();
     if (!accel) return {};

@@ -110,14 +110,14 @@ TEST(GoldenImage, ThickLinesClippedAtTheNearPlaneFromInsideTheScene) {
 
 TEST(GoldenImage, SplitRasterAndRayCastSideBySide) {
     AppState state = teapot_with(R"({"structure": {"type": "bvh"}, "overlay": {"show_structure": false}})");
-    state.view.mode = "split";
+    state.view.mode = ViewMode::Split;
     EXPECT_TRUE(view_matches_golden(state, "gui", 800, 450, "teapot_split_raycast"));
 }
 
 TEST(GoldenImage, SplitWithNodeHeatMap) {
     AppState state = teapot_with(R"({"structure": {"type": "bvh"}, "overlay": {"level_max": 3}})");
-    state.view.mode = "split";
-    state.view.right_view = "heat-nodes";
+    state.view.mode = ViewMode::Split;
+    state.view.right_view = RightView::HeatNodes;
     EXPECT_TRUE(view_matches_golden(state, "gui", 800, 450, "teapot_split_heat_nodes"));
 }
 
@@ -143,7 +143,7 @@ TEST(GoldenImage, StatsPanelShowsTheLeafSizeHistogram) {
     ASSERT_TRUE(app) << app.error();
     AppState state;
     state.scene = "builtin:teapot?n=4";
-    state.accel.type = "kd";
+    state.accel.type = AccelType::Kd;
     state.view.ui_scale = 0.75f;
     auto loaded = load_and_build(state.scene, state.accel);
     ASSERT_TRUE(loaded) << loaded.error();

@@ -65,16 +65,16 @@ TEST(Presets, PageDownAndPageUpStepThroughTheListAndStopAtItsEnds) {
     AppState state;
     list.step(+1, state, session);
     EXPECT_EQ(list.current(), 0);
-    EXPECT_EQ(state.accel.type, "bvh");
+    EXPECT_EQ(state.accel.type, AccelType::Bvh);
     list.step(+1, state, session);
     EXPECT_EQ(list.current(), 1);
-    EXPECT_EQ(state.accel.type, "grid");
+    EXPECT_EQ(state.accel.type, AccelType::Grid);
     EXPECT_EQ(list.caption(), "Preset 2/2: Second");
     list.step(+1, state, session);  // the last one stays
     EXPECT_EQ(list.current(), 1);
     list.step(-1, state, session);
     EXPECT_EQ(list.current(), 0);
-    EXPECT_EQ(state.accel.type, "bvh");
+    EXPECT_EQ(state.accel.type, AccelType::Bvh);
     while (session.loader.busy()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
 }
 
@@ -85,10 +85,10 @@ TEST(Presets, ABadPresetFileIsAMessageAndChangesNothing) {
     Session session;
     session.presets.set_dir(dir.string());
     AppState state;
-    state.accel.type = "kd";
+    state.accel.type = AccelType::Kd;
     session.presets.step(+1, state, session);
     EXPECT_EQ(session.presets.current(), -1);
-    EXPECT_EQ(state.accel.type, "kd");
+    EXPECT_EQ(state.accel.type, AccelType::Kd);
     EXPECT_NE(session.message.find("01-broken.json: structure.bvh.builder"), std::string::npos) << session.message;
 }
 

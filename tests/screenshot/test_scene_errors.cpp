@@ -68,9 +68,9 @@ TEST(SavedState, ApplyingAStateLoadsItsSceneAndStructureAndKeepsItsCamera) {
 
     AppState saved;
     saved.scene = "builtin:teapot?n=2";
-    saved.accel.type = "octree";
+    saved.accel.type = AccelType::Octree;
     saved.camera = CameraParams{{0, 5, 9}, {0, 1, 0}, {0, 1, 0}, 40};
-    saved.view.mode = "split";
+    saved.view.mode = ViewMode::Split;
     auto round_trip = app_state_from_json(to_json(saved));  // what a state file holds
     ASSERT_TRUE(round_trip) << round_trip.error();
     (*app)->session().apply_state(state, *round_trip);
@@ -80,7 +80,7 @@ TEST(SavedState, ApplyingAStateLoadsItsSceneAndStructureAndKeepsItsCamera) {
     EXPECT_EQ((*app)->session().scene->source, "builtin:teapot?n=2");
     EXPECT_EQ((*app)->session().scene->accel->name(), "octree");
     EXPECT_EQ(state.scene, "builtin:teapot?n=2");
-    EXPECT_EQ(state.view.mode, "split");
+    EXPECT_EQ(state.view.mode, ViewMode::Split);
     ASSERT_TRUE(state.camera.has_value());
     EXPECT_EQ(state.camera->eye.z, 9.0) << "the saved camera, not the scene's default";
 }

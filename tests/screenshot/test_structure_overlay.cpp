@@ -11,7 +11,7 @@ namespace {
 
 std::shared_ptr<const LoadedScene> teapot_with(const char* type) {
     AccelConfig config;
-    config.type = type;
+    config.type = *parse_accel_type(type);
     auto scene = load_and_build("builtin:teapot?n=4", config);
     EXPECT_TRUE(scene) << scene.error();
     return scene ? *scene : nullptr;

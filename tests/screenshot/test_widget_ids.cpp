@@ -53,19 +53,19 @@ TEST_F(WidgetIds, TheAuditFindsTwoWidgetsWithOneLabel) {
 }
 
 TEST_F(WidgetIds, SidebarOfEveryStructureHasUniqueIds) {
-    for (const char* type : {"naive", "bvh", "grid", "kd", "octree"}) {
+    for (const AccelType type : {AccelType::Naive, AccelType::Bvh, AccelType::Grid, AccelType::Kd, AccelType::Octree}) {
         AppState state;
         state.scene = "builtin:teapot?n=4";
         state.accel.type = type;
-        expect_unique_ids(state, "gui", std::string("sidebar with ") + type);
+        expect_unique_ids(state, "gui", "sidebar with " + std::string(to_string(type)));
     }
 }
 
 TEST_F(WidgetIds, SplitViewHelpAndLightThemeHaveUniqueIds) {
     AppState state;
     state.scene = "builtin:teapot?n=4";
-    state.view.mode = "split";
-    state.view.right_view = "heat-nodes";
+    state.view.mode = ViewMode::Split;
+    state.view.right_view = RightView::HeatNodes;
     state.view.show_help = true;
     state.view.light_theme = true;
     expect_unique_ids(state, "gui", "split view with help");

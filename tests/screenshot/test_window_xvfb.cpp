@@ -98,7 +98,7 @@ TEST(XvfbWindow, GuiFrameInWindowEqualsOsMesaRender) {
 TEST(XvfbWindow, StructureViewInWindowEqualsOsMesaRender) {
     AppState state;
     state.scene = "builtin:teapot?n=4";
-    state.accel.type = "bvh";
+    state.accel.type = AccelType::Bvh;
     state.view.line_width = 2.5f;  // the geometry-shader path too
     expect_window_equals_osmesa(state, "structure", "xvfb_teapot_bvh");
 }

@@ -375,7 +375,7 @@ TEST(BvhBuild, BuildsWithoutComputingOnSubnormalNumbers) {
 TEST(BvhBuild, FactoryValidatesTheConfig) {
     const Mesh mesh = scene("builtin:cube");
     AccelConfig config;
-    config.type = "bvh";
+    config.type = AccelType::Bvh;
     config.bvh.bins = 1;
     auto bad = build_accelerator(mesh, config);
     ASSERT_FALSE(bad.ok());

@@ -370,7 +370,7 @@ Agreement raster_vs_ray_cast(const Mesh& mesh, int width, int height, double clo
     params.eye = params.target + (params.eye - params.target) * closer;
     const Camera cam(params, width, height);
     AccelConfig config;
-    config.type = "bvh";
+    config.type = AccelType::Bvh;
     auto accel = build_accelerator(mesh, config);
     EXPECT_TRUE(accel.ok()) << accel.error();
     if (!accel.ok()) return {};

@@ -15,7 +15,7 @@ using namespace accelviz;
 
 namespace {
 
-std::shared_ptr<const Accelerator> build(const Mesh& mesh, const std::string& type,
+std::shared_ptr<const Accelerator> build(const Mesh& mesh, AccelType type,
                                          BvhTraversal traversal = BvhTraversal::Ordered) {
     AccelConfig config;
     config.type = type;
@@ -43,7 +43,7 @@ const Mesh& teapot() {
 
 TEST(Stepper, SlabInspectorAgreesWithEveryRecordedBoxTest) {
     const Mesh& mesh = teapot();
-    for (const char* type : {"bvh", "grid", "kd", "octree"}) {
+    for (const AccelType type : {AccelType::Bvh, AccelType::Grid, AccelType::Kd, AccelType::Octree}) {
         for (BvhTraversal traversal : {BvhTraversal::Ordered, BvhTraversal::Unordered}) {
             const auto accel = build(mesh, type, traversal);
             const NodeBoxes boxes(*accel);
@@ -77,7 +77,7 @@ TEST(Stepper, SlabInspectorAgreesWithEveryRecordedBoxTest) {
             EXPECT_GT(checked, 100u) << type;
             EXPECT_GT(hits, 0u) << type;
             EXPECT_GT(misses, 0u) << type;
-            if (std::string(type) != "bvh") break;  // one traversal only
+            if (type != AccelType::Bvh) break;  // one traversal only
         }
     }
 }
@@ -89,7 +89,7 @@ TEST(Stepper, TriangleInspectorExplainsEachVerdict) {
     m.add_triangle({5, 5, -3}, {6, 5, -3}, {5, 6, -3});     // 2: the plane is hit, outside the triangle
     m.add_triangle({-1, -1, -5}, {1, -1, -5}, {0, 1, -5});  // 3: inside but beyond the closest hit
     m.add_triangle({-1, 0, 0}, {1, 0, 0}, {0, 0, -1});      // 4: parallel to the ray? no: contains it
-    const auto accel = build(m, "naive");
+    const auto accel = build(m, AccelType::Naive);
     const SteppedRay r = record_ray(*accel, Ray{{0, 0, 0}, {0, 0, -1}});
     std::vector<TriangleInspection> tests;
     for (size_t i = 0; i < r.events.size(); ++i)
@@ -112,7 +112,7 @@ TEST(Stepper, TriangleInspectorExplainsEachVerdict) {
 
 TEST(Stepper, NodeBoxesNestAndHoldTheirLeafIntervals) {
     const Mesh& mesh = teapot();
-    for (const char* type : {"bvh", "kd", "octree", "grid"}) {
+    for (const AccelType type : {AccelType::Bvh, AccelType::Kd, AccelType::Octree, AccelType::Grid}) {
         const auto accel = build(mesh, type);
         const NodeBoxes boxes(*accel);
         ASSERT_TRUE(boxes.root()) << type;
@@ -140,7 +140,7 @@ TEST(Stepper, NodeBoxesNestAndHoldTheirLeafIntervals) {
 
 TEST(Stepper, StepGeometryShowsStackCullsTrianglesAndTheClosestHit) {
     const Mesh& mesh = teapot();
-    const auto accel = build(mesh, "bvh");
+    const auto accel = build(mesh, AccelType::Bvh);
     const NodeBoxes boxes(*accel);
     const Camera camera(default_camera(mesh.bounds()), 64, 64);
     const SteppedRay r = record_ray(*accel, camera.ray(32, 32));
