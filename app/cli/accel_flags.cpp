@@ -22,7 +22,7 @@ void add_accel_flags(CLI::App& command, AccelConfig& config) {
     command.add_option("--cost-isect", config.cost_isect, "SAH cost of one ray-triangle test, C_isect (bvh, kd)")
         ->check(number_between(1e-6, 1e6));
 
-    // BVH (issue 3). --leaf-size, --cost-trav and --cost-isect above apply too (default 4, 1, 1).
+    // BVH. --leaf-size, --cost-trav and --cost-isect above apply too (default 4, 1, 1).
     command.add_option_function<std::string>(
                "--bvh-build", [&config](const std::string& v) { config.bvh.builder = *parse_bvh_builder(v); },
                "bvh: how nodes are split: longest axis at its middle, at the median triangle, full SAH sweep, "
@@ -37,7 +37,7 @@ void add_accel_flags(CLI::App& command, AccelConfig& config) {
                "1 = left then right, no pruning (ordered|unordered, default ordered)")
         ->check(CLI::IsMember(bvh_traversal_names()));
 
-    // Space partitioning: grid, kd, octree (issue 4).
+    // Space partitioning: grid, kd, octree.
     auto on_off = [](bool& a) { return [&a](const std::string& v) { a = v == "on"; }; };
     command.add_option_function<std::string>(
                "--mailbox",

@@ -112,7 +112,7 @@ inline AccelConfig bvh_config_default() {
     return config;
 }
 
-/// The traversal stepper (issue 6): one ray, recorded once through the current
+/// The traversal stepper: one ray, recorded once through the current
 /// structure, stepped event by event. The ray and the step are state (presets
 /// and `render --view step` reproduce them); playing is not (no animation in a
 /// saved or headless frame).

@@ -1,5 +1,5 @@
 #pragma once
-/// The construction stepper (issue 6, "Construction stepper (BVH)"): the BVH build
+/// The construction stepper: the BVH build
 /// replayed decision by decision. The builder runs once with a BuildRecorder (on a
 /// worker: the UI thread never builds), and its decisions become a timeline; the
 /// window shows, for the decision at the scrubber, the node being split (its box,

@@ -1,7 +1,7 @@
 #pragma once
 /// Loading a scene and building its structure, off the UI thread.
 ///
-/// The UI thread never loads or builds (DESIGN.md, "State and threads"): it hands
+/// The UI thread never loads or builds (docs/architecture.md, "Threads"): it hands
 /// a request to the worker, keeps drawing (with a "loading..." indicator), and
 /// swaps in the immutable result when it is ready. A newer request supersedes an
 /// older one: the older one finishes (a file read cannot be interrupted) but its

@@ -17,7 +17,7 @@ void Session::take_finished_load(AppState& state) {
     std::optional<LoadResult> result = loader.take_result();
     if (!result) return;
     if (!*result) {
-        // DESIGN.md, "Errors": show it, keep the previous scene.
+        // A failed load is shown and the previous scene kept (docs/architecture.md, "Errors").
         message_is_error = true;
         message = result->error();
         if (scene) {

@@ -1,5 +1,5 @@
 #pragma once
-/// The traversal stepper in the window (issue 6): a panel on the right of the 3D
+/// The traversal stepper in the window: a panel on the right of the 3D
 /// view that steps one ray through the current structure, event by event, and
 /// the step's debug geometry drawn in the 3D view.
 ///

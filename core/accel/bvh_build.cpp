@@ -27,9 +27,8 @@ namespace {
 /// Four floats from a 16-byte aligned address with the fourth replaced by 0 (a bitwise
 /// AND, no arithmetic). The builder keeps each triangle's id in the four bytes after
 /// its centroid, and read as a float an id below 2^23 is a subnormal number: a CPU
-/// computes with subnormals on a slow path (microcode assists). Subtracting the bins'
-/// origin from the raw four floats made the whole build twice as slow (871k triangles,
-/// one thread: 600 -> 300 ms on a 2-core AMD EPYC VM, the same tree).
+/// computes with subnormals on a slow path (microcode assists), and arithmetic on the
+/// raw four floats would take it for every triangle at every level (docs/performance.md).
 inline __m128 load_xyz(const float* p) {
     return _mm_and_ps(_mm_load_ps(p), _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1)));
 }
@@ -859,9 +858,7 @@ Bvh build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecorder* recor
         bvh.prim_ids.resize(n);
         for (uint32_t k = 0; k < n; ++k) bvh.prim_ids[k] = splitter->prim_id(k);
         // The build records go before the leaf-order copy is made, so the two are never in
-        // memory together (871k triangles: records 42 MB, copy 31 MB). Measured: no faster
-        // or slower; the process's peak resident memory 145 -> 142 MB (the copy mostly
-        // lands in memory the OBJ loader had freed).
+        // memory together (a lower peak).
         splitter.reset();
         copy_triangles_in_leaf_order(mesh, bvh);
     }

@@ -19,7 +19,7 @@ namespace accelviz {
 struct AccelConfig {
     AccelType type = AccelType::Naive;
 
-    // Space partitioning (issue 4). Each structure's own parameters; --mailbox sets all three.
+    // Space partitioning. Each structure's own parameters; --mailbox sets all three.
     GridConfig grid;      ///< --grid-*
     KdConfig kd;          ///< --kd-*
     OctreeConfig octree;  ///< --octree-*

@@ -46,18 +46,18 @@ struct KdConfig {
     KdBuilder builder = KdBuilder::Sah;  ///< how planes are chosen
     int max_depth = 0;        ///< 0 = automatic, 8 + 1.3·log2(N) (Wald & Havran); else 1..kKdMaxDepth
     int leaf_size = 2;        ///< a node with at most this many references is a leaf (median: the only rule), >= 1
-    /// SAH: C_trav, one interior-node step, >= 0. Twice C_isect: measured on the bunny,
-    /// a node step (a dependent, cache-missing load) costs more than a test of a
-    /// triangle stored contiguously in its leaf; (2, 1) is as fast as (1, 1) with 40% less memory.
+    /// SAH: C_trav, one interior-node step, >= 0. Twice C_isect: a node step (a
+    /// dependent, cache-missing load) costs more than a test of a triangle stored
+    /// contiguously in its leaf, and the tree is smaller (docs/performance.md).
     float cost_trav = 2.0f;
     float cost_isect = 1.0f;  ///< SAH: C_isect, one ray–triangle test, > 0
     float empty_bonus = 0.2f; ///< SAH: a plane that cuts off empty space costs (1 - bonus)·cost, in [0, 1)
     ClipMode clip = ClipMode::Exact;  ///< how a straddling triangle's box is cut to each side
     bool strict_cell = true;  ///< a hit counts only inside the current leaf (false: the lecture's naive, wrong rule)
-    /// Skip triangles this ray already tested in an earlier leaf. Off by default for the
-    /// KD tree: measured on the bunny, it skips 0.23 of 2.2 triangle tests per ray, and
-    /// the per-test lookup costs more than those tests (profile: 7% of the time in the
-    /// mailbox; 5-9% faster without it). The grid's crowded cells are another matter.
+    /// Skip triangles this ray already tested in an earlier leaf (the lecture's
+    /// mailboxing). Off by default for the KD tree: its small leaves repeat few tests,
+    /// and the per-test lookup costs more than it saves (docs/performance.md). The
+    /// grid's crowded cells are another matter.
     bool mailbox = false;
     double max_duplication = 64.0;  ///< stop splitting once references exceed this · N (reported in notes), >= 1
 
@@ -74,8 +74,6 @@ int kd_max_depth(const KdConfig& config, size_t triangles);
 /// Invariant: a leaf iff axis == kLeaf; its triangles are prim_ids[first .. first+count)
 /// (count may be 0: an empty leaf). Otherwise the plane is x_axis = split, the
 /// lower child (x <= split) is nodes[first], the upper nodes[first + 1].
-/// (Tried: pbrt's layout, lower child at node + 1; no measurable gain on the bunny,
-/// and the GUI's overlay and stepper read children as first / first + 1.)
 struct KdNode {
     static constexpr uint8_t kLeaf = 3;
     float split = 0;
@@ -113,11 +111,6 @@ struct KdBuildStats {
 /// triangle that comes within `padding` of its box (box or exact test, per
 /// config.clip). triangles[k] is triangle prim_ids[k] (leaf order, a copy so a
 /// leaf's triangles are contiguous).
-/// (Tried instead of padding: unpadded references and a traversal that widens each
-/// plane into a slab of the same width. Fewer references, but every node step did
-/// more work: 25% slower on the bunny. Tried instead of the leaf-order copy: the mesh's
-/// triangles by id through prim_ids; half the memory on the bunny (6.6 instead of 12.5
-/// MB) but about 2% slower, so the copy stays.)
 struct KdTree {
     Aabb bounds;
     std::vector<KdNode> nodes;

@@ -47,12 +47,10 @@ inline uint32_t larger_side(uint32_t left_count, uint32_t count) { return std::m
 /// every child box is the parent's box, so every plane costs C_trav + N · C_isect and
 /// the SAH has no preference. Taking the first plane would peel a few triangles off
 /// per level (a tree 63 deep for 1000 triangles); the most even plane halves them, as
-/// the median heuristic would, and the tree stays log2 N deep (same-box, 1000
-/// triangles: depth 63 -> 8 or 9, nodes visited per ray 318 -> 161-168). Measured
-/// elsewhere: the trees of the bunny, the built-in teapot, sphere, cornell and soup
-/// do not change; architectural scenes have exact ties (walls of equal boxes) and get
-/// shallower trees of about the same quality (conference: depth 37 -> 30 with
-/// sah-binned, 44 -> 28 with sah-sweep; nodes visited per ray -1% and +1.4%).
+/// the median heuristic would, and the tree stays about log2 N deep. Where planes
+/// rarely tie (scanned meshes) the trees do not change; architectural scenes have
+/// exact ties (walls of equal boxes) and get shallower trees of about the same
+/// quality (figures in docs/performance.md).
 inline bool is_better_split(float cost, uint32_t left_count, float best_cost, uint32_t best_left_count,
                             uint32_t count) {
     if (!(cost <= best_cost)) return false;  // dearer (or NaN): most candidates, one comparison

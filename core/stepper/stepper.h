@@ -6,7 +6,7 @@
 ///     the verdict), recomputed with the traversal's own slab math and checked
 ///     against the recorded event's numbers;
 ///   - the triangle inspector (u, v, 1-u-v, t and why the test failed);
-///   - the "debug geometry" of the step (DESIGN.md): coloured boxes, segments,
+///   - the "debug geometry" of the step (docs/architecture.md): coloured boxes, segments,
 ///     triangles and labels for the 3D view;
 ///   - the compare table: the same ray through every structure.
 /// Nothing here re-runs a traversal step by step: it reads the recorded events.

@@ -1,5 +1,5 @@
 #pragma once
-/// Stepping is replay (DESIGN.md): a traversal is recorded once, and the state
+/// Stepping is replay (docs/architecture.md): a traversal is recorded once, and the state
 /// after any step k is computed from events[0..k) by this pure function. Stepping
 /// back is as cheap as stepping forward, and what the stepper shows is exactly
 /// what the traversal did.

@@ -11,9 +11,7 @@
 /// no huge pages the memory is simply ordinary memory, and so is the part of a block
 /// that glibc's aligned_alloc serves from heap pages already faulted in as 4 KiB ones
 /// (blocks below malloc's mmap threshold, which rises up to 32 MiB after the first
-/// big free: measured, conference's 12 MB triangle array had 0 to all of its pages
-/// huge depending on the process, with no speed difference seen). Smaller blocks
-/// come from aligned operator new.
+/// big free). Smaller blocks come from aligned operator new.
 ///
 /// kLeadBytes: the array starts that many bytes after a 64-byte (cache line)
 /// boundary. The BVH uses sizeof(BvhNode) = 32 so that nodes[1], where the sibling
