@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
+#include <sstream>
 #include <string>
 #include <type_traits>
 
@@ -102,9 +103,11 @@ auto read_enum(const nlohmann::json& j, const char* field, Parse parse) {
 /// A value of an enum with a table of names, or fail naming the field and the names it takes.
 template <class Enum, size_t N>
 Enum read_named(const nlohmann::json& j, const char* field, const EnumNames<Enum, N>& names) {
-    if (!j.is_string()) throw std::runtime_error(std::string(field) + ": must be " + names.listed());
-    if (auto value = names.parse(j.get<std::string>())) return *value;
-    throw std::runtime_error(std::string(field) + ": must be " + names.listed() + " (got \"" + j.get<std::string>() + "\")");
+    if (j.is_string())
+        if (auto value = names.parse(j.get<std::string>())) return *value;
+    std::ostringstream message;
+    message << field << ": must be " << names.listed() << " (got " << j.dump() << ")";
+    throw std::runtime_error(message.str());
 }
 
 /// A float written by float_to_json: a number, or "inf", "-inf", "nan".

@@ -37,7 +37,9 @@ struct EnumNames {
         std::string out;
         for (size_t i = 0; i < N; ++i) {
             if (i > 0) out += i + 1 == N ? " or " : ", ";
-            out += "\"" + std::string(entries[i].second) + "\"";
+            out += '"';
+            out += entries[i].second;
+            out += '"';
         }
         return out;
     }
