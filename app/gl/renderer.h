@@ -114,8 +114,6 @@ public:
 
     /// Starts a frame of fb_width x fb_height pixels, cleared to `background`.
     void begin_frame(int fb_width, int fb_height, Rgb background);
-    int frame_width() const { return frame_width_; }
-    int frame_height() const { return frame_height_; }
 
     /// Width in pixels of box edges and segments (1: plain GL lines; more: each
     /// line widened into a quad by a geometry shader, for projectors).

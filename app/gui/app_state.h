@@ -121,13 +121,7 @@ struct StepperSettings {
     std::optional<Ray> ray;        ///< the ray stepped (none: click a pixel or type one)
     size_t step = 0;               ///< events applied (0: before the first; past the end: the final state)
     std::optional<std::array<int, 2>> pixel;  ///< where the ray was picked (for the panel's caption), if by a pixel
-    bool operator==(const StepperSettings& o) const {
-        auto same_ray = [](const std::optional<Ray>& a, const std::optional<Ray>& b) {
-            if (a.has_value() != b.has_value()) return false;
-            return !a || (a->origin == b->origin && a->dir == b->dir && a->t_min == b->t_min && a->t_max == b->t_max);
-        };
-        return open == o.open && same_ray(ray, o.ray) && step == o.step && pixel == o.pixel;
-    }
+    bool operator==(const StepperSettings&) const = default;
 };
 
 struct AppState {

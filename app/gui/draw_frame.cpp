@@ -65,6 +65,14 @@ constexpr ImGuiWindowFlags kFixedPanel = ImGuiWindowFlags_NoTitleBar | ImGuiWind
                                          ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoCollapse |
                                          ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoBringToFrontOnFocus;
 
+/// A small window over the 3D view (a message, a caption, a legend): placed by the
+/// code, sized to its contents, never focused.
+constexpr ImGuiWindowFlags kViewOverlay = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
+                                          ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoMove |
+                                          ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav;
+/// The same, letting clicks through to the view.
+constexpr ImGuiWindowFlags kViewLabel = kViewOverlay | ImGuiWindowFlags_NoInputs;
+
 // [SECTION] Input for the 3D view
 
 /// Mouse and keys move the camera, unless ImGui wants them (a panel is hovered
@@ -149,9 +157,7 @@ void handle_view_input(AppState& state, Session& session, const Layout& layout) 
 void draw_view_messages(Session& session, const ViewRect& rect, bool deterministic) {
     const float margin = ImGui::GetFontSize();
     float y = float(rect.y) + margin;
-    const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
-                                   ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoMove |
-                                   ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav;
+    const ImGuiWindowFlags flags = kViewOverlay;
     const ImVec2 centre_top(float(rect.x) + 0.5f * float(rect.width), y);
     if (session.loader.busy()) {
         ImGui::SetNextWindowPos(centre_top, ImGuiCond_Always, ImVec2(0.5f, 0.0f));
@@ -190,10 +196,7 @@ void draw_view_messages(Session& session, const ViewRect& rect, bool determinist
 /// The preset just loaded (PageDown / PageUp), for a few seconds at the top right of the view.
 void draw_preset_caption(const Session& session, const ViewRect& rect) {
     const float margin = ImGui::GetFontSize();
-    const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
-                                   ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoMove |
-                                   ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav |
-                                   ImGuiWindowFlags_NoInputs;
+    const ImGuiWindowFlags flags = kViewLabel;
     ImGui::SetNextWindowPos(ImVec2(float(rect.x + rect.width) - margin, float(rect.y) + margin), ImGuiCond_Always,
                             ImVec2(1.0f, 0.0f));
     ImGui::SetNextWindowBgAlpha(0.85f);
@@ -208,10 +211,7 @@ void draw_preset_caption(const Session& session, const ViewRect& rect) {
 /// Split view: what each half is, and the work each renderer did.
 void draw_split_labels(const AppState& state, const Session& session, const Layout& layout, bool deterministic) {
     const float margin = 0.5f * ImGui::GetFontSize();
-    const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
-                                   ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoMove |
-                                   ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav |
-                                   ImGuiWindowFlags_NoInputs;
+    const ImGuiWindowFlags flags = kViewLabel;
     // At the top of each half; at the bottom over a heat map, whose own title sits at the top.
     auto label = [&](const char* id, const ViewRect& rect, const std::string& title, const std::string& detail,
                      bool at_bottom) {
@@ -312,10 +312,7 @@ void draw_legend(const Session& session, const ViewRect& rect) {
                             ImVec2(0.0f, 1.0f));
     ImGui::SetNextWindowBgAlpha(0.75f);
     ImGui::SetNextWindowSizeConstraints(ImVec2(0, 0), ImVec2(float(rect.width) - 2 * margin, FLT_MAX));
-    const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
-                                   ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoMove |
-                                   ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav |
-                                   ImGuiWindowFlags_NoInputs;
+    const ImGuiWindowFlags flags = kViewLabel;
     if (ImGui::Begin("##legend", nullptr, flags)) {
         ImGui::PushTextWrapPos(float(rect.width) - 4 * margin);
         ImGui::TextUnformatted(session.overlay.legend.c_str());

@@ -1,6 +1,7 @@
 #include "app/gui/stepper_panel.h"
 
 #include <algorithm>
+#include <numbers>
 #include <cmath>
 #include <cstdio>
 
@@ -19,10 +20,6 @@ namespace {
 ImU32 im_colour(DebugColour c, uint8_t alpha = 255) { return IM_COL32(c.r, c.g, c.b, alpha); }
 ImVec4 im_vec4(DebugColour c) { return ImVec4(c.r / 255.0f, c.g / 255.0f, c.b / 255.0f, 1.0f); }
 Rgba8 rgba(DebugColour c) { return {c.r, c.g, c.b, c.a}; }
-
-bool same_ray(const Ray& a, const Ray& b) {
-    return a.origin == b.origin && a.dir == b.dir && a.t_min == b.t_min && a.t_max == b.t_max;
-}
 
 /// "1.25", "inf", "-inf".
 std::string number(float v) {
@@ -43,7 +40,8 @@ void grey_text(const char* text) {
 
 CameraParams stepper_side_view(const CameraParams& camera, const Ray& ray) {
     CameraParams side = camera;
-    orbit(side, 35.0 * 3.14159265358979 / 180.0, 15.0 * 3.14159265358979 / 180.0);
+    constexpr double kDegree = std::numbers::pi / 180.0;
+    orbit(side, 35.0 * kDegree, 15.0 * kDegree);
     const Vec3d o{ray.origin.x, ray.origin.y, ray.origin.z}, d{ray.dir.x, ray.dir.y, ray.dir.z};
     const double dd = dot(d, d);
     if (!(dd > 0)) return side;
@@ -52,7 +50,7 @@ CameraParams stepper_side_view(const CameraParams& camera, const Ray& ray) {
     const Vec3d offset = side.eye - side.target;
     side.target = focus;
     side.eye = focus + offset * 0.6;
-    if (validate(side)) return camera;  // (cannot happen for a valid camera; keep it safe)
+    if (validate(side)) return camera;  // a degenerate camera (e.g. eye on target) stays as it was
     return side;
 }
 
@@ -71,7 +69,7 @@ void StepperPanel::update(AppState& state, Session& session, double delta_second
     if (!state.stepper.open || !session.scene) return;
     const bool new_scene = traced_scene != session.scene;
     const bool new_ray = state.stepper.ray.has_value() != traced_ray.has_value() ||
-                         (state.stepper.ray && !same_ray(*state.stepper.ray, *traced_ray));
+                         (state.stepper.ray && *state.stepper.ray != *traced_ray);
     if (new_scene || new_ray) {
         if (new_scene) boxes = NodeBoxes(*session.scene->accel);
         traced_scene = session.scene;
@@ -81,7 +79,7 @@ void StepperPanel::update(AppState& state, Session& session, double delta_second
         playing = false;
         scroll_to_current = true;
     }
-    if (state.stepper.ray && (!edits_of || !same_ray(*edits_of, *state.stepper.ray))) {
+    if (state.stepper.ray && (!edits_of || *edits_of != *state.stepper.ray)) {
         const Ray& r = *state.stepper.ray;
         for (int a = 0; a < 3; ++a) {
             origin_edit[a] = r.origin[a];
@@ -137,7 +135,7 @@ void StepperPanel::update(AppState& state, Session& session, double delta_second
         if (auto done = compare_job.take(); done && done->mesh == session.scene->mesh) compare = std::move(*done);
     }
     if (compare && compare->set && state.stepper.ray &&
-        (!compare_ray_of || !same_ray(*compare_ray_of, *state.stepper.ray))) {
+        (!compare_ray_of || *compare_ray_of != *state.stepper.ray)) {
         compare_rows = compare_ray(*compare->set, *state.stepper.ray);
         compare_ray_of = state.stepper.ray;
     }

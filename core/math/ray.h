@@ -15,6 +15,7 @@ struct Ray {
     Vec3 dir;
     float t_min = 0.0f;
     float t_max = kInfinity;
+    bool operator==(const Ray&) const = default;  ///< the same ray, bit for bit
 };
 
 /// Per-ray values every box test reuses: 1/dir (±inf for ±0 components, as the
