@@ -17,6 +17,7 @@
 #include "app/cli/flag_checks.h"
 #include "app/gui/app_state.h"
 #include "app/gui/headless.h"
+#include "app/gui/presets.h"
 #include "app/gui/stepper_panel.h"
 #include "app/gui/scene_loader.h"
 #include "core/geometry/scene.h"
@@ -242,7 +243,9 @@ Command register_render(CLI::App& app) {
     // options were added, so the flags given apply on top of the preset's structure.
     sub->add_option_function<std::string>(
         "--preset",
-        [opt](const std::string& path) {
+        [opt](const std::string& name_or_path) {
+            const std::string path = resolve_preset(name_or_path);
+            if (path != name_or_path) std::cerr << "accelviz render: preset " << name_or_path << ": " << path << "\n";
             opt->preset_path = path;
             auto state = load_app_state_file(path);
             if (!state) {
@@ -252,7 +255,8 @@ Command register_render(CLI::App& app) {
             opt->accel = state->accel;
             opt->preset = std::move(*state);
         },
-        "Start from this saved window state (JSON, e.g. assets/presets/*.json): scene, structure, camera, "
+        "Start from this saved window state (a JSON file, or a shipped preset's name, e.g. 08-grid-stadium): "
+        "scene, structure, camera, "
         "overlay and view settings. SCENE, the structure flags and the camera flags given replace its values. "
         "A relative OBJ path in it is relative to the preset's directory if the file is there");
     sub->add_option("--out,-o", opt->out, "Output PNG file")->required();

@@ -24,10 +24,15 @@ constexpr double kCaptionSeconds = 4.0;
 std::string find_presets_dir() {
     std::error_code ec;
     std::vector<fs::path> candidates;
+    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+    if (!ec) {
+        // Installed (cmake --install, the .deb): PREFIX/bin/accelviz, PREFIX/share/accelviz/presets.
+        candidates.push_back(exe.parent_path().parent_path() / "share" / "accelviz" / "presets");
+    }
 #ifdef ACCELVIZ_SOURCE_DIR
+    // A build-tree binary: the checkout it was built from.
     candidates.push_back(fs::path(ACCELVIZ_SOURCE_DIR) / "assets" / "presets");
 #endif
-    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
     if (!ec) {
         const fs::path bin = exe.parent_path();
         candidates.push_back(bin / "assets" / "presets");
@@ -37,6 +42,16 @@ std::string find_presets_dir() {
     for (const fs::path& dir : candidates)
         if (fs::is_directory(dir, ec)) return dir.lexically_normal().string();
     return {};
+}
+
+std::string resolve_preset(const std::string& name_or_path) {
+    std::error_code ec;
+    if (fs::exists(name_or_path, ec) || name_or_path.find('/') != std::string::npos) return name_or_path;
+    const std::string dir = find_presets_dir();
+    if (dir.empty()) return name_or_path;
+    for (const std::string& file : {name_or_path, name_or_path + ".json"})
+        if (fs::is_regular_file(fs::path(dir) / file, ec)) return (fs::path(dir) / file).string();
+    return name_or_path;
 }
 
 std::vector<PresetInfo> list_presets(const std::string& dir) {

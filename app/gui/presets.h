@@ -19,10 +19,15 @@ struct PresetInfo {
     std::string title;  ///< its "title", or the name
 };
 
-/// Where the shipped presets are: <source dir>/assets/presets (ACCELVIZ_SOURCE_DIR,
-/// the checkout the binary was built from), else assets/presets next to the
+/// Where the shipped presets are: PREFIX/share/accelviz/presets for a binary in
+/// PREFIX/bin (installed), else <source dir>/assets/presets (ACCELVIZ_SOURCE_DIR, the
+/// checkout a build-tree binary was built from), else assets/presets next to the
 /// binary or one or two directories up. Empty if none exists.
 std::string find_presets_dir();
+
+/// A preset given by name ("08-grid-stadium", with or without ".json") as its file
+/// in find_presets_dir(); anything that is a file, or has a '/', is returned as it is.
+std::string resolve_preset(const std::string& name_or_path);
 
 /// The *.json files of `dir`, sorted by file name.
 std::vector<PresetInfo> list_presets(const std::string& dir);
