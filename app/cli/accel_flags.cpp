@@ -15,7 +15,8 @@ void add_accel_flags(CLI::App& command, AccelConfig& config) {
 
     // Shared by several structures (unset: each structure's default).
     command.add_option("--leaf-size", config.leaf_size,
-                       "Leaf size limit (bvh: 1..255; kd, octree: any); default: each structure's own")
+                       "Leaf size limit (bvh: 1.." + std::to_string(kBvhMaxLeafSize) +
+                           "; kd, octree: any); default: each structure's own")
         ->check(whole_number(1, 1 << 20));
     command.add_option("--cost-trav", config.cost_trav, "SAH cost of one interior-node step, C_trav (bvh, kd)")
         ->check(number_between(0.0, 1e6));
@@ -28,8 +29,9 @@ void add_accel_flags(CLI::App& command, AccelConfig& config) {
                "bvh: how nodes are split: longest axis at its middle, at the median triangle, full SAH sweep, "
                "or binned SAH (midpoint|median|sah-sweep|sah-binned, default sah-binned)")
         ->check(CLI::IsMember(bvh_builder_names()));
-    command.add_option("--bins", config.bvh.bins, "bvh sah-binned: buckets per axis, B in 2..64")
-        ->check(whole_number(2, 64))
+    command.add_option("--bins", config.bvh.bins, "bvh sah-binned: buckets per axis, B in " + std::to_string(kBvhMinBins) + ".." +
+                                                    std::to_string(kBvhMaxBins))
+        ->check(whole_number(kBvhMinBins, kBvhMaxBins))
         ->capture_default_str();
     command.add_option_function<std::string>(
                "--bvh-traversal", [&config](const std::string& v) { config.bvh_traversal = *parse_bvh_traversal(v); },

@@ -71,7 +71,7 @@ void swatch(ImU32 colour) {
 
 BvhConfig chart_config(const BvhConfig& built, const BuildStepSettings& settings) {
     BvhConfig c = built;
-    if (settings.bins) c.bins = std::clamp(*settings.bins, 2, 64);
+    if (settings.bins) c.bins = std::clamp(*settings.bins, kBvhMinBins, kBvhMaxBins);
     if (settings.cost_trav) c.cost_trav = std::max(0.0f, *settings.cost_trav);
     if (settings.cost_isect && *settings.cost_isect > 0.0f) c.cost_isect = *settings.cost_isect;
     return c;
@@ -86,7 +86,9 @@ std::shared_ptr<const BuildTrace> record_build(std::shared_ptr<const LoadedScene
     BuildRecorder recorder;
     recorder.record_candidates = false;  // the chart recomputes one node's (sah_chart.h)
     const auto start = std::chrono::steady_clock::now();
-    trace->bvh = build_bvh(*scene->mesh, trace->config, &recorder);
+    auto built = build_bvh(*scene->mesh, trace->config, &recorder);
+    if (!built) return nullptr;  // (the scene's own BVH was built with this config, so it passed)
+    trace->bvh = std::move(*built);
     trace->build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     trace->steps = std::move(recorder.steps);
     trace->scene = std::move(scene);
@@ -261,7 +263,7 @@ void BuildStepper::draw_panel(AppState& state, float x, float y, float w, float 
     ImGui::PushItemWidth(ImGui::GetContentRegionAvail().x * 0.5f);
     if (c.builder == BvhBuilder::SahSweep) {
         ImGui::TextDisabled("sah-sweep: every centroid is a candidate (no B)");
-    } else if (ImGui::SliderInt("B (bins)", &c.bins, 2, 64, "%d", ImGuiSliderFlags_AlwaysClamp)) {
+    } else if (ImGui::SliderInt("B (bins)", &c.bins, kBvhMinBins, kBvhMaxBins, "%d", ImGuiSliderFlags_AlwaysClamp)) {
         s.bins = c.bins;
     }
     if (ImGui::SliderFloat("C_trav", &c.cost_trav, 0.0f, 10.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp))

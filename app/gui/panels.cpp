@@ -54,6 +54,14 @@ bool enum_combo(const char* label, Enum& value, const std::vector<std::string>& 
     return true;
 }
 
+/// A leaf-size slider over the BVH's whole range, 1..kBvhMaxLeafSize (the KD tree and
+/// octree have no limit of their own; larger values come from the command line or a
+/// preset). Logarithmic: the lecture's leaves of ~5 triangles stay easy to pick.
+bool leaf_size_slider(const char* label, int& value) {
+    ImGui::SliderInt(label, &value, 1, kBvhMaxLeafSize, "%d", ImGuiSliderFlags_Logarithmic);
+    return ImGui::IsItemDeactivatedAfterEdit();
+}
+
 /// Widgets that apply on release (a rebuild per drag step would queue builds).
 bool int_slider(const char* label, int& value, int lo, int hi, const char* format = "%d") {
     ImGui::SliderInt(label, &value, lo, hi, format, ImGuiSliderFlags_AlwaysClamp);
@@ -130,8 +138,8 @@ void StructurePanel::draw(AppState& state, Session& session) {
     rebuild |= enum_combo("Structure###structure_type", a.type, accel_type_names(), parse_accel_type);
     if (a.type == AccelType::Bvh) {
         rebuild |= enum_combo("Build", a.bvh.builder, bvh_builder_names(), parse_bvh_builder);
-        if (a.bvh.builder == BvhBuilder::SahBinned) rebuild |= int_slider("Bins (B)", a.bvh.bins, 2, 64);
-        rebuild |= int_slider("Max leaf size", a.bvh.max_leaf_size, 1, 32);
+        if (a.bvh.builder == BvhBuilder::SahBinned) rebuild |= int_slider("Bins (B)", a.bvh.bins, kBvhMinBins, kBvhMaxBins);
+        rebuild |= leaf_size_slider("Max leaf size", a.bvh.max_leaf_size);
         if (a.bvh.builder == BvhBuilder::SahBinned || a.bvh.builder == BvhBuilder::SahSweep) {
             rebuild |= float_slider("C_trav", a.bvh.cost_trav, 0.0f, 10.0f);
             rebuild |= float_slider("C_isect", a.bvh.cost_isect, 0.1f, 10.0f);
@@ -144,7 +152,7 @@ void StructurePanel::draw(AppState& state, Session& session) {
     } else if (a.type == AccelType::Kd) {
         rebuild |= enum_combo("Build", a.kd.builder, kd_builder_names(), parse_kd_builder);
         rebuild |= int_slider("Max depth", a.kd.max_depth, 0, kKdMaxDepth, a.kd.max_depth == 0 ? "auto" : "%d");
-        rebuild |= int_slider("Leaf size", a.kd.leaf_size, 1, 32);
+        rebuild |= leaf_size_slider("Leaf size", a.kd.leaf_size);
         if (a.kd.builder == KdBuilder::Sah) {
             rebuild |= float_slider("C_trav", a.kd.cost_trav, 0.0f, 10.0f);
             rebuild |= float_slider("C_isect", a.kd.cost_isect, 0.1f, 10.0f);
@@ -154,7 +162,7 @@ void StructurePanel::draw(AppState& state, Session& session) {
         rebuild |= ImGui::Checkbox("Mailbox", &a.kd.mailbox);
     } else if (a.type == AccelType::Octree) {
         rebuild |= int_slider("Max depth", a.octree.max_depth, 1, kOctreeMaxDepth);
-        rebuild |= int_slider("Leaf size", a.octree.leaf_size, 1, 64);
+        rebuild |= leaf_size_slider("Leaf size", a.octree.leaf_size);
         rebuild |= ImGui::Checkbox("Mailbox", &a.octree.mailbox);
     }
     ImGui::PopItemWidth();

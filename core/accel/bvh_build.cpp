@@ -759,10 +759,11 @@ void write_notes(const BvhConfig& config, BvhBuildStats& stats) {
 
 }  // namespace
 
-Bvh build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecorder* recorder) {
+Expected<Bvh> build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecorder* recorder) {
+    if (auto err = validate(requested)) return *err;
     const auto start = std::chrono::steady_clock::now();
     Bvh bvh;
-    bvh.build_config = clamped(requested);
+    bvh.build_config = requested;
     const BvhConfig& config = bvh.build_config;
     const SahCostModel model{config.cost_trav, config.cost_isect};
     BvhBuildStats& stats = bvh.build_stats;

@@ -48,8 +48,8 @@ struct BuildRecorder {
     bool record_candidates = true;
 };
 
-/// Builds a BVH over `mesh`. `config` must pass validate() (out-of-range values are
-/// clamped). With a recorder, every node's decision is appended to recorder->steps.
-Bvh build_bvh(const Mesh& mesh, const BvhConfig& config, BuildRecorder* recorder = nullptr);
+/// Builds a BVH over `mesh`; a config that validate() refuses is an error (its
+/// message). With a recorder, every node's decision is appended to recorder->steps.
+Expected<Bvh> build_bvh(const Mesh& mesh, const BvhConfig& config, BuildRecorder* recorder = nullptr);
 
 }  // namespace accelviz

@@ -60,19 +60,13 @@ std::optional<BvhTraversal> parse_bvh_traversal(std::string_view name) {
     return std::nullopt;
 }
 
-BvhConfig clamped(BvhConfig config) {
-    config.bins = std::clamp(config.bins, 2, 64);
-    config.max_leaf_size = std::clamp(config.max_leaf_size, 1, 255);
-    if (!(config.cost_trav >= 0.0f)) config.cost_trav = 0.0f;
-    if (!(config.cost_isect > 0.0f)) config.cost_isect = 1.0f;
-    return config;
-}
-
 std::optional<Error> validate(const BvhConfig& config) {
-    if (config.bins < 2 || config.bins > 64)
-        return Error{"--bins must be between 2 and 64 (got " + std::to_string(config.bins) + ")"};
-    if (config.max_leaf_size < 1 || config.max_leaf_size > 255)
-        return Error{"--leaf-size must be between 1 and 255 (got " + std::to_string(config.max_leaf_size) + ")"};
+    if (config.bins < kBvhMinBins || config.bins > kBvhMaxBins)
+        return Error{"--bins must be between " + std::to_string(kBvhMinBins) + " and " + std::to_string(kBvhMaxBins) +
+                     " (got " + std::to_string(config.bins) + ")"};
+    if (config.max_leaf_size < 1 || config.max_leaf_size > kBvhMaxLeafSize)
+        return Error{"--leaf-size must be between 1 and " + std::to_string(kBvhMaxLeafSize) + " (got " +
+                     std::to_string(config.max_leaf_size) + ")"};
     if (!std::isfinite(config.cost_trav) || config.cost_trav < 0.0f)
         return Error{"--cost-trav must be a finite number >= 0 (got " + std::to_string(config.cost_trav) + ")"};
     if (!std::isfinite(config.cost_isect) || config.cost_isect <= 0.0f)

@@ -44,22 +44,25 @@ std::optional<BvhTraversal> parse_bvh_traversal(std::string_view name);
 inline constexpr uint32_t kBvhMaxDepth = 63;
 inline constexpr int kBvhStackSize = 64;
 
+/// The ranges of the build parameters: validate() checks them, and the command line's
+/// checks and the window's sliders read them from here.
+inline constexpr int kBvhMinBins = 2, kBvhMaxBins = 64;
+inline constexpr int kBvhMaxLeafSize = 255;  ///< a leaf's count must fit the node's bookkeeping
+
 /// Build parameters. Every field has the default the lecture's discussion suggests.
 struct BvhConfig {
     BvhBuilder builder = BvhBuilder::SahBinned;  ///< how nodes are split
-    int bins = 16;                               ///< sah-binned: buckets per axis, 2..64 (lecture: B < 32)
-    int max_leaf_size = 4;                       ///< a leaf holds at most this many triangles, 1..255
+    int bins = 16;                               ///< sah-binned: buckets per axis, kBvhMinBins..kBvhMaxBins (lecture: B < 32)
+    int max_leaf_size = 4;                       ///< a leaf holds at most this many triangles, 1..kBvhMaxLeafSize
     float cost_trav = 1.0f;                      ///< SAH: C_trav, cost of stepping through an interior node, >= 0
     float cost_isect = 1.0f;                     ///< SAH: C_isect, cost of one ray–triangle test, > 0
 
     bool operator==(const BvhConfig&) const = default;
 };
 
-/// A one-line error if a field is out of range (names the CLI flag).
+/// A one-line error if a field is out of range (names the CLI flag). The builder and
+/// the SAH chart refuse a config this refuses.
 std::optional<Error> validate(const BvhConfig& config);
-/// The config the builder actually uses: fields pulled into range (B in 2..64,
-/// leaf size 1..255, C_trav >= 0, C_isect > 0), for callers that skip validate().
-BvhConfig clamped(BvhConfig config);
 
 /// Why the builder made a node a leaf or split it the way it did. Every node
 /// gets exactly one decision; BvhBuildStats counts them.

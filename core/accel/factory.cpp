@@ -46,9 +46,10 @@ Expected<std::shared_ptr<const Accelerator>> build_accelerator(const Mesh& mesh,
         case AccelType::Naive:
             return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<BruteForce>>(BruteForce(mesh)));
         case AccelType::Bvh: {
-            Bvh bvh = build_bvh(mesh, bvh_config_of(config));
-            bvh.traversal = config.bvh_traversal;
-            return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<Bvh>>(std::move(bvh)));
+            auto bvh = build_bvh(mesh, bvh_config_of(config));
+            if (!bvh) return Error{bvh.error()};
+            bvh->traversal = config.bvh_traversal;
+            return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<Bvh>>(std::move(*bvh)));
         }
         case AccelType::Grid: {
             auto grid = build_uniform_grid(mesh, config.grid);

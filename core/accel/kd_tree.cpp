@@ -26,7 +26,7 @@ const std::vector<std::string>& kd_builder_names() {
 
 std::optional<Error> validate(const KdConfig& c) {
     if (c.max_depth < 0 || c.max_depth > kKdMaxDepth)
-        return Error{"--kd-max-depth must be in 0..62 (0 = automatic, 8 + 1.3·log2(N))"};
+        return Error{"--kd-max-depth must be in 0.." + std::to_string(kKdMaxDepth) + " (0 = automatic, 8 + 1.3·log2(N))"};
     if (c.leaf_size < 1) return Error{"--leaf-size must be at least 1"};
     if (!(c.cost_trav >= 0.0f) || !std::isfinite(c.cost_trav)) return Error{"--cost-trav must be >= 0"};
     if (!(c.cost_isect > 0.0f) || !std::isfinite(c.cost_isect)) return Error{"--cost-isect must be > 0"};

@@ -9,7 +9,7 @@
 namespace accelviz {
 
 std::optional<Error> validate(const OctreeConfig& c) {
-    if (c.max_depth < 1 || c.max_depth > kOctreeMaxDepth) return Error{"--octree-max-depth must be in 1..20"};
+    if (c.max_depth < 1 || c.max_depth > kOctreeMaxDepth) return Error{"--octree-max-depth must be in 1.." + std::to_string(kOctreeMaxDepth)};
     if (c.leaf_size < 1) return Error{"--leaf-size must be at least 1"};
     if (!(c.max_duplication >= 1.0)) return Error{"octree max_duplication must be >= 1"};
     return std::nullopt;

@@ -223,8 +223,12 @@ void write_verdict(SahChart& chart) {
 
 SahChart compute_sah_chart(const Mesh& mesh, std::span<const uint32_t> prim_ids, const BvhConfig& requested,
                            const SahChartOptions& options) {
-    const BvhConfig config = clamped(requested);  // as the builder does
+    const BvhConfig& config = requested;
     SahChart chart;
+    if (auto err = validate(config)) {
+        chart.verdict_text = "No chart: " + err->message;
+        return chart;
+    }
     chart.builder = config.builder;
     chart.sweep = config.builder == BvhBuilder::SahSweep;
     chart.bins = config.bins;

@@ -99,8 +99,9 @@ struct SahChartOptions {
 };
 
 /// The chart of the node whose triangles are `prim_ids` (ids into `mesh`) under
-/// `config` (builder, bins, cost_trav, cost_isect, max_leaf_size; clamped as the
-/// builder clamps them). Costs equal the builder's for the same parameters.
+/// `config` (builder, bins, cost_trav, cost_isect, max_leaf_size). Costs equal the
+/// builder's for the same parameters. A config validate() refuses gives an empty
+/// chart whose verdict_text says why.
 SahChart compute_sah_chart(const Mesh& mesh, std::span<const uint32_t> prim_ids, const BvhConfig& config,
                            const SahChartOptions& options = {});
 

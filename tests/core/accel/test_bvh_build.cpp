@@ -135,7 +135,7 @@ TEST(BvhBuild, InvariantsHoldForEveryBuilderOnEveryScene) {
         for (BvhBuilder builder : kBuilders)
             for (int leaf : {1, 4, 7}) {
                 SCOPED_TRACE(source + " " + std::string(to_string(builder)) + " leaf " + std::to_string(leaf));
-                check_invariants(mesh, build_bvh(mesh, {.builder = builder, .max_leaf_size = leaf}));
+                check_invariants(mesh, *build_bvh(mesh, {.builder = builder, .max_leaf_size = leaf}));
             }
     }
 }
@@ -145,12 +145,12 @@ TEST(BvhBuild, InvariantsHoldOnTheBunny) {
     const Mesh mesh = scene(test::shared_asset("bunny.obj"));
     for (BvhBuilder builder : kBuilders) {
         SCOPED_TRACE(to_string(builder));
-        check_invariants(mesh, build_bvh(mesh, {.builder = builder}));
+        check_invariants(mesh, *build_bvh(mesh, {.builder = builder}));
     }
 }
 
 TEST(BvhBuild, EmptySceneHasNoNodesAndSaysSo) {
-    const Bvh bvh = build_bvh(Mesh{}, {});
+    const Bvh bvh = *build_bvh(Mesh{}, {});
     EXPECT_TRUE(bvh.nodes.empty());
     EXPECT_TRUE(notes_mention(bvh.build_stats, "empty scene"));
     NoObserver none;
@@ -161,7 +161,7 @@ TEST(BvhBuild, EmptySceneHasNoNodesAndSaysSo) {
 TEST(BvhBuild, OneTriangleIsOneLeaf) {
     const Mesh mesh = scene("builtin:single");
     for (BvhBuilder builder : kBuilders) {
-        const Bvh bvh = build_bvh(mesh, {.builder = builder});
+        const Bvh bvh = *build_bvh(mesh, {.builder = builder});
         ASSERT_EQ(bvh.nodes.size(), 1u);
         EXPECT_TRUE(bvh.nodes[0].is_leaf());
         EXPECT_EQ(bvh.nodes[0].count, 1u);
@@ -175,7 +175,7 @@ TEST(BvhBuild, SameCentroidIsSplitByIndexAndExplained) {
     const Mesh mesh = scene("builtin:same-centroid");
     for (BvhBuilder builder : kBuilders) {
         SCOPED_TRACE(to_string(builder));
-        const Bvh bvh = build_bvh(mesh, {.builder = builder});
+        const Bvh bvh = *build_bvh(mesh, {.builder = builder});
         const BvhBuildStats& s = bvh.build_stats;
         EXPECT_GT(s.count(BuildDecision::SplitInHalfCentroidsEqual), 0u);
         EXPECT_EQ(s.count(BuildDecision::Split), 0u);
@@ -192,7 +192,7 @@ TEST(BvhBuild, SameBoxSplitsOnlyBecauseLeavesMustFitAndSaysSo) {
     const Mesh mesh = scene("builtin:same-box");
     for (BvhBuilder builder : {BvhBuilder::SahSweep, BvhBuilder::SahBinned}) {
         SCOPED_TRACE(to_string(builder));
-        const Bvh bvh = build_bvh(mesh, {.builder = builder});
+        const Bvh bvh = *build_bvh(mesh, {.builder = builder});
         const BvhBuildStats& s = bvh.build_stats;
         EXPECT_EQ(s.count(BuildDecision::Split), 0u);
         EXPECT_GT(s.count(BuildDecision::SplitForcedBySize), 0u);
@@ -216,11 +216,11 @@ TEST(BvhBuild, DepthIsBoundedOnPathologicalInput) {
         }
     for (BvhBuilder builder : kBuilders) {
         SCOPED_TRACE(to_string(builder));
-        const Bvh bvh = build_bvh(mesh, {.builder = builder, .max_leaf_size = 1});
+        const Bvh bvh = *build_bvh(mesh, {.builder = builder, .max_leaf_size = 1});
         check_invariants(mesh, bvh);
         EXPECT_LE(bvh.build_stats.max_depth, kBvhMaxDepth);
     }
-    const Bvh midpoint = build_bvh(mesh, {.builder = BvhBuilder::Midpoint, .max_leaf_size = 1});
+    const Bvh midpoint = *build_bvh(mesh, {.builder = BvhBuilder::Midpoint, .max_leaf_size = 1});
     EXPECT_GT(midpoint.build_stats.count(BuildDecision::SplitInHalfDepthBudget), 0u);
     EXPECT_TRUE(notes_mention(midpoint.build_stats, "deeper than 63 levels"));
     // And it still answers exactly: rays along x through every triangle's plane (ties at t = 1).
@@ -243,7 +243,7 @@ TEST(BvhBuild, ZeroExtentAxesAreSkipped) {
     for (BvhBuilder builder : kBuilders) {
         SCOPED_TRACE(to_string(builder));
         BuildRecorder recorder;
-        const Bvh bvh = build_bvh(mesh, {.builder = builder}, &recorder);
+        const Bvh bvh = *build_bvh(mesh, {.builder = builder}, &recorder);
         check_invariants(mesh, bvh);
         for (const BuildStep& step : recorder.steps) {
             if (step.axis >= 0) {
@@ -259,18 +259,18 @@ TEST(BvhBuild, SahStopsWhenNoSplitIsCheaperThanTheLeaf) {
     // A huge C_trav makes every split dearer than a leaf of 4: SAH then splits only
     // nodes that do not fit, and its leaves are as full as allowed.
     const Mesh mesh = scene("builtin:soup?n=2000");
-    const Bvh bvh = build_bvh(mesh, {.builder = BvhBuilder::SahBinned, .cost_trav = 1000.0f});
+    const Bvh bvh = *build_bvh(mesh, {.builder = BvhBuilder::SahBinned, .cost_trav = 1000.0f});
     EXPECT_EQ(bvh.build_stats.count(BuildDecision::Split), 0u);
     EXPECT_GT(bvh.build_stats.count(BuildDecision::LeafCheaper), 0u);
     // A tiny C_trav with one-triangle leaves allowed: SAH splits almost everything.
-    const Bvh deep = build_bvh(mesh, {.builder = BvhBuilder::SahBinned, .max_leaf_size = 8, .cost_trav = 0.01f});
+    const Bvh deep = *build_bvh(mesh, {.builder = BvhBuilder::SahBinned, .max_leaf_size = 8, .cost_trav = 0.01f});
     EXPECT_GT(deep.build_stats.count(BuildDecision::Split), 500u);
 }
 
 TEST(BvhBuild, SahCostOfSahBuildersBeatsTheHeuristicsOnTheBunny) {
     if (!test::shared_asset_exists("bunny.obj")) GTEST_SKIP() << "../shared/assets/bunny.obj is not here";
     const Mesh mesh = scene(test::shared_asset("bunny.obj"));
-    auto cost = [&](BvhBuilder b) { return build_bvh(mesh, {.builder = b}).build_stats.sah_cost; };
+    auto cost = [&](BvhBuilder b) { return build_bvh(mesh, {.builder = b})->build_stats.sah_cost; };
     const double sweep = cost(BvhBuilder::SahSweep), binned = cost(BvhBuilder::SahBinned);
     EXPECT_LT(sweep, cost(BvhBuilder::Median));
     EXPECT_LT(binned, cost(BvhBuilder::Midpoint));
@@ -282,8 +282,8 @@ TEST(BvhBuild, RecorderReplaysEveryDecision) {
         SCOPED_TRACE(to_string(builder));
         BuildRecorder recorder;
         const BvhConfig config{.builder = builder, .bins = 8};
-        const Bvh bvh = build_bvh(mesh, config, &recorder);
-        expect_same_tree(build_bvh(mesh, config), bvh);  // recording must not change the tree
+        const Bvh bvh = *build_bvh(mesh, config, &recorder);
+        expect_same_tree(*build_bvh(mesh, config), bvh);  // recording must not change the tree
         ASSERT_EQ(recorder.steps.size(), bvh.nodes.size());
         EXPECT_EQ(recorder.steps[0].node, 0u);
         std::vector<const BuildStep*> step_of(bvh.nodes.size(), nullptr);
@@ -339,7 +339,7 @@ TEST(BvhBuild, BinnedShortcutsBuildTheSameTreeAsTheFullBinning) {
             SCOPED_TRACE(source + ", " + std::to_string(bins) + " bins");
             const BvhConfig config{.builder = BvhBuilder::SahBinned, .bins = bins};
             BuildRecorder recorder;  // record_candidates: every node binned in full
-            expect_same_tree(build_bvh(mesh, config, &recorder), build_bvh(mesh, config));
+            expect_same_tree(*build_bvh(mesh, config, &recorder), *build_bvh(mesh, config));
         }
     }
 }
@@ -363,7 +363,7 @@ TEST(BvhBuild, BuildsWithoutComputingOnSubnormalNumbers) {
         for (BvhBuilder builder : kBuilders) {
             SCOPED_TRACE(source + ", " + std::string(to_string(builder)));
             _mm_setcsr(_mm_getcsr() & ~kAllFlags);
-            const Bvh bvh = build_bvh(mesh, {.builder = builder});
+            const Bvh bvh = *build_bvh(mesh, {.builder = builder});
             const unsigned flags = _mm_getcsr();
             EXPECT_EQ(flags & kDenormalFlag, 0u) << "a float operation of the build saw a subnormal operand";
             EXPECT_GT(bvh.nodes.size(), 0u);
@@ -371,6 +371,18 @@ TEST(BvhBuild, BuildsWithoutComputingOnSubnormalNumbers) {
     }
 }
 #endif
+
+TEST(BvhBuild, BuilderRefusesWhatValidateRefuses) {
+    const Mesh mesh = scene("builtin:cube");
+    for (BvhConfig bad : {BvhConfig{.bins = kBvhMinBins - 1}, BvhConfig{.bins = kBvhMaxBins + 1},
+                          BvhConfig{.max_leaf_size = 0}, BvhConfig{.max_leaf_size = kBvhMaxLeafSize + 1},
+                          BvhConfig{.cost_isect = 0.0f}}) {
+        auto bvh = build_bvh(mesh, bad);
+        ASSERT_FALSE(bvh.ok()) << "built with bins " << bad.bins << ", leaf size " << bad.max_leaf_size;
+        EXPECT_EQ(bvh.error(), validate(bad)->message);
+    }
+    EXPECT_TRUE(build_bvh(mesh, {.bins = kBvhMaxBins, .max_leaf_size = kBvhMaxLeafSize}).ok());
+}
 
 TEST(BvhBuild, FactoryValidatesTheConfig) {
     const Mesh mesh = scene("builtin:cube");

@@ -64,7 +64,7 @@ std::pair<uint64_t, uint64_t> check_scene(const Mesh& mesh, size_t ray_count, ui
         const Variant& variant = all[v];
         SCOPED_TRACE(variant.label + " on " + mesh.name);
         const size_t stride = v < 4 ? 1 : 20;
-        const Bvh bvh = build_bvh(mesh, variant.config);
+        const Bvh bvh = *build_bvh(mesh, variant.config);
         std::atomic<uint64_t> visits[2] = {0, 0};
         std::mutex report_mutex;
         int reported = 0;

@@ -34,7 +34,7 @@ bool is_leaf(BuildDecision d) {
 /// it with what the builder recorded.
 void expect_chart_matches_recording(const Mesh& mesh, const BvhConfig& config, size_t max_steps) {
     BuildRecorder recorder;
-    const Bvh bvh = build_bvh(mesh, config, &recorder);
+    const Bvh bvh = *build_bvh(mesh, config, &recorder);
     ASSERT_FALSE(recorder.steps.empty());
     size_t splits_checked = 0;
     for (size_t s = 0; s < std::min(max_steps, recorder.steps.size()); ++s) {
@@ -100,7 +100,7 @@ TEST(SahChart, WholeTreeAgreesWithEveryRecordedDecision) {
     const Mesh mesh = scene("builtin:soup?n=300");
     const BvhConfig config{.builder = BvhBuilder::SahBinned, .bins = 8, .cost_trav = 2.0f};
     BuildRecorder recorder;
-    const Bvh bvh = build_bvh(mesh, config, &recorder);
+    const Bvh bvh = *build_bvh(mesh, config, &recorder);
     for (const BuildStep& step : recorder.steps) {
         const SahChart chart = compute_sah_chart(mesh, prims(bvh, step), config);
         EXPECT_FALSE(chart.best_tied);  // random triangles: no two different divisions cost exactly the same
@@ -119,8 +119,8 @@ TEST(SahChart, RecorderWithoutCandidatesRecordsTheSameDecisions) {
     const BvhConfig config{.builder = BvhBuilder::SahBinned};
     BuildRecorder full, light;
     light.record_candidates = false;
-    build_bvh(mesh, config, &full);
-    build_bvh(mesh, config, &light);
+    (void)build_bvh(mesh, config, &full);
+    (void)build_bvh(mesh, config, &light);
     ASSERT_EQ(full.steps.size(), light.steps.size());
     size_t with_candidates = 0;
     for (size_t s = 0; s < full.steps.size(); ++s) {
@@ -142,7 +142,7 @@ TEST(SahChart, NewParametersRecomputeOneNodeWithoutRebuilding) {
     const Mesh mesh = scene(test::shared_asset("bunny.obj"));
     BuildRecorder recorder;
     const BvhConfig config{.builder = BvhBuilder::SahBinned};
-    const Bvh bvh = build_bvh(mesh, config, &recorder);
+    const Bvh bvh = *build_bvh(mesh, config, &recorder);
     const BuildStep& root = recorder.steps[0];
     // B = 4: three planes per axis.
     BvhConfig four = config;
@@ -151,7 +151,7 @@ TEST(SahChart, NewParametersRecomputeOneNodeWithoutRebuilding) {
     for (const SahChartAxis& axis : coarse.axes) EXPECT_EQ(axis.positions.size(), 3u);
     // The recomputed chart is what a whole rebuild with B = 4 records at its root.
     BuildRecorder rebuilt;
-    build_bvh(mesh, four, &rebuilt);
+    (void)build_bvh(mesh, four, &rebuilt);
     EXPECT_EQ(coarse.best_cost, rebuilt.steps[0].split_cost);
     EXPECT_EQ(coarse.best_position, rebuilt.steps[0].split_position);
     // A huge C_trav makes every split dearer than the leaf; the verdict says so.
@@ -174,7 +174,7 @@ TEST(SahChart, HeuristicCutsAreWhereMedianAndMidpointBuildersCut) {
         SCOPED_TRACE(std::string(to_string(builder)));
         BuildRecorder recorder;
         const BvhConfig config{.builder = builder};
-        const Bvh bvh = build_bvh(mesh, config, &recorder);
+        const Bvh bvh = *build_bvh(mesh, config, &recorder);
         for (size_t s = 0; s < 20; ++s) {
             const BuildStep& step = recorder.steps[s];
             if (step.decision != BuildDecision::Split && step.decision != BuildDecision::SplitMedianFallback) continue;
@@ -192,7 +192,7 @@ TEST(SahChart, HeuristicCutsAreWhereMedianAndMidpointBuildersCut) {
     // planes include no exact median, but the sweep's include every centroid).
     BuildRecorder recorder;
     const BvhConfig sweep{.builder = BvhBuilder::SahSweep};
-    const Bvh bvh = build_bvh(mesh, sweep, &recorder);
+    const Bvh bvh = *build_bvh(mesh, sweep, &recorder);
     const SahChart root = compute_sah_chart(mesh, prims(bvh, recorder.steps[0]), sweep);
     EXPECT_LE(root.best_cost, root.median.cost);
     EXPECT_LE(root.best_cost, root.midpoint.cost);
@@ -203,7 +203,7 @@ TEST(SahChart, SameCentroidHasNoPlane) {
     const Mesh mesh = scene("builtin:same-centroid?n=200");
     const BvhConfig config{.builder = BvhBuilder::SahBinned};
     BuildRecorder recorder;
-    const Bvh bvh = build_bvh(mesh, config, &recorder);
+    const Bvh bvh = *build_bvh(mesh, config, &recorder);
     const BuildStep& root = recorder.steps[0];
     EXPECT_EQ(root.decision, BuildDecision::SplitInHalfCentroidsEqual);
     const SahChart chart = compute_sah_chart(mesh, prims(bvh, root), config);
@@ -231,7 +231,7 @@ TEST(SahChart, SameBoxEverySplitCostsMoreThanTheLeaf) {
         SCOPED_TRACE(std::string(to_string(builder)));
         const BvhConfig config{.builder = builder};
         BuildRecorder recorder;
-        const Bvh bvh = build_bvh(mesh, config, &recorder);
+        const Bvh bvh = *build_bvh(mesh, config, &recorder);
         const SahChart chart = compute_sah_chart(mesh, prims(bvh, recorder.steps[0]), config);
         // Both children keep the parent's box: C_trav + N C_isect > N C_isect, on every plane.
         size_t finite = 0;

@@ -44,7 +44,7 @@ TEST(EventJson, FloatsReadBackExactly) {
 TEST(EventJson, ARecordedBvhTraceBecomesAnArrayEndingInDone) {
     auto mesh = load_scene("builtin:teapot?n=2");
     ASSERT_TRUE(mesh.ok());
-    const Bvh bvh = build_bvh(*mesh, {});
+    const Bvh bvh = *build_bvh(*mesh, {});
     RecordingObserver recorder;
     const Hit hit = bvh.intersect_closest(Ray{{0, 0.4f, 3}, {0, 0, -1}}, recorder);
     const nlohmann::json events = to_json(recorder.events);
