@@ -2,6 +2,8 @@
 
 #include <cstdio>
 
+#include "core/geometry/scene.h"
+
 namespace accelviz::cli {
 
 void CameraFlags::add_to(CLI::App& command) {
@@ -31,6 +33,23 @@ Expected<CameraParams> CameraFlags::resolve(CameraParams p) const {
 bool parse_pixel(const std::string& text, int& x, int& y) {
     char rest = 0;
     return std::sscanf(text.c_str(), "%d,%d%c", &x, &y, &rest) == 2;
+}
+
+Expected<PixelRay> pixel_ray(const std::string& scene, const std::string& pixel, int width, int height,
+                             const CameraFlags& camera) {
+    PixelRay out;
+    if (!parse_pixel(pixel, out.x, out.y)) return Error{"--pixel: expected X,Y (two integers), got '" + pixel + "'"};
+    if (out.x < 0 || out.x >= width || out.y < 0 || out.y >= height)
+        return Error{"--pixel " + pixel + " is outside the " + std::to_string(width) + "x" + std::to_string(height) +
+                     " image"};
+    auto mesh = load_scene(scene);
+    if (!mesh) return Error{mesh.error()};
+    auto params = camera.resolve(mesh->bounds());
+    if (!params) return Error{params.error()};
+    out.mesh = std::move(*mesh);
+    out.camera = *params;
+    out.ray = Camera(out.camera, width, height).ray(out.x, out.y);
+    return out;
 }
 
 }  // namespace accelviz::cli

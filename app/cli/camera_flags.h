@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "core/geometry/mesh.h"
 #include "core/render/camera.h"
 
 namespace accelviz::cli {
@@ -25,5 +26,18 @@ struct CameraFlags {
 
 /// "X,Y" -> two integers (the --pixel flag of trace and render --view step).
 bool parse_pixel(const std::string& text, int& x, int& y);
+
+/// The ray of one pixel of a width x height image (trace, render --view step): the
+/// scene loaded, the camera the flags describe over it, and the pixel's ray.
+struct PixelRay {
+    Mesh mesh;
+    CameraParams camera;
+    int x = 0, y = 0;
+    Ray ray;
+};
+/// `pixel` ("X,Y") checked against the image, `scene` loaded, the camera resolved;
+/// errors are one line naming the flag or the file.
+Expected<PixelRay> pixel_ray(const std::string& scene, const std::string& pixel, int width, int height,
+                             const CameraFlags& camera);
 
 }  // namespace accelviz::cli

@@ -108,24 +108,16 @@ int run_build_step(const RenderOptions& opt, AppState state) {
 /// `trace --pixel X,Y` prints), the 3D view looking at it from the side.
 int run_render_step(const RenderOptions& opt) {
     if (opt.pixel.empty()) return fail("--view step needs --pixel X,Y (the ray to step)");
-    int x = 0, y = 0;
-    if (!parse_pixel(opt.pixel, x, y)) return fail("--pixel: expected X,Y (two integers), got '" + opt.pixel + "'");
-    if (x < 0 || x >= opt.width || y < 0 || y >= opt.height)
-        return fail("--pixel " + opt.pixel + " is outside the " + std::to_string(opt.width) + "x" +
-                    std::to_string(opt.height) + " image");
-    auto mesh = load_scene(opt.scene);
-    if (!mesh) return fail(mesh.error());
-    auto camera_params = opt.camera.resolve(mesh->bounds());
-    if (!camera_params) return fail(camera_params.error());
+    auto picked = pixel_ray(opt.scene, opt.pixel, opt.width, opt.height, opt.camera);
+    if (!picked) return fail(picked.error());
     AppState state;
     state.scene = opt.scene;
     state.accel = opt.accel;
-    const Ray ray = Camera(*camera_params, opt.width, opt.height).ray(x, y);
-    state.camera = stepper_side_view(*camera_params, ray);
+    state.camera = stepper_side_view(picked->camera, picked->ray);
     state.overlay.mesh_opacity = 0.5f;  // as the window does when the stepper opens: the boxes lie inside the mesh
     state.stepper.open = true;
-    state.stepper.ray = ray;
-    state.stepper.pixel = std::array<int, 2>{x, y};
+    state.stepper.ray = picked->ray;
+    state.stepper.pixel = std::array<int, 2>{picked->x, picked->y};
     state.stepper.step = opt.step < 0 ? 0 : size_t(opt.step);
     auto image = render_gui_view_headless(state, "step", opt.width, opt.height);
     if (!image) return fail(image.error());

@@ -31,20 +31,14 @@ int run_trace(const TraceOptions& opt) {
         std::cerr << "accelviz trace: " << message << "\n";
         return 1;
     };
-    int x = 0, y = 0;
-    if (!parse_pixel(opt.pixel, x, y)) return fail("--pixel: expected X,Y (two integers), got '" + opt.pixel + "'");
-    if (x < 0 || x >= opt.width || y < 0 || y >= opt.height)
-        return fail("--pixel " + opt.pixel + " is outside the " + std::to_string(opt.width) + "x" +
-                    std::to_string(opt.height) + " image");
-    auto mesh = load_scene(opt.scene);
-    if (!mesh) return fail(mesh.error());
-    auto camera_params = opt.camera.resolve(mesh->bounds());
-    if (!camera_params) return fail(camera_params.error());
+    auto picked = pixel_ray(opt.scene, opt.pixel, opt.width, opt.height, opt.camera);
+    if (!picked) return fail(picked.error());
+    const Mesh* mesh = &picked->mesh;
+    const int x = picked->x, y = picked->y;
     auto accel = build_accelerator(*mesh, opt.accel);
     if (!accel) return fail(accel.error());
 
-    const Camera camera(*camera_params, opt.width, opt.height);
-    const Ray ray = camera.ray(x, y);
+    const Ray ray = picked->ray;
     RecordingObserver recorder;
     const Hit hit = (*accel)->intersect_closest(ray, recorder);
     const Counters counters = recorder.counters();
