@@ -319,25 +319,16 @@ Expected<KdTree> build_kd_tree(const Mesh& mesh, const KdConfig& config) {
         add_counts(st, no_progress, budget_hit, subtrees[k]);
     }
 
-    tree.triangles.reserve(tree.prim_ids.size());
-    for (uint32_t id : tree.prim_ids) tree.triangles.push_back(mesh.triangle(id));
-    if (st.leaves_at_depth_limit > 0) {
-        std::ostringstream s;
-        s << st.leaves_at_depth_limit << " leaves stopped at the depth limit " << depth_limit
-          << " with more than leaf_size = " << config.leaf_size << " references";
-        st.notes.push_back(s.str());
-    }
-    if (no_progress > 0 && config.builder == KdBuilder::Median) {
-        std::ostringstream s;
-        s << no_progress << " nodes made leaves: no axis' middle plane separates their triangles";
-        st.notes.push_back(s.str());
-    }
-    if (budget_hit) {
-        std::ostringstream s;
-        s << "reference budget reached (" << config.max_duplication
-          << " x triangles): later nodes were made leaves instead of being split";
-        st.notes.push_back(s.str());
-    }
+    tree.triangles = triangles_in_leaf_order(mesh, tree.prim_ids);
+    add_split_notes({.parts = "nodes",
+                     .leaves_at_depth_limit = st.leaves_at_depth_limit,
+                     .depth_limit = depth_limit,
+                     .leaf_size = config.leaf_size,
+                     .not_split = config.builder == KdBuilder::Median ? no_progress : 0,
+                     .not_split_why = "no axis' middle plane separates their triangles",
+                     .budget_hit = budget_hit,
+                     .max_duplication = config.max_duplication},
+                    st.notes);
     finish();
     return tree;
 }

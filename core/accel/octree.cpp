@@ -125,25 +125,16 @@ Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config) {
         item.refs = {};
     }
 
-    tree.triangles.reserve(tree.prim_ids.size());
-    for (uint32_t id : tree.prim_ids) tree.triangles.push_back(mesh.triangle(id));
-    if (st.leaves_at_depth_limit > 0) {
-        std::ostringstream s;
-        s << st.leaves_at_depth_limit << " leaves stopped at max_depth " << config.max_depth
-          << " with more than leaf_size = " << config.leaf_size << " references";
-        st.notes.push_back(s.str());
-    }
-    if (no_progress > 0) {
-        std::ostringstream s;
-        s << no_progress << " cells not split: every non-empty octant would hold all of their triangles";
-        st.notes.push_back(s.str());
-    }
-    if (budget_hit) {
-        std::ostringstream s;
-        s << "reference budget reached (" << config.max_duplication
-          << " x triangles): later cells were made leaves instead of being split";
-        st.notes.push_back(s.str());
-    }
+    tree.triangles = triangles_in_leaf_order(mesh, tree.prim_ids);
+    add_split_notes({.parts = "cells",
+                     .leaves_at_depth_limit = st.leaves_at_depth_limit,
+                     .depth_limit = config.max_depth,
+                     .leaf_size = config.leaf_size,
+                     .not_split = no_progress,
+                     .not_split_why = "every non-empty octant would hold all of their triangles",
+                     .budget_hit = budget_hit,
+                     .max_duplication = config.max_duplication},
+                    st.notes);
     finish();
     return tree;
 }

@@ -1,5 +1,7 @@
 #include "core/accel/spatial_refs.h"
 
+#include <sstream>
+
 #include "core/geometry/triangle_box.h"
 
 namespace accelviz {
@@ -41,6 +43,33 @@ std::optional<SpatialRef> clip_reference(const SpatialRef& ref, const Mesh& mesh
     const Aabb box = intersection(padded(part, pad), ref.box);
     if (box.empty()) return std::nullopt;
     return SpatialRef{ref.tri, box};
+}
+
+void add_split_notes(const SplitStops& stops, std::vector<std::string>& notes) {
+    if (stops.leaves_at_depth_limit > 0) {
+        std::ostringstream s;
+        s << stops.leaves_at_depth_limit << " leaves stopped at the depth limit " << stops.depth_limit
+          << " with more than leaf_size = " << stops.leaf_size << " references";
+        notes.push_back(s.str());
+    }
+    if (stops.not_split > 0) {
+        std::ostringstream s;
+        s << stops.not_split << " " << stops.parts << " made leaves: " << stops.not_split_why;
+        notes.push_back(s.str());
+    }
+    if (stops.budget_hit) {
+        std::ostringstream s;
+        s << "reference budget reached (" << stops.max_duplication << " x triangles): later " << stops.parts
+          << " were made leaves instead of being split";
+        notes.push_back(s.str());
+    }
+}
+
+std::vector<Triangle> triangles_in_leaf_order(const Mesh& mesh, const std::vector<uint32_t>& prim_ids) {
+    std::vector<Triangle> out;
+    out.reserve(prim_ids.size());
+    for (uint32_t id : prim_ids) out.push_back(mesh.triangle(id));
+    return out;
 }
 
 }  // namespace accelviz

@@ -42,4 +42,23 @@ std::vector<SpatialRef> root_references(const Mesh& mesh, float pad);
 std::optional<SpatialRef> clip_reference(const SpatialRef& ref, const Mesh& mesh, const Aabb& child, float pad,
                                          ClipMode mode);
 
+/// What stopped a space-partitioning build from splitting further (KD tree,
+/// octree), for the notes that bench and the Stats panel show.
+struct SplitStops {
+    const char* parts = "nodes";       ///< what the tree splits: "nodes" (KD tree), "cells" (octree)
+    uint32_t leaves_at_depth_limit = 0;
+    int depth_limit = 0;
+    int leaf_size = 0;
+    uint32_t not_split = 0;             ///< parts made leaves because no split separates their triangles
+    std::string not_split_why;          ///< the builder's reason, e.g. "no axis' middle plane separates their triangles"
+    bool budget_hit = false;            ///< the reference budget (max_duplication · N) was reached
+    double max_duplication = 0;
+};
+/// One note per stop that happened, in plain words with the numbers.
+void add_split_notes(const SplitStops& stops, std::vector<std::string>& notes);
+
+/// The mesh's triangles in leaf order: out[k] is triangle prim_ids[k] (a copy, so a
+/// leaf's triangles are contiguous in memory).
+std::vector<Triangle> triangles_in_leaf_order(const Mesh& mesh, const std::vector<uint32_t>& prim_ids);
+
 }  // namespace accelviz
