@@ -193,7 +193,7 @@ void draw_view_messages(Session& session, const ViewRect& rect, bool determinist
     }
 }
 
-/// The preset just loaded (PageDown / PageUp), for a few seconds at the top right of the view.
+/// The preset just loaded (PageDown / PageUp), for a few seconds at the top right of `rect`.
 void draw_preset_caption(const Session& session, const ViewRect& rect) {
     const float margin = ImGui::GetFontSize();
     const ImGuiWindowFlags flags = kViewLabel;
@@ -456,7 +456,8 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
             ImGui::End();
         }
         draw_view_messages(session, layout.view, input.deterministic);
-        if (session.presets.caption_fresh()) draw_preset_caption(session, layout.view);
+        // Split: over the OpenGL half, so the ray cast half's own title stays readable.
+        if (session.presets.caption_fresh()) draw_preset_caption(session, layout.gl_view);
         // (Not over the CPU rasterizer's picture in the left half: it draws no overlay.)
         if (state.overlay.show_structure && !session.build_stepper.shows_3d(state) && !stepping &&
             !(split && (session.ray_cast.left_texture() || state.view.left_view == LeftView::OpenGlDepth)))

@@ -38,16 +38,20 @@ void draw_legend_bar(Image& img, int x, int y, int w, int h, const std::string& 
     const int s = label_scale(img.height);
     int title_w = 0, title_h = 0;
     text_size(title, s, &title_w, &title_h);
-    w = std::max(w, title_w);
+    int tick_w[3] = {0, 0, 0}, th = 0;
+    for (int k = 0; k < 3; ++k) text_size(ticks[k], s, &tick_w[k], &th);
+    // Wide enough for the title and the two end ticks; the middle tick (centred) only
+    // where it fits between them with a gap, so no two labels ever overlap.
+    const int gap = 3 * s;
+    w = std::max({w, title_w, tick_w[0] + tick_w[2] + gap});
+    const bool middle = 2 * std::max(tick_w[0], tick_w[2]) + tick_w[1] + 2 * gap <= w;
     x = std::max(4 * s, std::min(x, img.width - w - 4 * s));
-    int tw = 0, th = 0;  // a label's size: th of "0" places the rows, tw of each tick centres it
-    text_size("0", s, &tw, &th);
     fill_rect(img, x - 4 * s, y - th - 6 * s, w + 8 * s, h + 2 * th + 10 * s, {0, 0, 0});
     draw_text(img, x, y - th - 3 * s, title, s, {255, 255, 255});
     for (int i = 0; i < w; ++i) fill_rect(img, x + i, y, 1, h, colormap(double(i) / std::max(1, w - 1)));
     for (int k = 0; k < 3; ++k) {
-        text_size(ticks[k], s, &tw, &th);
-        const int lx = std::clamp(x + k * (w - 1) / 2 - tw / 2, x, x + w - tw);
+        if (k == 1 && !middle) continue;
+        const int lx = std::clamp(x + k * (w - 1) / 2 - tick_w[k] / 2, x, x + w - tick_w[k]);
         draw_text(img, lx, y + h + 2 * s, ticks[k], s, {255, 255, 255});
     }
 }

@@ -121,6 +121,15 @@ TEST(GoldenImage, SplitWithNodeHeatMap) {
     EXPECT_TRUE(view_matches_golden(state, "gui", 800, 450, "teapot_split_heat_nodes"));
 }
 
+// The split view's labels and the heat legend at a projector's full HD: no label runs
+// into another (the legend drops its middle tick where the three would not fit).
+TEST(GoldenImage, SplitTriangleHeatAt1920x1080) {
+    AppState state = teapot_with(R"({"structure": {"type": "grid"}})");
+    state.view.mode = ViewMode::Split;
+    state.view.right_view = RightView::HeatTris;
+    EXPECT_TRUE(view_matches_golden(state, "gui", 1920, 1080, "teapot_split_heat_tris_1920x1080"));
+}
+
 // [SECTION] Errors
 
 TEST(HeadlessRender, UnknownViewIsAnErrorNamingTheViews) {
