@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <memory>
 
 #include <stb/stb_image.h>
@@ -18,6 +19,7 @@
 #pragma GCC diagnostic ignored "-Wsign-compare"
 #include <stb/stb_easy_font.h>
 #pragma GCC diagnostic pop
+#include <stb/stb_truetype.h>  // compiled into Debian's libstb
 
 namespace accelviz {
 
@@ -85,25 +87,126 @@ void fill_rect(Image& dst, int x0, int y0, int w, int h, Rgb colour) {
         for (int x = xa; x < xb; ++x) dst.at(x, y) = colour;
 }
 
+namespace {
+
+/// The labels' font: DejaVu Sans, the window's UI font, read once.
+constexpr const char* kLabelFontPath = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+
+class LabelFont {
+public:
+    static const LabelFont& get() {
+        static const LabelFont font;  // loaded once, then only read (safe from any thread)
+        return font;
+    }
+    bool loaded() const { return loaded_; }
+    const stbtt_fontinfo& info() const { return info_; }
+
+private:
+    LabelFont() {
+        std::ifstream in(kLabelFontPath, std::ios::binary);
+        data_.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+        loaded_ = !data_.empty() &&
+                  stbtt_InitFont(&info_, data_.data(), stbtt_GetFontOffsetForIndex(data_.data(), 0)) != 0;
+    }
+    std::vector<unsigned char> data_;
+    stbtt_fontinfo info_{};
+    bool loaded_ = false;
+};
+
+/// The next code point of UTF-8 `text` at `i` (advanced past it); a stray byte reads as itself.
+int next_code_point(std::string_view text, size_t& i) {
+    const auto byte = [&](size_t k) { return k < text.size() ? uint8_t(text[k]) : uint8_t(0); };
+    const uint8_t c = byte(i);
+    int length = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xE ? 3 : (c >> 3) == 0x1E ? 4 : 1;
+    int cp = length == 1 ? c : c & (0xFF >> (length + 1));
+    for (int k = 1; k < length; ++k) {
+        if ((byte(i + size_t(k)) & 0xC0) != 0x80) {
+            length = 1;
+            cp = c;
+            break;
+        }
+        cp = (cp << 6) | (byte(i + size_t(k)) & 0x3F);
+    }
+    i += size_t(length);
+    return cp;
+}
+
+/// Lays out one line of `text` at `line_px` pixels; calls glyph(code point, pen x) for each.
+template <class Glyph>
+float lay_out(const stbtt_fontinfo& font, std::string_view text, float line_px, Glyph&& glyph) {
+    const float s = stbtt_ScaleForPixelHeight(&font, line_px);
+    float pen = 0;
+    int previous = 0;
+    for (size_t i = 0; i < text.size();) {
+        const int cp = next_code_point(text, i);
+        if (previous) pen += s * float(stbtt_GetCodepointKernAdvance(&font, previous, cp));
+        glyph(cp, pen, s);
+        int advance = 0, bearing = 0;
+        stbtt_GetCodepointHMetrics(&font, cp, &advance, &bearing);
+        pen += s * float(advance);
+        previous = cp;
+    }
+    return pen;
+}
+
+constexpr int kLinePixels = 12;  ///< a line's height at scale 1 (stb_easy_font's too)
+
+}  // namespace
+
 void text_size(std::string_view text, int scale, int* width, int* height) {
-    std::string s(text);
-    *width = stb_easy_font_width(s.data()) * scale;
-    *height = stb_easy_font_height(s.data()) * scale;
+    const LabelFont& font = LabelFont::get();
+    if (!font.loaded()) {
+        std::string s(text);
+        *width = stb_easy_font_width(s.data()) * scale;
+        *height = stb_easy_font_height(s.data()) * scale;
+        return;
+    }
+    *width = int(std::ceil(lay_out(font.info(), text, float(kLinePixels * scale), [](int, float, float) {})));
+    *height = kLinePixels * scale;
 }
 
 void draw_text(Image& dst, int x, int y, std::string_view text, int scale, Rgb colour) {
-    std::string s(text);
-    // Each glyph stroke is a quad of 4 vertices, 16 bytes each (x, y, z, colour).
-    std::vector<char> buffer(s.size() * 270 + 1024);
-    const int quads = stb_easy_font_print(0, 0, s.data(), nullptr, buffer.data(), int(buffer.size()));
-    for (int q = 0; q < quads; ++q) {
-        const float* v = reinterpret_cast<const float*>(buffer.data() + q * 64);
-        // vertices 0 and 2 are opposite corners of an axis-aligned quad
-        const float qx0 = std::min(v[0], v[8]), qx1 = std::max(v[0], v[8]);
-        const float qy0 = std::min(v[1], v[9]), qy1 = std::max(v[1], v[9]);
-        fill_rect(dst, x + int(std::lround(qx0 * scale)), y + int(std::lround(qy0 * scale)),
-                  int(std::lround((qx1 - qx0) * scale)), int(std::lround((qy1 - qy0) * scale)), colour);
+    const LabelFont& font = LabelFont::get();
+    if (!font.loaded()) {
+        std::string s(text);
+        // Each glyph stroke is a quad of 4 vertices, 16 bytes each (x, y, z, colour).
+        std::vector<char> buffer(s.size() * 270 + 1024);
+        const int quads = stb_easy_font_print(0, 0, s.data(), nullptr, buffer.data(), int(buffer.size()));
+        for (int q = 0; q < quads; ++q) {
+            const float* v = reinterpret_cast<const float*>(buffer.data() + q * 64);
+            // vertices 0 and 2 are opposite corners of an axis-aligned quad
+            const float qx0 = std::min(v[0], v[8]), qx1 = std::max(v[0], v[8]);
+            const float qy0 = std::min(v[1], v[9]), qy1 = std::max(v[1], v[9]);
+            fill_rect(dst, x + int(std::lround(qx0 * scale)), y + int(std::lround(qy0 * scale)),
+                      int(std::lround((qx1 - qx0) * scale)), int(std::lround((qy1 - qy0) * scale)), colour);
+        }
+        return;
     }
+    const stbtt_fontinfo& info = font.info();
+    const float line_px = float(kLinePixels * scale);
+    int ascent = 0, descent = 0, gap = 0;
+    stbtt_GetFontVMetrics(&info, &ascent, &descent, &gap);
+    const int baseline = y + int(std::lround(float(ascent) * stbtt_ScaleForPixelHeight(&info, line_px)));
+    std::vector<unsigned char> coverage;
+    lay_out(info, text, line_px, [&](int cp, float pen, float s) {
+        const float shift = pen - std::floor(pen);
+        int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+        stbtt_GetCodepointBitmapBoxSubpixel(&info, cp, s, s, shift, 0, &x0, &y0, &x1, &y1);
+        const int w = x1 - x0, h = y1 - y0;
+        if (w <= 0 || h <= 0) return;
+        coverage.assign(size_t(w) * size_t(h), 0);
+        stbtt_MakeCodepointBitmapSubpixel(&info, coverage.data(), w, h, w, s, s, shift, 0, cp);
+        const int left = x + int(std::floor(pen)) + x0, top = baseline + y0;
+        for (int gy = 0; gy < h; ++gy)
+            for (int gx = 0; gx < w; ++gx) {
+                const int px = left + gx, py = top + gy;
+                const int a = coverage[size_t(gy) * size_t(w) + size_t(gx)];
+                if (a == 0 || px < 0 || py < 0 || px >= dst.width || py >= dst.height) continue;
+                Rgb& p = dst.at(px, py);
+                const auto mix = [a](uint8_t under, uint8_t over) { return uint8_t((under * (255 - a) + over * a + 127) / 255); };
+                p = {mix(p.r, colour.r), mix(p.g, colour.g), mix(p.b, colour.b)};
+            }
+    });
 }
 
 void draw_label(Image& dst, int x, int y, std::string_view text, int scale, int max_width) {

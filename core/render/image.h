@@ -44,8 +44,10 @@ Expected<std::vector<float>> read_pfm(const std::string& path, int* width, int* 
 void blit(Image& dst, const Image& src, int x0, int y0);
 /// Fills a rectangle (clipped).
 void fill_rect(Image& dst, int x0, int y0, int w, int h, Rgb colour);
-/// Draws ASCII text with its top-left at (x, y); `scale` is the pixel size of one
-/// font dot (the font is about 7 dots tall). Uses stb_easy_font's glyph quads.
+/// Draws text (UTF-8) with its top-left at (x, y), one line 12 · `scale` pixels
+/// tall. Set in DejaVu Sans, the window's own font (Debian's fonts-dejavu-core,
+/// rasterized by stb_truetype, anti-aliased); where that file is missing, in
+/// stb_easy_font's built-in strokes (ASCII only).
 void draw_text(Image& dst, int x, int y, std::string_view text, int scale, Rgb colour);
 /// Width and height in pixels that draw_text would cover.
 void text_size(std::string_view text, int scale, int* width, int* height);

@@ -88,7 +88,7 @@ Image split_view(const Frame& raster, const Frame& ray, const WorkSummary& work)
     draw_label(out, pad, pad, "Rasterized (z-buffer)", s + 1, w - 2 * pad);
     draw_label(out, w + pad, pad, "Ray cast (" + work.accel_name + ")", s + 1);
     const RasterStats& rs = work.raster_work;
-    draw_label(out, pad, h - 24 * s,
+    draw_label(out, pad, h - 34 * s,
                with_commas(rs.triangles_rasterized) + " triangles rasterized, " + with_commas(rs.fragments) +
                    " fragments",
                s, w - 2 * pad);
@@ -97,12 +97,12 @@ Image split_view(const Frame& raster, const Frame& ray, const WorkSummary& work)
     if (work.ray_work_counted)
         ray_text += ", " + with_commas(work.ray_work.box_tests) + " box tests, " +
                     with_commas(work.ray_work.triangle_tests) + " triangle tests";
-    draw_label(out, w + pad, h - 24 * s, ray_text, s);
+    draw_label(out, w + pad, h - 34 * s, ray_text, s);
     const DepthAgreement agree = compare_depths(raster, ray);
     // The verdict concerns both halves: a line under each, short enough for 320-pixel halves.
-    draw_label(out, pad, h - 14 * s, fmt("depths agree on %.3f%% of shared pixels (1e-4 rel.)", agree.agreeing_percent()),
+    draw_label(out, pad, h - 17 * s, fmt("depths agree on %.3f%% of shared pixels (1e-4 rel.)", agree.agreeing_percent()),
                s, w - 2 * pad);
-    draw_label(out, w + pad, h - 14 * s, fmt("coverage differs on %.3f%% of pixels", agree.coverage_differs_percent()),
+    draw_label(out, w + pad, h - 17 * s, fmt("coverage differs on %.3f%% of pixels", agree.coverage_differs_percent()),
                s);
     return out;
 }
