@@ -270,14 +270,7 @@ Expected<KdTree> build_kd_tree(const Mesh& mesh, const KdConfig& config) {
     st.triangles = uint32_t(mesh.triangle_count());
     const int depth_limit = kd_max_depth(config, st.triangles);
     st.depth_limit = uint32_t(depth_limit);
-    auto finish = [&]() {
-        st.nodes = uint32_t(tree.nodes.size());
-        st.references = tree.prim_ids.size();
-        st.duplication = st.triangles ? double(st.references) / st.triangles : 0.0;
-        st.memory_bytes = tree.nodes.size() * sizeof(KdNode) + tree.prim_ids.size() * sizeof(uint32_t) +
-                          tree.triangles.size() * sizeof(Triangle);
-        st.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    };
+    auto finish = [&] { tree.finish_stats(start); };
     if (st.triangles == 0) {
         st.notes.push_back("empty scene: no nodes");
         finish();

@@ -105,20 +105,10 @@ struct KdBuildStats {
     std::vector<std::string> notes;
 };
 
-/// A KD tree over a mesh's triangles.
-/// Invariants: nodes[0] is the root, `bounds` its box (the scene's box grown by
-/// the padding); nodes is empty iff the mesh has no triangles. A leaf holds every
-/// triangle that comes within `padding` of its box (box or exact test, per
-/// config.clip). triangles[k] is triangle prim_ids[k] (leaf order, a copy so a
-/// leaf's triangles are contiguous).
-struct KdTree {
-    Aabb bounds;
-    std::vector<KdNode> nodes;
-    std::vector<uint32_t> prim_ids;
-    std::vector<Triangle> triangles;
-    KdConfig build_config;
-    KdBuildStats build_stats;
-
+/// A KD tree over a mesh's triangles (invariants: PartitionTree's). A leaf holds
+/// every triangle that comes within `padding` of its box (box or exact test, per
+/// config.clip).
+struct KdTree : PartitionTree<KdNode, KdConfig, KdBuildStats> {
     static constexpr AccelType kType = AccelType::Kd;
     std::string name() const { return std::string(to_string(kType)); }
     nlohmann::json config() const;

@@ -31,14 +31,7 @@ Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config) {
     tree.build_config = config;
     OctreeBuildStats& st = tree.build_stats;
     st.triangles = uint32_t(mesh.triangle_count());
-    auto finish = [&]() {
-        st.nodes = uint32_t(tree.nodes.size());
-        st.references = tree.prim_ids.size();
-        st.duplication = st.triangles ? double(st.references) / st.triangles : 0.0;
-        st.memory_bytes = tree.nodes.size() * sizeof(OctreeNode) + tree.prim_ids.size() * sizeof(uint32_t) +
-                          tree.triangles.size() * sizeof(Triangle);
-        st.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    };
+    auto finish = [&] { tree.finish_stats(start); };
     if (st.triangles == 0) {
         st.notes.push_back("empty scene: no nodes");
         finish();

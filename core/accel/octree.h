@@ -67,16 +67,9 @@ struct OctreeBuildStats {
     std::vector<std::string> notes;
 };
 
-/// Invariants as KdTree's: nodes[0] is the root with box `bounds` (scene box
-/// grown by the padding), empty iff no triangles; triangles[k] is triangle prim_ids[k].
-struct Octree {
-    Aabb bounds;
-    std::vector<OctreeNode> nodes;
-    std::vector<uint32_t> prim_ids;
-    std::vector<Triangle> triangles;
-    OctreeConfig build_config;
-    OctreeBuildStats build_stats;
-
+/// An octree over a mesh's triangles (invariants: PartitionTree's): a cell splits
+/// at its centre into eight until few triangles remain.
+struct Octree : PartitionTree<OctreeNode, OctreeConfig, OctreeBuildStats> {
     static constexpr AccelType kType = AccelType::Octree;
     std::string name() const { return std::string(to_string(kType)); }
     nlohmann::json config() const;

@@ -4,6 +4,7 @@
 /// follows a split. A triangle that straddles a split plane goes to both sides
 /// (lecture: 同一个基元可以包含在空间的多个区域中), with its box clipped to each side.
 
+#include <chrono>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "core/geometry/mesh.h"
+#include "core/geometry/triangle.h"
 
 namespace accelviz {
 
@@ -41,6 +43,32 @@ std::vector<SpatialRef> root_references(const Mesh& mesh, float pad);
 /// Exact: the box reaches the child, the triangle does not).
 std::optional<SpatialRef> clip_reference(const SpatialRef& ref, const Mesh& mesh, const Aabb& child, float pad,
                                          ClipMode mode);
+
+/// The arrays of a space-partitioning tree (KD tree, octree) and what it was built
+/// with. Invariants of both: nodes[0] is the root and `bounds` its box (the scene's
+/// box grown by the reference padding); nodes is empty iff the mesh has no
+/// triangles; triangles[k] is triangle prim_ids[k] (leaf order: a copy, so that a
+/// leaf's triangles are contiguous in memory).
+template <class Node, class Config, class Stats>
+struct PartitionTree {
+    Aabb bounds;
+    std::vector<Node> nodes;
+    std::vector<uint32_t> prim_ids;
+    std::vector<Triangle> triangles;
+    Config build_config;
+    Stats build_stats;
+
+    /// The statistics the arrays determine, at the end of a build that began at `start`.
+    void finish_stats(std::chrono::steady_clock::time_point start) {
+        Stats& st = build_stats;
+        st.nodes = uint32_t(nodes.size());
+        st.references = prim_ids.size();
+        st.duplication = st.triangles ? double(st.references) / st.triangles : 0.0;
+        st.memory_bytes = nodes.size() * sizeof(Node) + prim_ids.size() * sizeof(uint32_t) +
+                          triangles.size() * sizeof(Triangle);
+        st.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    }
+};
 
 /// What stopped a space-partitioning build from splitting further (KD tree,
 /// octree), for the notes that bench and the Stats panel show.
