@@ -1,32 +1,52 @@
-// The lecture's two heuristics for splitting a BVH node: the longest axis at its middle, or at the median triangle.
+// The lecture's two heuristics for splitting a BVH node: the longest centroid axis
+// cut at its middle, or at the median triangle.
 #include "core/accel/bvh_splitter.h"
 
 namespace accelviz::bvh_detail {
 namespace {
 
-// ---------------------------------------------------------------------------
-// [SECTION] Heuristic 1: split the longest axis at its middle
-// ---------------------------------------------------------------------------
-
-class MidpointSplitter final : public InPlaceSplitter {
+/// The lecture's heuristic 1: cut the longest axis of the node's centroids. The two
+/// builders differ in where they cut it (heuristic 2: at its middle, or at the median).
+class LongestAxisSplitter : public InPlaceSplitter {
 public:
     using InPlaceSplitter::InPlaceSplitter;
     bool uses_sah() const override { return false; }
 
-    SplitChoice find_split(Range range, const Aabb&, const Aabb& centroid_bounds, BuildStep*) override {
+protected:
+    /// The cut at the median triangle on `axis`: half the triangles on each side.
+    /// nth_element puts them in place, so the partition is already done.
+    SplitChoice median_cut(Range range, int axis) {
         SplitChoice choice;
-        choice.axis = longest_axis(centroid_bounds);
-        if (choice.axis < 0) return {};
         choice.found = true;
-        choice.position = (centroid_bounds.lo[choice.axis] + centroid_bounds.hi[choice.axis]) * 0.5f;
+        choice.axis = axis;
+        choice.position = nth_element_median(range, axis);
+        choice.left_count = range.count() / 2;
+        return choice;
+    }
+};
+
+// ---------------------------------------------------------------------------
+// [SECTION] Split the longest axis at its middle
+// ---------------------------------------------------------------------------
+
+class MidpointSplitter final : public LongestAxisSplitter {
+public:
+    using LongestAxisSplitter::LongestAxisSplitter;
+
+    SplitChoice find_split(Range range, const Aabb&, const Aabb& centroid_bounds, BuildStep*) override {
+        const int axis = longest_axis(centroid_bounds);
+        if (axis < 0) return {};
+        SplitChoice choice;
+        choice.found = true;
+        choice.axis = axis;
+        choice.position = (centroid_bounds.lo[axis] + centroid_bounds.hi[axis]) * 0.5f;
         for (uint32_t k = range.begin; k < range.end; ++k)
-            choice.left_count += refs_[k].centroid()[choice.axis] < choice.position ? 1 : 0;
+            choice.left_count += refs_[k].centroid()[axis] < choice.position ? 1 : 0;
         if (choice.left_count == 0 || choice.left_count == range.count()) {
             // The centroid bounds are so thin that their middle rounds onto an end:
             // split at the median instead, which always leaves both sides non-empty.
+            choice = median_cut(range, axis);
             choice.median_fallback = true;
-            choice.position = nth_element_median(range, choice.axis);
-            choice.left_count = range.count() / 2;
         }
         return choice;
     }
@@ -40,22 +60,16 @@ public:
 };
 
 // ---------------------------------------------------------------------------
-// [SECTION] Heuristic 2: split the longest axis at the median triangle
+// [SECTION] Split the longest axis at the median triangle
 // ---------------------------------------------------------------------------
 
-class MedianSplitter final : public InPlaceSplitter {
+class MedianSplitter final : public LongestAxisSplitter {
 public:
-    using InPlaceSplitter::InPlaceSplitter;
-    bool uses_sah() const override { return false; }
+    using LongestAxisSplitter::LongestAxisSplitter;
 
     SplitChoice find_split(Range range, const Aabb&, const Aabb& centroid_bounds, BuildStep*) override {
-        SplitChoice choice;
-        choice.axis = longest_axis(centroid_bounds);
-        if (choice.axis < 0) return {};
-        choice.found = true;
-        choice.position = nth_element_median(range, choice.axis);  // the partition itself
-        choice.left_count = range.count() / 2;
-        return choice;
+        const int axis = longest_axis(centroid_bounds);
+        return axis < 0 ? SplitChoice{} : median_cut(range, axis);
     }
 
     uint32_t partition(Range range, const SplitChoice& choice, ChildBounds&) override {
