@@ -110,89 +110,137 @@ nlohmann::ordered_json summary(const Measured& m, size_t rays) {
     return j;
 }
 
+/// Times `work` (wall clock and the process's CPU time) into the two lists.
+template <class Work>
+void timed(std::vector<double>& wall_ms, std::vector<double>& cpu_ms, Work&& work) {
+    const auto start = std::chrono::steady_clock::now();
+    const double cpu_start = process_cpu_ms();
+    work();
+    cpu_ms.push_back(process_cpu_ms() - cpu_start);
+    wall_ms.push_back(ms_since(start));
+}
+
+/// The work behind the times, per ray: one more (untimed) pass with the counting
+/// observer, through the same traversal code.
+nlohmann::ordered_json work_per_ray(const Accelerator& accel, const std::vector<Ray>& rays) {
+    Counters work;
+    for (const Ray& ray : rays) {
+        CountingObserver counter;
+        accel.intersect_closest(ray, counter);
+        work += counter.counters;
+    }
+    const double per_ray = 1.0 / double(std::max<size_t>(rays.size(), 1));
+    return {{"nodes_visited", double(work.nodes_visited) * per_ray},
+            {"box_tests", double(work.box_tests) * per_ray},
+            {"triangle_tests", double(work.triangle_tests) * per_ray},
+            {"mailbox_skips", double(work.mailbox_skips) * per_ray}};
+}
+
+/// The reference's figures, with how they compare with ours.
+nlohmann::ordered_json reference_json(const EmbreeReference& reference, const Measured& embree, const Measured& ours,
+                                      size_t rays) {
+    size_t same = 0;
+    for (size_t i = 0; i < rays; ++i) same += embree.results.tri[i] == ours.results.tri[i];
+    nlohmann::ordered_json ref;
+    ref["name"] = "embree";
+    ref["version"] = EmbreeReference::version();
+    ref["build_quality"] = "high";
+    ref["bvh"] = reference.bvh_description();
+    ref["call"] = "rtcIntersect1, one ray per call";
+    const nlohmann::ordered_json figures = summary(embree, rays);  // (items() does not keep a temporary alive)
+    for (const auto& [key, value] : figures.items()) ref[key] = value;
+    ref["same_triangle_percent"] = 100.0 * double(same) / double(rays);
+    ref["speed_ratio"] = median_of_run_ratios(embree.frame_ms, ours.frame_ms);  // our speed / Embree's
+    ref["build_ratio"] = median_of_run_ratios(ours.build_ms, embree.build_ms);  // our build time / Embree's
+    return ref;
+}
+
+/// The table `bench` prints without --json: the same figures as the JSON.
+void print_table(const BenchOptions& opt, const nlohmann::ordered_json& out, size_t triangles) {
+    const int threads = out["threads"].get<int>();
+    const std::string asked = threads == opt.threads ? ""
+                              : opt.threads == 0 ? " (0 = all cores)"
+                                                 : " (" + std::to_string(opt.threads) + " asked: all cores)";
+    const std::string name = out["accel"].get<std::string>();
+    std::printf("scene      %s (%zu triangles), %dx%d, %d thread%s%s, median of %d\n", opt.scene.c_str(), triangles,
+                opt.width, opt.height, threads, threads == 1 ? "" : "s", asked.c_str(), opt.repeat);
+    std::printf("structure  %s %s\n", name.c_str(), out["config"].dump().c_str());
+    std::printf("%-10s %10s %10s %10s %10s %10s %10s %10s %16s\n", "", "build ms", "(cpu)", "frame ms", "(cpu)",
+                "Mrays/s", "(cpu)", "hits", "depth sum");
+    auto row = [&](const char* label, const nlohmann::ordered_json& j) {
+        std::printf("%-10s %10.1f %10.1f %10.1f %10.1f %10.2f %10.2f %10llu %16.6f\n", label,
+                    j["build_ms"].get<double>(), j["build_cpu_ms"].get<double>(), j["frame_ms"].get<double>(),
+                    j["frame_cpu_ms"].get<double>(), j["mrays_per_s"].get<double>(), j["mrays_per_cpu_s"].get<double>(),
+                    (unsigned long long)j["hit_count"].get<uint64_t>(), j["depth_sum"].get<double>());
+    };
+    row(name.c_str(), out);
+    const auto& w = out["per_ray"];
+    std::printf("per ray    %.2f nodes visited, %.2f box tests, %.2f triangle tests, %.2f mailbox skips\n",
+                w["nodes_visited"].get<double>(), w["box_tests"].get<double>(), w["triangle_tests"].get<double>(),
+                w["mailbox_skips"].get<double>());
+    if (!out.contains("reference")) return;
+    const auto& ref = out["reference"];
+    std::printf("reference  %s, %s, %s-quality BVH: %s\n", ref["version"].get<std::string>().c_str(),
+                ref["call"].get<std::string>().c_str(), ref["build_quality"].get<std::string>().c_str(),
+                ref["bvh"].get<std::string>().c_str());
+    row("embree", ref);
+    std::printf("ratio      speed %.2fx Embree, build %.2fx Embree's time (medians of run-by-run ratios); "
+                "same triangle on %.3f%% of pixels\n",
+                ref["speed_ratio"].get<double>(), ref["build_ratio"].get<double>(),
+                ref["same_triangle_percent"].get<double>());
+}
+
 int run_bench(const BenchOptions& opt) {
-    using clock = std::chrono::steady_clock;
     auto fail = [](const std::string& message) {
         std::cerr << "accelviz bench: " << message << "\n";
         return 1;
     };
-#ifndef ACCELVIZ_HAVE_EMBREE
-    if (!opt.reference.empty()) return fail("--reference embree: this build has no Embree (CMake did not find embree 3)");
-#endif
+    if (!opt.reference.empty() && !embree_available())
+        return fail("--reference embree: this build has no Embree (CMake did not find embree 3)");
     if (opt.embree_width != 0 && opt.reference != "embree") return fail("--embree-width needs --reference embree");
     auto mesh = load_scene(opt.scene);
     if (!mesh) return fail(mesh.error());
     auto camera_params = opt.camera.resolve(mesh->bounds());
     if (!camera_params) return fail(camera_params.error());
-    const Camera camera(*camera_params, opt.width, opt.height);
-    const std::vector<Ray> rays = camera_rays(camera);
+    const std::vector<Ray> rays = camera_rays(Camera(*camera_params, opt.width, opt.height));
     const int threads = effective_threads(opt.threads);  // what runs: 0 and too many ask for all cores
+    const std::string name(to_string(opt.accel.type));
 
     // Ours (and the reference, when asked for) build R times, then trace R times. With a
     // reference the two alternate run by run, so a machine that slows down or speeds up
     // over the minutes of a benchmark affects both sides of the ratio alike.
-#ifdef ACCELVIZ_HAVE_EMBREE
     std::unique_ptr<EmbreeReference> reference;
-    Measured embree;
     if (opt.reference == "embree") reference = std::make_unique<EmbreeReference>(threads, opt.embree_width);
-#endif
-    Measured ours;
+    Measured ours, embree;
     std::shared_ptr<const Accelerator> accel;
     for (int run = 0; run < opt.repeat; ++run) {
-        progress("bench: building %s (%d/%d)\n", std::string(to_string(opt.accel.type)), run + 1, opt.repeat);
+        progress("bench: building %s (%d/%d)\n", name, run + 1, opt.repeat);
         accel.reset();  // free the previous one first: one structure in memory at a time
-        const auto start = clock::now();
-        const double cpu_start = process_cpu_ms();
-        auto built = build_accelerator(*mesh, opt.accel);
-        ours.build_cpu_ms.push_back(process_cpu_ms() - cpu_start);
-        ours.build_ms.push_back(ms_since(start));
+        Expected<std::shared_ptr<const Accelerator>> built = Error{""};
+        timed(ours.build_ms, ours.build_cpu_ms, [&] { built = build_accelerator(*mesh, opt.accel); });
         if (!built) return fail(built.error());
         accel = *built;
-#ifdef ACCELVIZ_HAVE_EMBREE
-        if (reference) {
-            progress("bench: building %s (%d/%d)\n", "embree", run + 1, opt.repeat);
-            const double embree_cpu_start = process_cpu_ms();
-            embree.build_ms.push_back(reference->build(*mesh));
-            embree.build_cpu_ms.push_back(process_cpu_ms() - embree_cpu_start);
-        }
-#endif
+        if (!reference) continue;
+        progress("bench: building %s (%d/%d)\n", "embree", run + 1, opt.repeat);
+        std::vector<double> unused_wall;  // Embree times its own build (without the scene set-up)
+        timed(unused_wall, embree.build_cpu_ms, [&] { embree.build_ms.push_back(reference->build(*mesh)); });
     }
     ours.results = RayResults(rays.size());
-#ifdef ACCELVIZ_HAVE_EMBREE
-    embree.results = RayResults(rays.size());
-#endif
+    embree.results = RayResults(reference ? rays.size() : 0);
     for (int run = 0; run < opt.repeat; ++run) {
-        progress("bench: tracing with %s (%d/%d)\n", std::string(to_string(opt.accel.type)), run + 1, opt.repeat);
-        const auto start = clock::now();
-        const double cpu_start = process_cpu_ms();
-        for_each_ray_chunk(rays.size(), threads, [&](size_t begin, size_t end) {
-            for (size_t i = begin; i < end; ++i) {
-                const Hit hit = accel->intersect_closest(rays[i]);
-                ours.results.t[i] = hit.t;
-                ours.results.tri[i] = hit.tri;
-            }
+        progress("bench: tracing with %s (%d/%d)\n", name, run + 1, opt.repeat);
+        timed(ours.frame_ms, ours.frame_cpu_ms, [&] {
+            for_each_ray_chunk(rays.size(), threads, [&](size_t begin, size_t end) {
+                for (size_t i = begin; i < end; ++i) {
+                    const Hit hit = accel->intersect_closest(rays[i]);
+                    ours.results.t[i] = hit.t;
+                    ours.results.tri[i] = hit.tri;
+                }
+            });
         });
-        ours.frame_cpu_ms.push_back(process_cpu_ms() - cpu_start);
-        ours.frame_ms.push_back(ms_since(start));
-#ifdef ACCELVIZ_HAVE_EMBREE
-        if (reference) {
-            progress("bench: tracing with %s (%d/%d)\n", "embree", run + 1, opt.repeat);
-            const auto embree_start = clock::now();
-            const double embree_cpu_start = process_cpu_ms();
-            reference->trace(rays, threads, embree.results);
-            embree.frame_cpu_ms.push_back(process_cpu_ms() - embree_cpu_start);
-            embree.frame_ms.push_back(ms_since(embree_start));
-        }
-#endif
-    }
-
-    // The work behind those times, per ray: one more (untimed) pass with the counting
-    // observer, through the same traversal code.
-    Counters work;
-    for (const Ray& ray : rays) {
-        CountingObserver counter;
-        accel->intersect_closest(ray, counter);
-        work += counter.counters;
+        if (!reference) continue;
+        progress("bench: tracing with %s (%d/%d)\n", "embree", run + 1, opt.repeat);
+        timed(embree.frame_ms, embree.frame_cpu_ms, [&] { reference->trace(rays, threads, embree.results); });
     }
 
     nlohmann::ordered_json out;
@@ -206,70 +254,16 @@ int run_bench(const BenchOptions& opt) {
     out["height"] = opt.height;
     out["repeat"] = opt.repeat;
     out["rays"] = rays.size();
-    const nlohmann::ordered_json ours_summary = summary(ours, rays.size());
-    for (const auto& [key, value] : ours_summary.items()) out[key] = value;
-    const double per_ray = 1.0 / double(std::max<size_t>(rays.size(), 1));
-    out["per_ray"] = {{"nodes_visited", double(work.nodes_visited) * per_ray},
-                      {"box_tests", double(work.box_tests) * per_ray},
-                      {"triangle_tests", double(work.triangle_tests) * per_ray},
-                      {"mailbox_skips", double(work.mailbox_skips) * per_ray}};
+    const nlohmann::ordered_json figures = summary(ours, rays.size());  // (items() does not keep a temporary alive)
+    for (const auto& [key, value] : figures.items()) out[key] = value;
+    out["per_ray"] = work_per_ray(*accel, rays);
     out["build_stats"] = accel->stats();
+    if (reference) out["reference"] = reference_json(*reference, embree, ours, rays.size());
 
-#ifdef ACCELVIZ_HAVE_EMBREE
-    if (reference) {
-        size_t same = 0;
-        for (size_t i = 0; i < rays.size(); ++i) same += embree.results.tri[i] == ours.results.tri[i];
-        nlohmann::ordered_json ref;
-        ref["name"] = "embree";
-        ref["version"] = EmbreeReference::version();
-        ref["build_quality"] = "high";
-        ref["bvh"] = reference->bvh_description();
-        ref["call"] = "rtcIntersect1, one ray per call";
-        const nlohmann::ordered_json embree_summary = summary(embree, rays.size());
-        for (const auto& [key, value] : embree_summary.items()) ref[key] = value;
-        ref["same_triangle_percent"] = 100.0 * double(same) / double(rays.size());
-        ref["speed_ratio"] = median_of_run_ratios(embree.frame_ms, ours.frame_ms);  // our speed / Embree's
-        ref["build_ratio"] = median_of_run_ratios(ours.build_ms, embree.build_ms);  // our build time / Embree's
-        out["reference"] = ref;
-    }
-#endif
-
-    if (opt.json) {
+    if (opt.json)
         std::cout << out.dump(2) << "\n";
-        return 0;
-    }
-    const std::string asked = threads == opt.threads ? ""
-                              : opt.threads == 0 ? " (0 = all cores)"
-                                                 : " (" + std::to_string(opt.threads) + " asked: all cores)";
-    std::printf("scene      %s (%zu triangles), %dx%d, %d thread%s%s, median of %d\n", opt.scene.c_str(),
-                mesh->triangle_count(), opt.width, opt.height, threads, threads == 1 ? "" : "s", asked.c_str(),
-                opt.repeat);
-    std::printf("structure  %s %s\n", accel->name().c_str(), accel->config().dump().c_str());
-    std::printf("%-10s %10s %10s %10s %10s %10s %10s %10s %16s\n", "", "build ms", "(cpu)", "frame ms", "(cpu)",
-                "Mrays/s", "(cpu)", "hits", "depth sum");
-    auto row = [&](const char* name, const nlohmann::ordered_json& j) {
-        std::printf("%-10s %10.1f %10.1f %10.1f %10.1f %10.2f %10.2f %10llu %16.6f\n", name, j["build_ms"].get<double>(),
-                    j["build_cpu_ms"].get<double>(), j["frame_ms"].get<double>(), j["frame_cpu_ms"].get<double>(),
-                    j["mrays_per_s"].get<double>(), j["mrays_per_cpu_s"].get<double>(),
-                    (unsigned long long)j["hit_count"].get<uint64_t>(),
-                    j["depth_sum"].get<double>());
-    };
-    row(accel->name().c_str(), out);
-    const auto& w = out["per_ray"];
-    std::printf("per ray    %.2f nodes visited, %.2f box tests, %.2f triangle tests, %.2f mailbox skips\n",
-                w["nodes_visited"].get<double>(), w["box_tests"].get<double>(), w["triangle_tests"].get<double>(),
-                w["mailbox_skips"].get<double>());
-    if (out.contains("reference")) {
-        const auto& ref = out["reference"];
-        std::printf("reference  %s, %s, %s-quality BVH: %s\n", ref["version"].get<std::string>().c_str(),
-                    ref["call"].get<std::string>().c_str(), ref["build_quality"].get<std::string>().c_str(),
-                    ref["bvh"].get<std::string>().c_str());
-        row("embree", ref);
-        std::printf("ratio      speed %.2fx Embree, build %.2fx Embree's time (medians of run-by-run ratios); "
-                    "same triangle on %.3f%% of pixels\n",
-                    ref["speed_ratio"].get<double>(), ref["build_ratio"].get<double>(),
-                    ref["same_triangle_percent"].get<double>());
-    }
+    else
+        print_table(opt, out, mesh->triangle_count());
     return 0;
 }
 
@@ -291,11 +285,8 @@ Command register_bench(CLI::App& app) {
         ->capture_default_str();
     sub->add_flag("--json", opt->json, "One JSON object instead of a table");
     sub->add_option("--reference", opt->reference,
-                    "Also run a production ray tracer on the same rays: embree"
-#ifndef ACCELVIZ_HAVE_EMBREE
-                    " (not available: built without Embree)"
-#endif
-                    )
+                    std::string("Also run a production ray tracer on the same rays: embree") +
+                        (embree_available() ? "" : " (not available: built without Embree)"))
         ->check(CLI::IsMember({"embree"}));
     sub->add_option("--embree-width", opt->embree_width,
                     "With --reference embree: children per node of Embree's BVH, 4 or 8 "

@@ -1,6 +1,8 @@
-// Compiled only when CMake found Embree (see app/CMakeLists.txt).
-#ifdef ACCELVIZ_HAVE_EMBREE
 #include "app/cli/embree_reference.h"
+
+#include <stdexcept>
+
+#ifdef ACCELVIZ_HAVE_EMBREE
 
 #include <chrono>
 #include <stdexcept>
@@ -8,6 +10,8 @@
 #include <embree3/rtcore.h>
 
 namespace accelviz::cli {
+
+bool embree_available() { return true; }
 
 struct EmbreeReference::State {
     RTCDevice device = nullptr;
@@ -118,6 +122,24 @@ void EmbreeReference::trace(const std::vector<Ray>& rays, int threads, RayResult
         }
     });
 }
+
+}  // namespace accelviz::cli
+#else  // no Embree in this build: bench says so before it would construct one
+
+namespace accelviz::cli {
+
+bool embree_available() { return false; }
+
+struct EmbreeReference::State {};
+
+EmbreeReference::EmbreeReference(int, int) {
+    throw std::runtime_error("this build has no Embree (CMake did not find embree 3)");
+}
+EmbreeReference::~EmbreeReference() = default;
+std::string EmbreeReference::bvh_description() const { return {}; }
+double EmbreeReference::build(const Mesh&) { return 0; }
+void EmbreeReference::trace(const std::vector<Ray>&, int, RayResults&) const {}
+std::string EmbreeReference::version() { return {}; }
 
 }  // namespace accelviz::cli
 #endif  // ACCELVIZ_HAVE_EMBREE

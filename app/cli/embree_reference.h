@@ -1,7 +1,8 @@
 #pragma once
-/// Embree 3 as a production reference for `bench --reference embree` (only when
-/// CMake found Embree: ACCELVIZ_HAVE_EMBREE). Its high-quality BVH over the same
-/// triangles, traced with rtcIntersect1, one ray per call, on the same rays.
+/// Embree 3 as a production reference for `bench --reference embree`: its
+/// high-quality BVH over the same triangles, traced with rtcIntersect1, one ray per
+/// call, on the same rays. Available when CMake found Embree (ACCELVIZ_HAVE_EMBREE);
+/// otherwise embree_available() is false and constructing one throws.
 ///
 /// Embree's BVH is not binary: by default it picks 8 children per node on a CPU with
 /// AVX (BVH8: a node's eight boxes are tested together, one per SIMD lane) and 4
@@ -15,6 +16,9 @@
 #include "core/geometry/mesh.h"
 
 namespace accelviz::cli {
+
+/// Whether this build has Embree.
+bool embree_available();
 
 class EmbreeReference {
 public:
