@@ -48,17 +48,28 @@ bool splits_in_half(BuildDecision d) {
     return d == BuildDecision::SplitInHalfCentroidsEqual || d == BuildDecision::SplitInHalfDepthBudget;
 }
 
+/// A node being decided: its triangles' range, its depth and its two boxes.
+struct NodeToDecide {
+    Range range;
+    uint32_t depth;
+    const Aabb& bounds;
+    const Aabb& centroid_bounds;
+};
+
 /// Leaf or split, and which split (see BuildDecision). `choice` is filled when a split was searched.
 /// Depth budget: every node satisfies depth + levels_needed(count) <= kBvhMaxDepth (true at the
 /// root for any 32-bit count). A split by index keeps it; the builder's own split is taken
 /// only if its larger child keeps it too. So no leaf is ever deeper than kBvhMaxDepth.
-BuildDecision decide(Splitter& splitter, Range range, uint32_t depth, const Aabb& bounds, const Aabb& centroid_bounds,
-                     const BvhConfig& config, const SahCostModel& model, SplitChoice& choice, BuildStep* step) {
+BuildDecision decide(Splitter& splitter, const NodeToDecide& node, const BvhConfig& config, SplitChoice& choice,
+                     BuildStep* step) {
+    const Range range = node.range;
+    const uint32_t depth = node.depth;
+    const SahCostModel model{config.cost_trav, config.cost_isect};
     const uint32_t n = range.count();
     const bool fits = n <= uint32_t(config.max_leaf_size);
     if (n == 1 || (fits && !splitter.uses_sah())) return BuildDecision::LeafFits;
 
-    choice = splitter.find_split(range, bounds, centroid_bounds, step);
+    choice = splitter.find_split(range, node.bounds, node.centroid_bounds, step);
     const uint32_t larger_child = std::max(choice.left_count, n - choice.left_count);
     const bool within_budget =
         choice.found && depth + 1 + levels_needed(larger_child, uint32_t(config.max_leaf_size)) <= kBvhMaxDepth;
@@ -211,7 +222,7 @@ Expected<Bvh> build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecor
             if (recorder) step.emplace();
             SplitChoice choice;
             const BuildDecision decision =
-                decide(*splitter, range, task.depth, bounds, centroid_bounds, config, model, choice,
+                decide(*splitter, {range, task.depth, bounds, centroid_bounds}, config, choice,
                        step && recorder->record_candidates ? &*step : nullptr);
             ++stats.decisions[size_t(decision)];
 
