@@ -356,27 +356,22 @@ void draw_opengl_depth_as_grey(Session& session, Renderer& renderer, const View3
     renderer.draw_image(*session.gl_depth_texture, rect);
 }
 
-}  // namespace
+/// What a frame settles before it draws: the layout and the modes that shape it.
+struct FramePlan {
+    Layout layout;
+    RightPanel right_panel = RightPanel::None;
+    bool ui = false;        ///< panels and status bar drawn
+    bool split = false;     ///< raster | ray cast
+    bool stepping = false;  ///< a ray is being stepped
+};
 
-// [SECTION] The frame
-
-FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, const FrameInput& input) {
-    // 1. Work finished on the loader thread, and files dropped on the window.
-    session.take_finished_load(state);
-    for (const std::string& path : input.dropped_paths) session.open_scene(state, path);
-
-    // GPU copies and the structure overlay now, so the panels and the legend of
-    // this very frame describe what it draws (and a headless frame is complete).
-    session.upload_to_gpu(state.overlay);
-
-    // 2. Fonts and colours (a changed UI scale rebuilds the font atlas), then ImGui's frame.
-    session.style.apply(state.view, renderer);
-    widget_audit::begin_frame();
-    ImGui::NewFrame();
-
-    // 3. Layout, then the 3D view's input (ImGui's capture flags are from this NewFrame).
-    const bool ui = input.draw_ui && state.view.show_ui;
-    const bool split = state.view.mode == ViewMode::Split;
+/// One stepper at a time, the layout, the 3D view's input (ImGui's capture flags are
+/// from this frame's NewFrame), and the work this frame's picture needs started.
+FramePlan plan_frame(AppState& state, Session& session, const FrameInput& input) {
+    FramePlan plan;
+    plan.ui = input.draw_ui && state.view.show_ui;
+    plan.split = state.view.mode == ViewMode::Split;
+    const bool split = plan.split;
     // One stepper at a time: the one switched on last wins.
     if (state.stepper.open && state.build_step.active) {
         if (session.stepper.was_open) state.stepper.open = false;
@@ -386,10 +381,10 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
     // The construction stepper: its recorded build and chart (on workers; headless waits).
     session.build_stepper.update(state, session.scene, input.deterministic);
     const bool build_panel = state.build_step.active && state.accel.type == AccelType::Bvh;
-    const RightPanel right_panel =
-        build_panel ? RightPanel::Build : state.stepper.open ? RightPanel::Stepper : RightPanel::None;
-    const Layout layout = compute_layout(input.width, input.height, ui, split, right_panel);
-    const bool stepping = state.stepper.open && state.stepper.ray.has_value();
+    plan.right_panel = build_panel ? RightPanel::Build : state.stepper.open ? RightPanel::Stepper : RightPanel::None;
+    plan.layout = compute_layout(input.width, input.height, plan.ui, split, plan.right_panel);
+    plan.stepping = state.stepper.open && state.stepper.ray.has_value();
+    const Layout& layout = plan.layout;
     if (session.frame_pending && session.scene && state.camera && !layout.gl_view.empty()) {
         frame_bounds(*state.camera, session.scene->bounds, double(layout.gl_view.width) / layout.gl_view.height);
         session.frame_pending = false;
@@ -407,69 +402,82 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
         session.ray_cast.update_texture(state.view);
     }
 
-    // 4. Panels.
-    if (ui) {
-        ImGui::SetNextWindowPos(ImVec2(0, 0), ImGuiCond_Always);
-        ImGui::SetNextWindowSize(ImVec2(layout.sidebar_width, float(input.height) - layout.status_height),
-                                 ImGuiCond_Always);
-        if (ImGui::Begin("##sidebar", nullptr, kFixedPanel)) {
-            ImGui::TextDisabled("accelviz");
-            session.scene_panel.draw(state, session);
-            session.structure_panel.draw(state, session);
-            if (ImGui::CollapsingHeader("Stepper", ImGuiTreeNodeFlags_DefaultOpen)) {
-                // Opening it makes the mesh translucent (once): the boxes a ray visits lie inside it.
-                if (ImGui::Checkbox("Step one ray", &state.stepper.open) && state.stepper.open &&
-                    state.overlay.mesh_opacity >= 1.0f)
-                    state.overlay.mesh_opacity = 0.5f;
-                if (state.stepper.open && !state.stepper.ray) {
-                    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
-                    ImGui::TextWrapped("Click a pixel in the view to pick its ray.");
-                    ImGui::PopStyleColor();
-                }
+    return plan;
+}
+
+/// The sidebar: scene, structure, stepper, view, construction and stats sections.
+void draw_sidebar(AppState& state, Session& session, const Layout& layout, int height) {
+    ImGui::SetNextWindowPos(ImVec2(0, 0), ImGuiCond_Always);
+    ImGui::SetNextWindowSize(ImVec2(layout.sidebar_width, float(height) - layout.status_height),
+                             ImGuiCond_Always);
+    if (ImGui::Begin("##sidebar", nullptr, kFixedPanel)) {
+        ImGui::TextDisabled("accelviz");
+        session.scene_panel.draw(state, session);
+        session.structure_panel.draw(state, session);
+        if (ImGui::CollapsingHeader("Stepper", ImGuiTreeNodeFlags_DefaultOpen)) {
+            // Opening it makes the mesh translucent (once): the boxes a ray visits lie inside it.
+            if (ImGui::Checkbox("Step one ray", &state.stepper.open) && state.stepper.open &&
+                state.overlay.mesh_opacity >= 1.0f)
+                state.overlay.mesh_opacity = 0.5f;
+            if (state.stepper.open && !state.stepper.ray) {
+                ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+                ImGui::TextWrapped("Click a pixel in the view to pick its ray.");
+                ImGui::PopStyleColor();
             }
-            session.view_panel.draw(state, session,
-                                    layout.view.height > 0 ? double(layout.view.width) / layout.view.height : 1.0);
-            if (session.build_stepper.draw_sidebar(state)) session.rebuild_structure(state);
-            session.stats_panel.draw(state, session);
         }
-        ImGui::End();
-        if (right_panel == RightPanel::Build)
-            session.build_stepper.draw_panel(state, float(input.width) - layout.right_panel_width, 0,
-                                             layout.right_panel_width, float(layout.view.height),
-                                             layout.gl_view.height > 0 ? double(layout.gl_view.width) / layout.gl_view.height
-                                                                       : 1.0);
-
-        ImGui::SetNextWindowPos(ImVec2(0, float(input.height) - layout.status_height), ImGuiCond_Always);
-        ImGui::SetNextWindowSize(ImVec2(float(input.width), layout.status_height), ImGuiCond_Always);
-        ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding,
-                            ImVec2(ImGui::GetStyle().WindowPadding.x, ImGui::GetStyle().FramePadding.y + 2.0f));
-        if (ImGui::Begin("##status", nullptr, kFixedPanel | ImGuiWindowFlags_NoScrollbar))
-            session.stats_bar.draw(state, session, input.frame_ms, input.deterministic);
-        ImGui::End();
-        ImGui::PopStyleVar();
-
-        if (right_panel == RightPanel::Stepper) {
-            ImGui::SetNextWindowPos(ImVec2(float(input.width) - layout.right_panel_width, 0), ImGuiCond_Always);
-            ImGui::SetNextWindowSize(ImVec2(layout.right_panel_width, float(input.height) - layout.status_height),
-                                     ImGuiCond_Always);
-            if (ImGui::Begin("##stepper", nullptr, kFixedPanel)) session.stepper.draw(state, session);
-            ImGui::End();
-        }
-        draw_view_messages(session, layout.view, input.deterministic);
-        // Split: over the OpenGL half, so the ray cast half's own title stays readable.
-        if (session.presets.caption_fresh()) draw_preset_caption(session, layout.gl_view);
-        // (Not over the CPU rasterizer's picture in the left half: it draws no overlay.)
-        if (state.overlay.show_structure && !session.build_stepper.shows_3d(state) && !stepping &&
-            !(split && (session.ray_cast.left_texture() || state.view.left_view == LeftView::OpenGlDepth)))
-            draw_legend(session, layout.gl_view);
-        if (split) draw_split_labels(state, session, layout, input.deterministic);
-        session.help_window.draw(state);
+        session.view_panel.draw(state, session,
+                                layout.view.height > 0 ? double(layout.view.width) / layout.view.height : 1.0);
+        if (session.build_stepper.draw_sidebar(state)) session.rebuild_structure(state);
+        session.stats_panel.draw(state, session);
     }
-    if (state.stepper.open && session.scene && state.camera && !layout.gl_view.empty())
-        session.stepper.draw_labels(make_view3d(*state.camera, layout.gl_view, session.scene->bounds));
-    ImGui::Render();
+    ImGui::End();
+}
 
-    // 5. GL: background, 3D view, panels on top.
+/// The panels around the 3D view and the labels over it.
+void draw_panels(AppState& state, Session& session, const FrameInput& input, const FramePlan& plan) {
+    const Layout& layout = plan.layout;
+    const bool split = plan.split, stepping = plan.stepping;
+    const RightPanel right_panel = plan.right_panel;
+    draw_sidebar(state, session, layout, input.height);
+    if (right_panel == RightPanel::Build)
+        session.build_stepper.draw_panel(state, float(input.width) - layout.right_panel_width, 0,
+                                         layout.right_panel_width, float(layout.view.height),
+                                         layout.gl_view.height > 0 ? double(layout.gl_view.width) / layout.gl_view.height
+                                                                   : 1.0);
+
+    ImGui::SetNextWindowPos(ImVec2(0, float(input.height) - layout.status_height), ImGuiCond_Always);
+    ImGui::SetNextWindowSize(ImVec2(float(input.width), layout.status_height), ImGuiCond_Always);
+    ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding,
+                        ImVec2(ImGui::GetStyle().WindowPadding.x, ImGui::GetStyle().FramePadding.y + 2.0f));
+    if (ImGui::Begin("##status", nullptr, kFixedPanel | ImGuiWindowFlags_NoScrollbar))
+        session.stats_bar.draw(state, session, input.frame_ms, input.deterministic);
+    ImGui::End();
+    ImGui::PopStyleVar();
+
+    if (right_panel == RightPanel::Stepper) {
+        ImGui::SetNextWindowPos(ImVec2(float(input.width) - layout.right_panel_width, 0), ImGuiCond_Always);
+        ImGui::SetNextWindowSize(ImVec2(layout.right_panel_width, float(input.height) - layout.status_height),
+                                 ImGuiCond_Always);
+        if (ImGui::Begin("##stepper", nullptr, kFixedPanel)) session.stepper.draw(state, session);
+        ImGui::End();
+    }
+    draw_view_messages(session, layout.view, input.deterministic);
+    // Split: over the OpenGL half, so the ray cast half's own title stays readable.
+    if (session.presets.caption_fresh()) draw_preset_caption(session, layout.gl_view);
+    // (Not over the CPU rasterizer's picture in the left half: it draws no overlay.)
+    if (state.overlay.show_structure && !session.build_stepper.shows_3d(state) && !stepping &&
+        !(split && (session.ray_cast.left_texture() || state.view.left_view == LeftView::OpenGlDepth)))
+        draw_legend(session, layout.gl_view);
+    if (split) draw_split_labels(state, session, layout, input.deterministic);
+    session.help_window.draw(state);
+}
+
+/// The GL picture: background, then the 3D view (mesh, structure or a stepper's
+/// geometry), the split view's CPU images.
+FrameLayout draw_scene(AppState& state, Renderer& renderer, Session& session, const FrameInput& input,
+                       const FramePlan& plan) {
+    const Layout& layout = plan.layout;
+    const bool split = plan.split, stepping = plan.stepping;
     FrameLayout out;
     out.view_rect = layout.gl_view;
     renderer.begin_frame(input.width, input.height, state.view.background);
@@ -515,9 +523,11 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
         if (split && session.ray_cast.left_texture())
             renderer.draw_image(*session.ray_cast.left_texture(), layout.gl_view);
     }
-    if (ui) renderer.draw_imgui(ImGui::GetDrawData());
+    return out;
+}
 
-    // 6. A screenshot asked for: this frame, as drawn (panels included).
+/// A screenshot asked for (the View panel's button): this frame, as drawn.
+void take_screenshot(Renderer& renderer, Session& session, const FrameInput& input) {
     if (!session.screenshot_path.empty()) {
         const std::string path = std::exchange(session.screenshot_path, {});
         if (auto err = write_png(renderer.read_colour({0, 0, input.width, input.height}), path))
@@ -525,6 +535,35 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
         else
             session.notify("Screenshot saved: " + path, false);
     }
+}
+
+}  // namespace
+
+// [SECTION] The frame
+
+FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, const FrameInput& input) {
+    // 1. Work finished on the loader thread, and files dropped on the window.
+    session.take_finished_load(state);
+    for (const std::string& path : input.dropped_paths) session.open_scene(state, path);
+
+    // GPU copies and the structure overlay now, so the panels and the legend of
+    // this very frame describe what it draws (and a headless frame is complete).
+    session.upload_to_gpu(state.overlay);
+
+    // 2. Fonts and colours (a changed UI scale rebuilds the font atlas), then ImGui's frame.
+    session.style.apply(state.view, renderer);
+    widget_audit::begin_frame();
+    ImGui::NewFrame();
+
+    // 3. Layout, input, work started; 4. the panels; 5. GL: the picture, panels on top; 6. a screenshot.
+    const FramePlan plan = plan_frame(state, session, input);
+    if (plan.ui) draw_panels(state, session, input, plan);
+    if (state.stepper.open && session.scene && state.camera && !plan.layout.gl_view.empty())
+        session.stepper.draw_labels(make_view3d(*state.camera, plan.layout.gl_view, session.scene->bounds));
+    ImGui::Render();
+    const FrameLayout out = draw_scene(state, renderer, session, input, plan);
+    if (plan.ui) renderer.draw_imgui(ImGui::GetDrawData());
+    take_screenshot(renderer, session, input);
     return out;
 }
 
