@@ -94,23 +94,42 @@ void bvh_overlay(const Bvh& bvh, const OverlaySettings& s, StructureOverlay& out
     out.legend = range_legend(s.leaves_only ? "BVH leaves" : "BVH nodes", shown, out.deepest_level, s.max_boxes);
 }
 
-// [SECTION] Octree: cells by depth
+// [SECTION] Space-partitioning trees: nodes with their depths
 
-void octree_overlay(const Octree& tree, const OverlaySettings& s, StructureOverlay& out) {
-    if (tree.nodes.empty()) return;
-    const std::vector<Aabb> boxes = tree.node_boxes();
-    struct Cell { uint32_t node; int depth; };
-    std::vector<Cell> cells;  // every cell with its depth, depth first
+struct Cell {
+    uint32_t node;
+    int depth;
+};
+
+/// Every node of a tree from the root (node 0) with its depth, depth first;
+/// children(node, push) pushes a node's children (the last pushed comes out first).
+/// `deepest` grows to the deepest depth met.
+template <class Children>
+std::vector<Cell> cells_depth_first(Children&& children, int& deepest) {
+    std::vector<Cell> cells;
     std::vector<Cell> stack = {{0, 0}};
     while (!stack.empty()) {
         const Cell c = stack.back();
         stack.pop_back();
         cells.push_back(c);
-        out.deepest_level = std::max(out.deepest_level, c.depth);
-        const OctreeNode& n = tree.nodes[c.node];
-        if (!n.is_leaf())
-            for (int o = 7; o >= 0; --o) stack.push_back({n.first + uint32_t(o), c.depth + 1});
+        deepest = std::max(deepest, c.depth);
+        children(c.node, [&](uint32_t child) { stack.push_back({child, c.depth + 1}); });
     }
+    return cells;
+}
+
+// [SECTION] Octree: cells by depth
+
+void octree_overlay(const Octree& tree, const OverlaySettings& s, StructureOverlay& out) {
+    if (tree.nodes.empty()) return;
+    const std::vector<Aabb> boxes = tree.node_boxes();
+    const std::vector<Cell> cells = cells_depth_first(
+        [&](uint32_t node, auto push) {
+            const OctreeNode& n = tree.nodes[node];
+            if (!n.is_leaf())
+                for (int o = 7; o >= 0; --o) push(n.first + uint32_t(o));
+        },
+        out.deepest_level);
     std::vector<size_t> per_level;
     for (const Cell& c : cells) {
         const OctreeNode& n = tree.nodes[c.node];
@@ -134,19 +153,14 @@ void octree_overlay(const Octree& tree, const OverlaySettings& s, StructureOverl
 void kd_overlay(const KdTree& tree, const OverlaySettings& s, StructureOverlay& out) {
     if (tree.nodes.empty()) return;
     const std::vector<Aabb> boxes = tree.node_boxes();
-    struct Cell { uint32_t node; int depth; };
-    std::vector<Cell> cells;  // every node with its depth, depth first
-    std::vector<Cell> stack = {{0, 0}};
-    while (!stack.empty()) {
-        const Cell c = stack.back();
-        stack.pop_back();
-        cells.push_back(c);
-        out.deepest_level = std::max(out.deepest_level, c.depth);
-        const KdNode& n = tree.nodes[c.node];
-        if (n.is_leaf()) continue;
-        stack.push_back({n.upper_child(), c.depth + 1});
-        stack.push_back({n.lower_child(), c.depth + 1});
-    }
+    const std::vector<Cell> cells = cells_depth_first(
+        [&](uint32_t node, auto push) {
+            const KdNode& n = tree.nodes[node];
+            if (n.is_leaf()) return;
+            push(n.upper_child());
+            push(n.lower_child());
+        },
+        out.deepest_level);
     std::vector<size_t> per_level;  // one box (a leaf, or a plane's outline) per counted node
     for (const Cell& c : cells) {
         const KdNode& n = tree.nodes[c.node];
