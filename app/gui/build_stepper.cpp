@@ -286,8 +286,10 @@ void BuildStepper::draw_panel(AppState& state, float x, float y, float w, float 
     ImGui::End();
 }
 
-void BuildStepper::draw_chart(const SahChart& chart, const BuildStep& step, float width) {
-    ImGui::PushTextWrapPos(0.0f);
+namespace {
+
+/// Which planes are charted, the builder's note, and the verdict in one sentence.
+void draw_chart_heading(const SahChart& chart) {
     // What the candidates are.
     const char* what = chart.sweep ? "every centroid" : "the B - 1 bucket boundaries";
     if (chart.sweep)
@@ -306,8 +308,15 @@ void BuildStepper::draw_chart(const SahChart& chart, const BuildStep& step, floa
     ImGui::TextUnformatted(chart.verdict_text.c_str());
     ImGui::PopStyleColor();
 
-    // One y range for the three axes, so their curves compare: from the cheapest
-    // value shown to the dearest (the leaf line always in view).
+}
+
+/// The cost scale of the chart: one y range for the three axes, so their curves
+/// compare, from the cheapest value shown to the dearest (the leaf line always in
+/// view), with `pad` of margin on each side.
+struct CostRange {
+    float lo = 0, hi = 0, pad = 0;
+};
+CostRange cost_range(const SahChart& chart) {
     float y_lo = chart.leaf_cost, y_hi = chart.leaf_cost;
     for (const SahChartAxis& a : chart.axes)
         for (float c : a.costs)
@@ -327,104 +336,110 @@ void BuildStepper::draw_chart(const SahChart& chart, const BuildStep& step, floa
     const float pad = 0.08f * (y_hi - y_lo);
     y_lo -= pad;
     y_hi += pad;
+    return {y_lo, y_hi, pad};
+}
 
+/// One axis's plot: the cost of every candidate plane, the leaf line, the heuristics'
+/// cuts, the cheapest plane, the tree's own split, and the hovered plane's numbers.
+void draw_axis_chart(const SahChart& chart, const BuildStep& step, int axis, float width, const CostRange& range) {
+    const float y_lo = range.lo, y_hi = range.hi, pad = range.pad;
     const float font = ImGui::GetFontSize();
     const float label_w = ImGui::CalcTextSize("00000.0").x + 0.5f * font;
     const float plot_h = 3.8f * font;
     ImDrawList* draw = ImGui::GetWindowDrawList();
     const ImU32 label_colour = ImGui::GetColorU32(ImGuiCol_Text);  // labels outside the (always dark) plot
     const float line = std::max(2.0f, 0.125f * font);               // thicker with the UI scale (projectors)
-    for (int axis = 0; axis < 3; ++axis) {
-        const SahChartAxis& a = chart.axes[size_t(axis)];
-        ImGui::Text("%s axis", kAxisNames[axis]);
-        if (a.subsampled) {
-            ImGui::SameLine();
-            ImGui::TextDisabled("(%zu of %zu planes shown: the cheapest of every %zu)", a.positions.size(), a.candidates,
-                                a.stride);
-        }
-        const ImVec2 origin = ImGui::GetCursorScreenPos();
-        const ImVec2 p0(origin.x + label_w, origin.y), p1(origin.x + width - 0.5f * font, origin.y + plot_h);
-        ImGui::Dummy(ImVec2(width, plot_h + 1.1f * ImGui::GetTextLineHeight()));
-        draw->AddRectFilled(p0, p1, kPlotBg);
-        draw->AddRect(p0, p1, kPlotFrame);
-        auto y_of = [&](float cost) { return p1.y - (cost - y_lo) / (y_hi - y_lo) * (p1.y - p0.y); };
-        // Cost labels at the left: the top and bottom of the range.
-        draw->AddText(ImVec2(origin.x, p0.y), label_colour, cost_text(y_hi - pad).c_str());
-        draw->AddText(ImVec2(origin.x, p1.y - ImGui::GetTextLineHeight()), label_colour, cost_text(y_lo + pad).c_str());
-        // Leaf cost: a horizontal line across every axis's chart.
-        const float leaf_y = y_of(chart.leaf_cost);
-        draw->AddLine(ImVec2(p0.x, leaf_y), ImVec2(p1.x, leaf_y), kLeafLine, line);
-        if (!a.usable) {
-            const char* text = "all centroids equal on this axis: no plane";
-            const ImVec2 size = ImGui::CalcTextSize(text);
-            draw->AddText(ImVec2(0.5f * (p0.x + p1.x - size.x), 0.5f * (p0.y + p1.y) - size.y), kAxisText, text);
+    const SahChartAxis& a = chart.axes[size_t(axis)];
+    ImGui::Text("%s axis", kAxisNames[axis]);
+    if (a.subsampled) {
+        ImGui::SameLine();
+        ImGui::TextDisabled("(%zu of %zu planes shown: the cheapest of every %zu)", a.positions.size(), a.candidates,
+                            a.stride);
+    }
+    const ImVec2 origin = ImGui::GetCursorScreenPos();
+    const ImVec2 p0(origin.x + label_w, origin.y), p1(origin.x + width - 0.5f * font, origin.y + plot_h);
+    ImGui::Dummy(ImVec2(width, plot_h + 1.1f * ImGui::GetTextLineHeight()));
+    draw->AddRectFilled(p0, p1, kPlotBg);
+    draw->AddRect(p0, p1, kPlotFrame);
+    auto y_of = [&](float cost) { return p1.y - (cost - y_lo) / (y_hi - y_lo) * (p1.y - p0.y); };
+    // Cost labels at the left: the top and bottom of the range.
+    draw->AddText(ImVec2(origin.x, p0.y), label_colour, cost_text(y_hi - pad).c_str());
+    draw->AddText(ImVec2(origin.x, p1.y - ImGui::GetTextLineHeight()), label_colour, cost_text(y_lo + pad).c_str());
+    // Leaf cost: a horizontal line across every axis's chart.
+    const float leaf_y = y_of(chart.leaf_cost);
+    draw->AddLine(ImVec2(p0.x, leaf_y), ImVec2(p1.x, leaf_y), kLeafLine, line);
+    if (!a.usable) {
+        const char* text = "all centroids equal on this axis: no plane";
+        const ImVec2 size = ImGui::CalcTextSize(text);
+        draw->AddText(ImVec2(0.5f * (p0.x + p1.x - size.x), 0.5f * (p0.y + p1.y) - size.y), kAxisText, text);
+        return;
+    }
+    const float x_lo = a.lo, x_hi = a.hi;
+    auto x_of = [&](float pos) { return p0.x + (pos - x_lo) / (x_hi - x_lo) * (p1.x - p0.x); };
+    // Position labels under the plot: the centroid bounds.
+    const float text_y = p1.y + 0.1f * font;
+    draw->AddText(ImVec2(p0.x, text_y), label_colour, fmt("%.4g", double(x_lo)).c_str());
+    const std::string hi_text = fmt("%.4g", double(x_hi));
+    draw->AddText(ImVec2(p1.x - ImGui::CalcTextSize(hi_text.c_str()).x, text_y), label_colour, hi_text.c_str());
+    // Heuristic cuts: vertical lines on the axis they would cut.
+    auto vline = [&](const HeuristicCut& cut, ImU32 colour, const char* label, float label_row) {
+        if (!cut.valid || cut.axis != axis) return;
+        const float x = x_of(cut.position);
+        draw->AddLine(ImVec2(x, p0.y), ImVec2(x, p1.y), colour, line);
+        draw->AddText(ImVec2(x + 3.0f, p0.y + label_row * ImGui::GetTextLineHeight()), colour, label);
+    };
+    vline(chart.midpoint, kMidpoint, "midpoint", 0.0f);
+    vline(chart.median, kMedian, "median", 1.0f);
+    // The curve: finite costs joined, +inf (a side would be empty) as ticks at the bottom.
+    const bool dots = a.positions.size() <= 80;
+    ImVec2 prev;
+    bool have_prev = false;
+    for (size_t i = 0; i < a.positions.size(); ++i) {
+        const float x = x_of(a.positions[i]);
+        if (!std::isfinite(a.costs[i])) {
+            draw->AddLine(ImVec2(x, p1.y - 0.35f * font), ImVec2(x, p1.y), kEmpty, 0.75f * line);
+            have_prev = false;
             continue;
         }
-        const float x_lo = a.lo, x_hi = a.hi;
-        auto x_of = [&](float pos) { return p0.x + (pos - x_lo) / (x_hi - x_lo) * (p1.x - p0.x); };
-        // Position labels under the plot: the centroid bounds.
-        const float text_y = p1.y + 0.1f * font;
-        draw->AddText(ImVec2(p0.x, text_y), label_colour, fmt("%.4g", double(x_lo)).c_str());
-        const std::string hi_text = fmt("%.4g", double(x_hi));
-        draw->AddText(ImVec2(p1.x - ImGui::CalcTextSize(hi_text.c_str()).x, text_y), label_colour, hi_text.c_str());
-        // Heuristic cuts: vertical lines on the axis they would cut.
-        auto vline = [&](const HeuristicCut& cut, ImU32 colour, const char* label, float label_row) {
-            if (!cut.valid || cut.axis != axis) return;
-            const float x = x_of(cut.position);
-            draw->AddLine(ImVec2(x, p0.y), ImVec2(x, p1.y), colour, line);
-            draw->AddText(ImVec2(x + 3.0f, p0.y + label_row * ImGui::GetTextLineHeight()), colour, label);
-        };
-        vline(chart.midpoint, kMidpoint, "midpoint", 0.0f);
-        vline(chart.median, kMedian, "median", 1.0f);
-        // The curve: finite costs joined, +inf (a side would be empty) as ticks at the bottom.
-        const bool dots = a.positions.size() <= 80;
-        ImVec2 prev;
-        bool have_prev = false;
-        for (size_t i = 0; i < a.positions.size(); ++i) {
-            const float x = x_of(a.positions[i]);
-            if (!std::isfinite(a.costs[i])) {
-                draw->AddLine(ImVec2(x, p1.y - 0.35f * font), ImVec2(x, p1.y), kEmpty, 0.75f * line);
-                have_prev = false;
-                continue;
-            }
-            const ImVec2 p(x, y_of(a.costs[i]));
-            if (have_prev) draw->AddLine(prev, p, kCurve, line);
-            if (dots) draw->AddCircleFilled(p, 0.16f * font, kCurve);
-            prev = p;
-            have_prev = true;
-        }
-        // Hover: the nearest plane's numbers.
-        const ImVec2 mouse = ImGui::GetIO().MousePos;
-        if (!a.positions.empty() && ImGui::IsWindowHovered() && mouse.x >= p0.x && mouse.x <= p1.x && mouse.y >= p0.y &&
-            mouse.y <= p1.y) {
-            size_t nearest = 0;
-            for (size_t i = 1; i < a.positions.size(); ++i)
-                if (std::abs(x_of(a.positions[i]) - mouse.x) < std::abs(x_of(a.positions[nearest]) - mouse.x)) nearest = i;
-            const float x = x_of(a.positions[nearest]);
-            draw->AddLine(ImVec2(x, p0.y), ImVec2(x, p1.y), kAxisText, 1.0f);
-            const uint32_t left = a.left_counts[nearest];
-            if (std::isfinite(a.costs[nearest]))
-                ImGui::SetTooltip("%s = %.4g: cost %s (%u left | %u right)", kAxisNames[axis], double(a.positions[nearest]),
-                                  cost_text(a.costs[nearest]).c_str(), left, chart.count - left);
-            else
-                ImGui::SetTooltip("%s = %.4g: one side would be empty (or the plane falls between equal centroids)",
-                                  kAxisNames[axis], double(a.positions[nearest]));
-        }
-        // The cheapest plane under these parameters.
-        if (chart.best_axis == axis) {
-            const float x = x_of(chart.best_position);
-            draw->AddLine(ImVec2(x, p0.y), ImVec2(x, p1.y), kBest, 0.75f * line);
-            draw->AddCircleFilled(ImVec2(x, y_of(chart.best_cost)), 0.32f * font, kBest);
-        }
-        // The tree's own split, when the sliders moved the cheapest plane elsewhere.
-        if (step.axis == axis && !(chart.best_axis == axis && chart.best_position == step.split_position)) {
-            const float x = x_of(step.split_position);
-            for (float yy = p0.y; yy < p1.y; yy += 0.5f * font)
-                draw->AddLine(ImVec2(x, yy), ImVec2(x, std::min(p1.y, yy + 0.25f * font)), kBest, line);
-        }
+        const ImVec2 p(x, y_of(a.costs[i]));
+        if (have_prev) draw->AddLine(prev, p, kCurve, line);
+        if (dots) draw->AddCircleFilled(p, 0.16f * font, kCurve);
+        prev = p;
+        have_prev = true;
     }
+    // Hover: the nearest plane's numbers.
+    const ImVec2 mouse = ImGui::GetIO().MousePos;
+    if (!a.positions.empty() && ImGui::IsWindowHovered() && mouse.x >= p0.x && mouse.x <= p1.x && mouse.y >= p0.y &&
+        mouse.y <= p1.y) {
+        size_t nearest = 0;
+        for (size_t i = 1; i < a.positions.size(); ++i)
+            if (std::abs(x_of(a.positions[i]) - mouse.x) < std::abs(x_of(a.positions[nearest]) - mouse.x)) nearest = i;
+        const float x = x_of(a.positions[nearest]);
+        draw->AddLine(ImVec2(x, p0.y), ImVec2(x, p1.y), kAxisText, 1.0f);
+        const uint32_t left = a.left_counts[nearest];
+        if (std::isfinite(a.costs[nearest]))
+            ImGui::SetTooltip("%s = %.4g: cost %s (%u left | %u right)", kAxisNames[axis], double(a.positions[nearest]),
+                              cost_text(a.costs[nearest]).c_str(), left, chart.count - left);
+        else
+            ImGui::SetTooltip("%s = %.4g: one side would be empty (or the plane falls between equal centroids)",
+                              kAxisNames[axis], double(a.positions[nearest]));
+    }
+    // The cheapest plane under these parameters.
+    if (chart.best_axis == axis) {
+        const float x = x_of(chart.best_position);
+        draw->AddLine(ImVec2(x, p0.y), ImVec2(x, p1.y), kBest, 0.75f * line);
+        draw->AddCircleFilled(ImVec2(x, y_of(chart.best_cost)), 0.32f * font, kBest);
+    }
+    // The tree's own split, when the sliders moved the cheapest plane elsewhere.
+    if (step.axis == axis && !(chart.best_axis == axis && chart.best_position == step.split_position)) {
+        const float x = x_of(step.split_position);
+        for (float yy = p0.y; yy < p1.y; yy += 0.5f * font)
+            draw->AddLine(ImVec2(x, yy), ImVec2(x, std::min(p1.y, yy + 0.25f * font)), kBest, line);
+    }
+}
 
-    // Legend, with the numbers.
+/// The legend under the plots, with the numbers.
+void draw_chart_legend(const SahChart& chart) {
     swatch(kLeafLine);
     ImGui::Text("leaf: N x C_isect = %s", cost_text(chart.leaf_cost).c_str());
     swatch(kBest);
@@ -443,6 +458,16 @@ void BuildStepper::draw_chart(const SahChart& chart, const BuildStep& step, floa
         else
             ImGui::Text("%s: no plane (all centroids equal)", name);
     }
+}
+
+}  // namespace
+
+void BuildStepper::draw_chart(const SahChart& chart, const BuildStep& step, float width) {
+    ImGui::PushTextWrapPos(0.0f);
+    draw_chart_heading(chart);
+    const CostRange range = cost_range(chart);
+    for (int axis = 0; axis < 3; ++axis) draw_axis_chart(chart, step, axis, width, range);
+    draw_chart_legend(chart);
     ImGui::PopTextWrapPos();
 }
 
