@@ -4,6 +4,7 @@
 /// not a scaled-up bitmap), and every ImGui size is scaled with it.
 
 #include "app/gui/app_state.h"
+#include "core/render/image.h"
 
 namespace accelviz {
 
@@ -20,7 +21,7 @@ struct UiStyle {
     void apply(const ViewSettings& view, Renderer& renderer);
 };
 
-/// The TrueType font used for the panels (DejaVu Sans from Debian's fonts-dejavu-core).
-inline constexpr const char* kUiFontPath = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+/// The TrueType font of the panels: the one the CPU images' labels use too.
+inline constexpr const char* kUiFontPath = kDejaVuSansPath;
 
 }  // namespace accelviz

@@ -89,9 +89,7 @@ void fill_rect(Image& dst, int x0, int y0, int w, int h, Rgb colour) {
 
 namespace {
 
-/// The labels' font: DejaVu Sans, the window's UI font, read once.
-constexpr const char* kLabelFontPath = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
-
+/// The labels' font (kDejaVuSansPath), read once.
 class LabelFont {
 public:
     static const LabelFont& get() {
@@ -103,7 +101,7 @@ public:
 
 private:
     LabelFont() {
-        std::ifstream in(kLabelFontPath, std::ios::binary);
+        std::ifstream in(kDejaVuSansPath, std::ios::binary);
         data_.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
         loaded_ = !data_.empty() &&
                   stbtt_InitFont(&info_, data_.data(), stbtt_GetFontOffsetForIndex(data_.data(), 0)) != 0;
@@ -131,7 +129,8 @@ int next_code_point(std::string_view text, size_t& i) {
     return cp;
 }
 
-/// Lays out one line of `text` at `line_px` pixels; calls glyph(code point, pen x) for each.
+/// Lays out one line of `text` at `line_px` pixels: calls glyph(code point, pen x,
+/// font scale) for each character; returns the line's width.
 template <class Glyph>
 float lay_out(const stbtt_fontinfo& font, std::string_view text, float line_px, Glyph&& glyph) {
     const float s = stbtt_ScaleForPixelHeight(&font, line_px);
@@ -151,6 +150,23 @@ float lay_out(const stbtt_fontinfo& font, std::string_view text, float line_px, 
 
 constexpr int kLinePixels = 12;  ///< a line's height at scale 1 (stb_easy_font's too)
 
+/// draw_text without the font file: stb_easy_font's stroke glyphs (ASCII).
+void draw_text_strokes(Image& dst, int x, int y, std::string_view text, int scale, Rgb colour) {
+    std::string s(text);
+    // Each glyph stroke is a quad of 4 vertices, 16 bytes each (x, y, z, colour).
+    std::vector<char> buffer(s.size() * 270 + 1024);
+    const int quads = stb_easy_font_print(0, 0, s.data(), nullptr, buffer.data(), int(buffer.size()));
+    for (int q = 0; q < quads; ++q) {
+        const float* v = reinterpret_cast<const float*>(buffer.data() + q * 64);
+        // vertices 0 and 2 are opposite corners of an axis-aligned quad
+        const float qx0 = std::min(v[0], v[8]), qx1 = std::max(v[0], v[8]);
+        const float qy0 = std::min(v[1], v[9]), qy1 = std::max(v[1], v[9]);
+        fill_rect(dst, x + int(std::lround(qx0 * scale)), y + int(std::lround(qy0 * scale)),
+                  int(std::lround((qx1 - qx0) * scale)), int(std::lround((qy1 - qy0) * scale)), colour);
+    }
+}
+
+
 }  // namespace
 
 void text_size(std::string_view text, int scale, int* width, int* height) {
@@ -167,21 +183,7 @@ void text_size(std::string_view text, int scale, int* width, int* height) {
 
 void draw_text(Image& dst, int x, int y, std::string_view text, int scale, Rgb colour) {
     const LabelFont& font = LabelFont::get();
-    if (!font.loaded()) {
-        std::string s(text);
-        // Each glyph stroke is a quad of 4 vertices, 16 bytes each (x, y, z, colour).
-        std::vector<char> buffer(s.size() * 270 + 1024);
-        const int quads = stb_easy_font_print(0, 0, s.data(), nullptr, buffer.data(), int(buffer.size()));
-        for (int q = 0; q < quads; ++q) {
-            const float* v = reinterpret_cast<const float*>(buffer.data() + q * 64);
-            // vertices 0 and 2 are opposite corners of an axis-aligned quad
-            const float qx0 = std::min(v[0], v[8]), qx1 = std::max(v[0], v[8]);
-            const float qy0 = std::min(v[1], v[9]), qy1 = std::max(v[1], v[9]);
-            fill_rect(dst, x + int(std::lround(qx0 * scale)), y + int(std::lround(qy0 * scale)),
-                      int(std::lround((qx1 - qx0) * scale)), int(std::lround((qy1 - qy0) * scale)), colour);
-        }
-        return;
-    }
+    if (!font.loaded()) return draw_text_strokes(dst, x, y, text, scale, colour);
     const stbtt_fontinfo& info = font.info();
     const float line_px = float(kLinePixels * scale);
     int ascent = 0, descent = 0, gap = 0;

@@ -44,6 +44,10 @@ Expected<std::vector<float>> read_pfm(const std::string& path, int* width, int* 
 void blit(Image& dst, const Image& src, int x0, int y0);
 /// Fills a rectangle (clipped).
 void fill_rect(Image& dst, int x0, int y0, int w, int h, Rgb colour);
+/// DejaVu Sans (Debian's fonts-dejavu-core): the font of the window's panels and of
+/// the text drawn into images, so the two read alike.
+inline constexpr const char* kDejaVuSansPath = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+
 /// Draws text (UTF-8) with its top-left at (x, y), one line 12 · `scale` pixels
 /// tall. Set in DejaVu Sans, the window's own font (Debian's fonts-dejavu-core,
 /// rasterized by stb_truetype, anti-aliased); where that file is missing, in
