@@ -23,6 +23,7 @@
 #include "core/geometry/scene.h"
 #include "core/render/ray_caster.h"
 #include "core/render/views.h"
+#include "core/util/enum_names.h"
 
 namespace accelviz::cli {
 namespace {
@@ -37,7 +38,7 @@ struct RenderOptions {
     std::string preset_error;        ///< why --preset could not be read
     std::string preset_path;         ///< --preset's file, for messages
     std::string out;
-    std::string view = "split";
+    std::string view = "split";  ///< --view as given; parsed once, in run_render
     std::string depth_out;
     int width = 1280, height = 720;
     int threads = 0;
@@ -49,12 +50,19 @@ struct RenderOptions {
     bool accel_given = false;   ///< --accel was on the command line
 };
 
-/// The CPU views (core/render), and then the window's views (headless_gui_views()).
-const std::vector<std::string> kCpuViews = {"raycast", "raster", "split", "depth-diff", "heat-nodes", "heat-tris"};
+/// The views the CPU renderers of core/render compose (the window's own views are WindowView).
+enum class CpuView { RayCast, Raster, Split, DepthDiff, HeatNodes, HeatTris };
+constexpr EnumNames<CpuView, 6> kCpuViewNames{{{{CpuView::RayCast, "raycast"},
+                                                {CpuView::Raster, "raster"},
+                                                {CpuView::Split, "split"},
+                                                {CpuView::DepthDiff, "depth-diff"},
+                                                {CpuView::HeatNodes, "heat-nodes"},
+                                                {CpuView::HeatTris, "heat-tris"}}}};
 
+/// --view's names: the CPU views, then the window's.
 std::vector<std::string> all_views() {
-    std::vector<std::string> views = kCpuViews;
-    for (const std::string& view : headless_gui_views()) views.push_back(view);
+    std::vector<std::string> views = kCpuViewNames.names();
+    for (const std::string& view : kWindowViewNames.names()) views.push_back(view);
     return views;
 }
 
@@ -67,8 +75,8 @@ double ms_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-/// `structure`, `gui` or `build-step`: draw_frame() through OSMesa, as the window draws it.
-int run_window_view(const RenderOptions& opt, AppState state) {
+/// A window view (structure, gui, build-step): draw_frame() through OSMesa, as the window draws it.
+int run_window_view(const RenderOptions& opt, WindowView view, AppState state) {
     auto loaded = load_and_build(state.scene, state.accel);
     if (!loaded) return fail(loaded.error());
     if (opt.camera.any()) {  // over the preset's camera, or the scene's default view
@@ -77,7 +85,7 @@ int run_window_view(const RenderOptions& opt, AppState state) {
         state.camera = *params;
     }
     const double build_ms = (*loaded)->build_seconds * 1e3;
-    auto render = render_headless(state, std::move(*loaded), opt.view, opt.width, opt.height);
+    auto render = render_headless(state, std::move(*loaded), view, opt.width, opt.height);
     if (!render) return fail(render.error());
     std::fprintf(stderr, "%s view of %s (%s): build %.1f ms, frame %.1f ms (%s)\n", opt.view.c_str(),
                  state.scene.c_str(), accel_name(state).c_str(), build_ms, render->frame_ms,
@@ -100,7 +108,7 @@ int run_build_step(const RenderOptions& opt, AppState state) {
     if (state.accel.cost_isect) state.accel.bvh.cost_isect = *state.accel.cost_isect;
     state.build_step.active = true;
     state.build_step.step = opt.step;
-    return run_window_view(opt, std::move(state));
+    return run_window_view(opt, WindowView::BuildStep, std::move(state));
 }
 
 /// `--view step`: the window's frame (OSMesa) with the stepper open at step K on
@@ -119,7 +127,7 @@ int run_render_step(const RenderOptions& opt) {
     state.stepper.ray = picked->ray;
     state.stepper.pixel = std::array<int, 2>{picked->x, picked->y};
     state.stepper.step = opt.step < 0 ? 0 : size_t(opt.step);
-    auto image = render_gui_view_headless(state, "step", opt.width, opt.height);
+    auto image = render_gui_view_headless(state, WindowView::Step, opt.width, opt.height);
     if (!image) return fail(image.error());
     if (auto err = write_png(*image, opt.out)) return fail(err->message);
     std::cout << opt.out << "\n";
@@ -150,8 +158,10 @@ int run_render(const RenderOptions& opt) {
         if (const std::string problem = path.empty() ? "" : missing_directory(path); !problem.empty()) return fail(problem);
     if (opt.preset_error.empty())
         if (const std::string problem = structure_problem(opt); !problem.empty()) return fail(problem);
-    if (opt.view == "step") return run_render_step(opt);
-    if ((opt.step >= 0 && opt.view != "build-step") || !opt.pixel.empty())
+    const std::optional<WindowView> window_view = kWindowViewNames.parse(opt.view);
+    const CpuView cpu_view = kCpuViewNames.parse(opt.view).value_or(CpuView::Split);  // CLI11 checked the name
+    if (window_view == WindowView::Step) return run_render_step(opt);
+    if ((opt.step >= 0 && window_view != WindowView::BuildStep) || !opt.pixel.empty())
         return fail("--step is for --view build-step or step, --pixel for --view step");
     using clock = std::chrono::steady_clock;
     if (!opt.preset_error.empty()) return fail("--preset: " + opt.preset_error);
@@ -160,11 +170,10 @@ int run_render(const RenderOptions& opt) {
     if (!opt.scene.empty()) state.scene = opt.scene;
     else if (!opt.preset) return fail("no scene: give SCENE (an OBJ file or builtin:NAME) or --preset FILE");
     state.accel = opt.accel;  // already the preset's structure with the flags given applied on top
-    if (opt.view == "build-step") return run_build_step(opt, std::move(state));
-    const auto& window_views = headless_gui_views();
-    if (std::find(window_views.begin(), window_views.end(), opt.view) != window_views.end()) {
+    if (window_view == WindowView::BuildStep) return run_build_step(opt, std::move(state));
+    if (window_view) {
         if (!opt.depth_out.empty()) return fail("--depth-out: only the CPU views write a depth file, not --view " + opt.view);
-        return run_window_view(opt, std::move(state));
+        return run_window_view(opt, *window_view, std::move(state));
     }
 
     auto mesh = load_scene(state.scene);
@@ -173,9 +182,9 @@ int run_render(const RenderOptions& opt) {
     if (!camera_params) return fail(camera_params.error());
     const Camera camera(*camera_params, opt.width, opt.height);
 
-    const bool needs_raster = opt.view == "raster" || opt.view == "split" || opt.view == "depth-diff";
-    const bool needs_ray = opt.view != "raster" || !opt.depth_out.empty();
-    const bool count_work = opt.view == "heat-nodes" || opt.view == "heat-tris" || opt.view == "split";
+    const bool needs_raster = cpu_view == CpuView::Raster || cpu_view == CpuView::Split || cpu_view == CpuView::DepthDiff;
+    const bool needs_ray = cpu_view != CpuView::Raster || !opt.depth_out.empty();
+    const bool count_work = cpu_view == CpuView::HeatNodes || cpu_view == CpuView::HeatTris || cpu_view == CpuView::Split;
 
     Frame ray_frame, raster_frame;
     WorkSummary work;
@@ -199,14 +208,20 @@ int run_render(const RenderOptions& opt) {
     }
 
     Image image;
-    if (opt.view == "raycast") image = ray_frame.colour;
-    else if (opt.view == "raster") image = raster_frame.colour;
-    else if (opt.view == "split") image = split_view(raster_frame, ray_frame, work);
-    else if (opt.view == "depth-diff") image = depth_diff_view(raster_frame, ray_frame);
-    else if (opt.view == "heat-nodes")
-        image = heat_view(ray_frame.nodes, opt.width, opt.height, "Nodes visited per pixel (" + accel_name(state) + ")", opt.heat_max);
-    else if (opt.view == "heat-tris")
-        image = heat_view(ray_frame.tests, opt.width, opt.height, "Triangles tested per pixel (" + accel_name(state) + ")", opt.heat_max);
+    switch (cpu_view) {
+        case CpuView::RayCast: image = ray_frame.colour; break;
+        case CpuView::Raster: image = raster_frame.colour; break;
+        case CpuView::Split: image = split_view(raster_frame, ray_frame, work); break;
+        case CpuView::DepthDiff: image = depth_diff_view(raster_frame, ray_frame); break;
+        case CpuView::HeatNodes:
+            image = heat_view(ray_frame.nodes, opt.width, opt.height, "Nodes visited per pixel (" + accel_name(state) + ")",
+                              opt.heat_max);
+            break;
+        case CpuView::HeatTris:
+            image = heat_view(ray_frame.tests, opt.width, opt.height,
+                              "Triangles tested per pixel (" + accel_name(state) + ")", opt.heat_max);
+            break;
+    }
 
     if (auto err = write_png(image, opt.out)) return fail(err->message);
     std::cout << opt.out << "\n";

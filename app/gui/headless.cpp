@@ -11,11 +11,6 @@
 
 namespace accelviz {
 
-const std::vector<std::string>& headless_gui_views() {
-    static const std::vector<std::string> views = {"structure", "gui", "build-step", "step"};
-    return views;
-}
-
 // [SECTION] HeadlessApp
 
 Expected<std::unique_ptr<HeadlessApp>> HeadlessApp::create(int width, int height) {
@@ -70,12 +65,9 @@ std::string HeadlessApp::gl_description() const { return context_->description()
 
 // [SECTION] One-shot renders
 
-Expected<HeadlessRender> render_headless(const AppState& state, const std::string& view, int width, int height,
+Expected<HeadlessRender> render_headless(const AppState& state, WindowView view, int width, int height,
                                          int frames) {
-    const auto& views = headless_gui_views();
-    if (std::find(views.begin(), views.end(), view) == views.end())
-        return Error{"unknown view '" + view + "' (the window's views are: structure, gui, build-step, step)"};
-    if (view == "step" && !state.stepper.ray) return Error{"view step: no ray to step (pick a pixel)"};
+    if (view == WindowView::Step && !state.stepper.ray) return Error{"view step: no ray to step (pick a pixel)"};
 
     LoadResult loaded = load_and_build(state.scene, state.accel);
     if (!loaded) return Error{loaded.error()};
@@ -83,10 +75,7 @@ Expected<HeadlessRender> render_headless(const AppState& state, const std::strin
 }
 
 Expected<HeadlessRender> render_headless(const AppState& state, std::shared_ptr<const LoadedScene> scene,
-                                         const std::string& view, int width, int height, int frames) {
-    const auto& views = headless_gui_views();
-    if (std::find(views.begin(), views.end(), view) == views.end())
-        return Error{"unknown view '" + view + "' (the window's views are: structure, gui, build-step)"};
+                                         WindowView view, int width, int height, int frames) {
     if (!scene) return Error{"no scene to render"};
     auto app = HeadlessApp::create(width, height);
     if (!app) return Error{app.error()};
@@ -96,8 +85,8 @@ Expected<HeadlessRender> render_headless(const AppState& state, std::shared_ptr<
     AppState frame_state = state;
     (*app)->session().set_scene(frame_state, std::move(scene), state.camera.has_value());
     FrameInput input;
-    input.draw_ui = view == "gui" || view == "build-step" || view == "step";
-    if (view == "build-step") {
+    input.draw_ui = view != WindowView::Structure;
+    if (view == WindowView::BuildStep) {
         // The whole window with the construction stepper at build_step.step: check
         // the step against the recorded build first (the stepper would clamp it).
         if (state.accel.type != AccelType::Bvh) return Error{"the build-step view needs a BVH (--accel bvh)"};
@@ -112,13 +101,13 @@ Expected<HeadlessRender> render_headless(const AppState& state, std::shared_ptr<
                          std::to_string(trace->steps.size()) + " decisions (0.." +
                          std::to_string(trace->steps.size() - 1) + ")"};
     }
-    if (view == "step") {
+    if (view == WindowView::Step) {
         frame_state.stepper.open = true;
         frame_state.build_step.active = false;  // one stepper at a time
     }
     // gui: auto-sized windows appear on the second frame; step: the event list
     // scrolls to the current event on the frame after it is laid out.
-    const int count = std::max(frames, view == "step" ? 3 : input.draw_ui ? 2 : 1);
+    const int count = std::max(frames, view == WindowView::Step ? 3 : input.draw_ui ? 2 : 1);
     FrameLayout layout;
     for (int i = 0; i < count; ++i) {
         const auto start = std::chrono::steady_clock::now();
@@ -134,7 +123,7 @@ Expected<HeadlessRender> render_headless(const AppState& state, std::shared_ptr<
     return out;
 }
 
-Expected<Image> render_gui_view_headless(const AppState& state, const std::string& view, int width, int height) {
+Expected<Image> render_gui_view_headless(const AppState& state, WindowView view, int width, int height) {
     auto render = render_headless(state, view, width, height);
     if (!render) return Error{render.error()};
     return std::move(render->colour);

@@ -11,6 +11,7 @@
 #include "app/gui/draw_frame.h"
 #include "app/platform/gl_loader.h"
 #include "core/render/image.h"
+#include "core/util/enum_names.h"
 #include "core/util/expected.h"
 
 struct ImGuiContext;
@@ -22,18 +23,25 @@ class Renderer;
 struct LoadedScene;
 struct Session;
 
-/// The views render_gui_view_headless knows: "structure" (the 3D view alone,
-/// over the whole image), "gui" (the whole window frame, panels included) and
-/// "build-step" (the whole frame with the construction stepper at
-/// state.build_step.step, which must be one of the recorded build's decisions)
-/// and "step" (the whole frame with the traversal stepper open on state.stepper.ray).
-const std::vector<std::string>& headless_gui_views();
+/// The window's views a headless render draws.
+enum class WindowView {
+    Structure,  ///< the 3D view alone, over the whole image
+    Gui,        ///< the whole window frame, panels included
+    BuildStep,  ///< the whole frame with the construction stepper at state.build_step.step
+                ///< (one of the recorded build's decisions)
+    Step,       ///< the whole frame with the traversal stepper open on state.stepper.ray
+};
+inline constexpr EnumNames<WindowView, 4> kWindowViewNames{{{{WindowView::Structure, "structure"},
+                                                              {WindowView::Gui, "gui"},
+                                                              {WindowView::BuildStep, "build-step"},
+                                                              {WindowView::Step, "step"}}}};
+constexpr std::string_view to_string(WindowView v) { return kWindowViewNames.name(v); }
 
 /// Renders `view` of `state` at width x height through an OSMesa context
 /// (OpenGL 3.3 core; Mesa's llvmpipe). The scene is loaded and built on this
 /// thread first. The frame is deterministic (no times or animation), so it can be
-/// compared with golden images. Errors: unknown view, bad scene, no OSMesa.
-Expected<Image> render_gui_view_headless(const AppState& state, const std::string& view, int width, int height);
+/// compared with golden images. Errors: bad scene, no OSMesa, a view the state cannot show.
+Expected<Image> render_gui_view_headless(const AppState& state, WindowView view, int width, int height);
 
 /// What render_gui_view_headless does, with more to inspect.
 struct HeadlessRender {
@@ -49,12 +57,12 @@ struct HeadlessRender {
 /// `frames` >= 1 frames are drawn, the last read back (more give a steady-state
 /// frame time). "gui" draws at least two: ImGui hides a window that sizes
 /// itself on its first frame.
-Expected<HeadlessRender> render_headless(const AppState& state, const std::string& view, int width, int height,
+Expected<HeadlessRender> render_headless(const AppState& state, WindowView view, int width, int height,
                                          int frames = 1);
 /// The same with the scene already loaded and built (`scene` must be
 /// state.scene built with state.accel), e.g. when the caller needed its bounds.
 Expected<HeadlessRender> render_headless(const AppState& state, std::shared_ptr<const LoadedScene> scene,
-                                         const std::string& view, int width, int height, int frames = 1);
+                                         WindowView view, int width, int height, int frames = 1);
 
 /// A window without a window: an OSMesa context, a Renderer, its own ImGui
 /// context and a Session, drawing with draw_frame() like the window loop does.

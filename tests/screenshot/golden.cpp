@@ -80,10 +80,10 @@ std::string screenshot_out_dir() {
                                          << "\n  golden:   " << golden_path;
 }
 
-::testing::AssertionResult view_matches_golden(const AppState& state, const std::string& view, int width, int height,
+::testing::AssertionResult view_matches_golden(const AppState& state, WindowView view, int width, int height,
                                                const std::string& name) {
     auto image = render_gui_view_headless(state, view, width, height);
-    if (!image) return ::testing::AssertionFailure() << "rendering " << view << " for " << name << ": " << image.error();
+    if (!image) return ::testing::AssertionFailure() << "rendering " << to_string(view) << " for " << name << ": " << image.error();
     return matches_golden(*image, name);
 }
 

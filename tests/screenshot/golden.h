@@ -21,6 +21,7 @@
 #include <gtest/gtest.h>
 
 #include "app/gui/app_state.h"
+#include "app/gui/headless.h"
 #include "core/render/image.h"
 
 namespace accelviz::testing {
@@ -37,7 +38,7 @@ void set_update_golden_mode(bool on);
 
 /// Renders `view` of `state` headless (render_gui_view_headless) at width x height
 /// and compares it with golden/NAME.png; a failed render fails with its message.
-::testing::AssertionResult view_matches_golden(const AppState& state, const std::string& view, int width, int height,
+::testing::AssertionResult view_matches_golden(const AppState& state, WindowView view, int width, int height,
                                                const std::string& name);
 
 /// Where the tests write what they rendered (created on demand).

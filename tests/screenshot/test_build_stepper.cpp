@@ -43,7 +43,7 @@ AppState build_step_state(const std::string& scene, BvhBuilder builder, int step
 TEST(BuildStepGolden, BunnyBinnedSahEarlySplit) {
     // Decision 1: the root's left child, split by binned SAH (B = 16).
     if (!std::filesystem::exists(bunny())) GTEST_SKIP() << bunny() << " is not here";
-    auto image = render_gui_view_headless(build_step_state(bunny(), BvhBuilder::SahBinned, 1), "build-step", 1280, 800);
+    auto image = render_gui_view_headless(build_step_state(bunny(), BvhBuilder::SahBinned, 1), WindowView::BuildStep, 1280, 800);
     ASSERT_TRUE(image) << image.error();
     EXPECT_TRUE(matches_golden(view_and_panel(*image), "bunny_build_step_binned"));
 }
@@ -52,11 +52,11 @@ TEST(BuildStepGolden, SameBoxChartShowsNoSplitHelps) {
     // Every triangle has the same box: every plane costs C_trav + N C_isect, above the leaf line.
     AppState state = build_step_state("builtin:same-box?n=40", BvhBuilder::SahBinned, 0);
     state.build_step.bins = 8;  // the chart's own B (live slider), not the tree's
-    EXPECT_TRUE(view_matches_golden(state, "build-step", 1280, 800, "same_box_build_step"));
+    EXPECT_TRUE(view_matches_golden(state, WindowView::BuildStep, 1280, 800, "same_box_build_step"));
 }
 
 TEST(BuildStepHeadless, StepOutOfRangeIsAnErrorWithTheRange) {
-    auto image = render_gui_view_headless(build_step_state("builtin:cube", BvhBuilder::SahBinned, 999), "build-step", 64, 64);
+    auto image = render_gui_view_headless(build_step_state("builtin:cube", BvhBuilder::SahBinned, 999), WindowView::BuildStep, 64, 64);
     ASSERT_FALSE(image);
     EXPECT_NE(image.error().find("out of range"), std::string::npos) << image.error();
     EXPECT_NE(image.error().find("0.."), std::string::npos) << image.error();
@@ -65,7 +65,7 @@ TEST(BuildStepHeadless, StepOutOfRangeIsAnErrorWithTheRange) {
 TEST(BuildStepHeadless, NeedsABvh) {
     AppState state = build_step_state("builtin:cube", BvhBuilder::SahBinned, 0);
     state.accel.type = AccelType::Grid;
-    auto image = render_gui_view_headless(state, "build-step", 64, 64);
+    auto image = render_gui_view_headless(state, WindowView::BuildStep, 64, 64);
     ASSERT_FALSE(image);
     EXPECT_NE(image.error().find("BVH"), std::string::npos) << image.error();
 }

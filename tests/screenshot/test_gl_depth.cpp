@@ -24,7 +24,7 @@ DepthAgreement gl_against_ray_caster(const DepthCase& c, int width, int height) 
     state.scene = c.scene;
     state.camera = c.camera;
     state.view.show_bounds = false;
-    auto gl_render = render_headless(state, "structure", width, height);
+    auto gl_render = render_headless(state, WindowView::Structure, width, height);
     EXPECT_TRUE(gl_render) << gl_render.error();
     if (!gl_render) return {};
     const View3D& view = gl_render->view;

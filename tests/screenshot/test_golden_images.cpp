@@ -21,11 +21,11 @@ AppState cube_state() {
 }
 
 TEST(GoldenImage, CubeStructureViewShowsShadedMeshAndBounds) {
-    EXPECT_TRUE(view_matches_golden(cube_state(), "structure", 320, 240, "cube_structure"));
+    EXPECT_TRUE(view_matches_golden(cube_state(), WindowView::Structure, 320, 240, "cube_structure"));
 }
 
 TEST(GoldenImage, CubeGuiFrameShowsPanelsStatusAndView) {
-    EXPECT_TRUE(view_matches_golden(cube_state(), "gui", 640, 400, "cube_gui"));
+    EXPECT_TRUE(view_matches_golden(cube_state(), WindowView::Gui, 640, 400, "cube_gui"));
 }
 
 TEST(GoldenImage, CubeGuiFrameLightThemeAtProjectorScale) {
@@ -33,13 +33,13 @@ TEST(GoldenImage, CubeGuiFrameLightThemeAtProjectorScale) {
     state.view.light_theme = true;
     state.view.background = {236, 236, 232};
     state.view.ui_scale = 1.5f;
-    EXPECT_TRUE(view_matches_golden(state, "gui", 960, 600, "cube_gui_light"));
+    EXPECT_TRUE(view_matches_golden(state, WindowView::Gui, 960, 600, "cube_gui_light"));
 }
 
 TEST(GoldenImage, HelpWindowListsTheShortcuts) {
     AppState state = cube_state();
     state.view.show_help = true;
-    EXPECT_TRUE(view_matches_golden(state, "gui", 800, 500, "cube_gui_help"));
+    EXPECT_TRUE(view_matches_golden(state, WindowView::Gui, 800, 500, "cube_gui_help"));
 }
 
 // [SECTION] Structure overlays (the teapot, 4x4 segments per patch: small and
@@ -58,7 +58,7 @@ AppState teapot_with(const char* structure_json) {
 }
 
 void expect_structure_golden(const char* structure_json, const char* name) {
-    EXPECT_TRUE(view_matches_golden(teapot_with(structure_json), "structure", 320, 240, name));
+    EXPECT_TRUE(view_matches_golden(teapot_with(structure_json), WindowView::Structure, 320, 240, name));
 }
 
 TEST(GoldenImage, BvhBoxesColouredByDepth) {
@@ -94,7 +94,7 @@ TEST(GoldenImage, ThickLinesForProjectors) {
     AppState state = teapot_with(R"({"structure": {"type": "bvh"}, "overlay": {"level_min": 2, "level_max": 5},
                                      "view": {"line_width": 3}})");
     state.view.line_width = 3;
-    EXPECT_TRUE(view_matches_golden(state, "structure", 480, 270, "teapot_bvh_thick_lines"));
+    EXPECT_TRUE(view_matches_golden(state, WindowView::Structure, 480, 270, "teapot_bvh_thick_lines"));
 }
 
 TEST(GoldenImage, ThickLinesClippedAtTheNearPlaneFromInsideTheScene) {
@@ -103,7 +103,7 @@ TEST(GoldenImage, ThickLinesClippedAtTheNearPlaneFromInsideTheScene) {
     AppState state = teapot_with(R"({"structure": {"type": "bvh"}, "overlay": {"level_min": 0, "level_max": 3}})");
     state.view.line_width = 3;
     state.camera = CameraParams{{-0.2, 0.6, 0.3}, {3, 0.6, 0}, {0, 1, 0}, 70};
-    EXPECT_TRUE(view_matches_golden(state, "structure", 320, 180, "teapot_inside_thick_lines"));
+    EXPECT_TRUE(view_matches_golden(state, WindowView::Structure, 320, 180, "teapot_inside_thick_lines"));
 }
 
 // [SECTION] Raster vs ray cast (the ray caster's picture is waited for headless)
@@ -111,14 +111,14 @@ TEST(GoldenImage, ThickLinesClippedAtTheNearPlaneFromInsideTheScene) {
 TEST(GoldenImage, SplitRasterAndRayCastSideBySide) {
     AppState state = teapot_with(R"({"structure": {"type": "bvh"}, "overlay": {"show_structure": false}})");
     state.view.mode = ViewMode::Split;
-    EXPECT_TRUE(view_matches_golden(state, "gui", 800, 450, "teapot_split_raycast"));
+    EXPECT_TRUE(view_matches_golden(state, WindowView::Gui, 800, 450, "teapot_split_raycast"));
 }
 
 TEST(GoldenImage, SplitWithNodeHeatMap) {
     AppState state = teapot_with(R"({"structure": {"type": "bvh"}, "overlay": {"level_max": 3}})");
     state.view.mode = ViewMode::Split;
     state.view.right_view = RightView::HeatNodes;
-    EXPECT_TRUE(view_matches_golden(state, "gui", 800, 450, "teapot_split_heat_nodes"));
+    EXPECT_TRUE(view_matches_golden(state, WindowView::Gui, 800, 450, "teapot_split_heat_nodes"));
 }
 
 // The split view's labels and the heat legend at a projector's full HD: no label runs
@@ -127,21 +127,26 @@ TEST(GoldenImage, SplitTriangleHeatAt1920x1080) {
     AppState state = teapot_with(R"({"structure": {"type": "grid"}})");
     state.view.mode = ViewMode::Split;
     state.view.right_view = RightView::HeatTris;
-    EXPECT_TRUE(view_matches_golden(state, "gui", 1920, 1080, "teapot_split_heat_tris_1920x1080"));
+    EXPECT_TRUE(view_matches_golden(state, WindowView::Gui, 1920, 1080, "teapot_split_heat_tris_1920x1080"));
 }
 
 // [SECTION] Errors
 
-TEST(HeadlessRender, UnknownViewIsAnErrorNamingTheViews) {
-    auto image = render_gui_view_headless(cube_state(), "nosuch", 64, 64);
+TEST(HeadlessRender, WindowViewNamesParseBackToTheirViews) {
+    for (const auto& [view, name] : kWindowViewNames.entries) EXPECT_EQ(kWindowViewNames.parse(name), view) << name;
+    EXPECT_FALSE(kWindowViewNames.parse("nosuch"));
+}
+
+TEST(HeadlessRender, StepViewWithoutARayIsAnError) {
+    auto image = render_gui_view_headless(cube_state(), WindowView::Step, 64, 64);
     ASSERT_FALSE(image);
-    EXPECT_NE(image.error().find("structure"), std::string::npos) << image.error();
+    EXPECT_NE(image.error().find("no ray"), std::string::npos) << image.error();
 }
 
 TEST(HeadlessRender, BadSceneIsAnError) {
     AppState state;
     state.scene = "/nonexistent/scene.obj";
-    auto image = render_gui_view_headless(state, "structure", 64, 64);
+    auto image = render_gui_view_headless(state, WindowView::Structure, 64, 64);
     ASSERT_FALSE(image);
     EXPECT_NE(image.error().find("/nonexistent/scene.obj"), std::string::npos) << image.error();
 }
@@ -176,13 +181,13 @@ TEST(GoldenImage, SplitCpuRasterDepthNextToRayCastDepthDifference) {
     // Left: the core rasterizer's depth as grey; right: where it and the ray caster disagree.
     AppState state = teapot_state(R"({"structure": {"type": "bvh"}, "overlay": {"show_structure": false},
                                       "view": {"mode": "split", "left_view": "raster-depth", "right_view": "depth-diff"}})");
-    EXPECT_TRUE(view_matches_golden(state, "gui", 800, 400, "teapot_gui_split_depth_diff"));
+    EXPECT_TRUE(view_matches_golden(state, WindowView::Gui, 800, 400, "teapot_gui_split_depth_diff"));
 }
 
 TEST(GoldenImage, SplitCpuRasterImageNextToRayCastDepthOnOneScale) {
     AppState state = teapot_state(R"({"structure": {"type": "kd"}, "overlay": {"show_structure": false},
                                       "view": {"mode": "split", "left_view": "raster", "right_view": "depth"}})");
-    EXPECT_TRUE(view_matches_golden(state, "structure", 480, 240, "teapot_split_raster_cpu_depth"));
+    EXPECT_TRUE(view_matches_golden(state, WindowView::Structure, 480, 240, "teapot_split_raster_cpu_depth"));
 }
 
 
@@ -192,7 +197,7 @@ TEST(SplitView, OpenGlDepthReadBackMatchesRayCastDepthGreyForGrey) {
     AppState state = teapot_state(R"({"structure": {"type": "bvh"}, "overlay": {"show_structure": false},
                                       "view": {"mode": "split", "left_view": "opengl-depth", "right_view": "depth",
                                                "show_bounds": false}})");
-    auto image = render_gui_view_headless(state, "structure", 480, 240);
+    auto image = render_gui_view_headless(state, WindowView::Structure, 480, 240);
     ASSERT_TRUE(image) << image.error();
     const int half = image->width / 2;
     size_t differing = 0, covered = 0;

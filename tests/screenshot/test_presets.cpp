@@ -38,7 +38,7 @@ TEST(Presets, EveryShippedPresetLoadsAndRendersHeadless) {
         SCOPED_TRACE(preset.path);
         auto state = load_app_state_file(preset.path);
         ASSERT_TRUE(state) << state.error();
-        auto image = render_gui_view_headless(*state, "gui", 320, 200);
+        auto image = render_gui_view_headless(*state, WindowView::Gui, 320, 200);
         ASSERT_TRUE(image) << image.error();
         // The 3D view (right of the sidebar) shows something besides the background.
         std::set<uint32_t> colours;
@@ -95,7 +95,7 @@ TEST(Presets, ABadPresetFileIsAMessageAndChangesNothing) {
 TEST(GoldenImage, PresetBvhSahGuiFrame) {
     auto state = load_app_state_file(kPresetDir + "/04-bvh-sah.json");
     ASSERT_TRUE(state) << state.error();
-    auto image = render_gui_view_headless(*state, "gui", 800, 450);
+    auto image = render_gui_view_headless(*state, WindowView::Gui, 800, 450);
     ASSERT_TRUE(image) << image.error();
     EXPECT_TRUE(testing::matches_golden(*image, "preset_04_bvh_sah_gui"));
 }

@@ -19,7 +19,7 @@ protected:
     void TearDown() override { widget_audit::set_enabled(false); }
 
     /// Renders the frame and checks its widgets' IDs.
-    void expect_unique_ids(const AppState& state, const std::string& view, const std::string& what) {
+    void expect_unique_ids(const AppState& state, WindowView view, const std::string& what) {
         auto frame = render_headless(state, view, 1600, 900, 2);
         ASSERT_TRUE(frame) << frame.error();
         EXPECT_GT(widget_audit::widgets().size(), 20u) << what << ": the audit saw no widgets";
@@ -57,7 +57,7 @@ TEST_F(WidgetIds, SidebarOfEveryStructureHasUniqueIds) {
         AppState state;
         state.scene = "builtin:teapot?n=4";
         state.accel.type = type;
-        expect_unique_ids(state, "gui", "sidebar with " + std::string(to_string(type)));
+        expect_unique_ids(state, WindowView::Gui, "sidebar with " + std::string(to_string(type)));
     }
 }
 
@@ -68,7 +68,7 @@ TEST_F(WidgetIds, SplitViewHelpAndLightThemeHaveUniqueIds) {
     state.view.right_view = RightView::HeatNodes;
     state.view.show_help = true;
     state.view.light_theme = true;
-    expect_unique_ids(state, "gui", "split view with help");
+    expect_unique_ids(state, WindowView::Gui, "split view with help");
 }
 
 TEST_F(WidgetIds, TraversalStepperHasUniqueIds) {
@@ -80,9 +80,9 @@ TEST_F(WidgetIds, TraversalStepperHasUniqueIds) {
     ray.dir = Vec3(0.0f, -0.1f, -1.0f);
     state.stepper.ray = ray;
     state.stepper.step = 3;  // mid-way: inspectors, stack
-    expect_unique_ids(state, "step", "stepper mid-way");
+    expect_unique_ids(state, WindowView::Step, "stepper mid-way");
     state.stepper.step = 100000;  // the end: the compare table first
-    expect_unique_ids(state, "step", "stepper at the end");
+    expect_unique_ids(state, WindowView::Step, "stepper at the end");
 }
 
 TEST_F(WidgetIds, ConstructionStepperHasUniqueIds) {
@@ -90,7 +90,7 @@ TEST_F(WidgetIds, ConstructionStepperHasUniqueIds) {
     state.scene = "builtin:teapot?n=4";
     state.build_step.active = true;
     state.build_step.step = 0;
-    expect_unique_ids(state, "build-step", "construction stepper");
+    expect_unique_ids(state, WindowView::BuildStep, "construction stepper");
 }
 
 }  // namespace

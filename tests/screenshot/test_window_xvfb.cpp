@@ -73,9 +73,9 @@ size_t differing_pixels(const Image& a, const Image& b) {
     return n;
 }
 
-void expect_window_equals_osmesa(const AppState& state, const std::string& view, const std::string& name) {
+void expect_window_equals_osmesa(const AppState& state, WindowView view, const std::string& name) {
     constexpr int kWidth = 640, kHeight = 400;
-    auto window = render_in_window(state, view == "gui", kWidth, kHeight, 3);
+    auto window = render_in_window(state, view == WindowView::Gui, kWidth, kHeight, 3);
     ASSERT_TRUE(window) << window.error();
     auto headless = render_gui_view_headless(state, view, kWidth, kHeight);
     ASSERT_TRUE(headless) << headless.error();
@@ -92,7 +92,7 @@ void expect_window_equals_osmesa(const AppState& state, const std::string& view,
 TEST(XvfbWindow, GuiFrameInWindowEqualsOsMesaRender) {
     AppState state;
     state.scene = "builtin:cube";
-    expect_window_equals_osmesa(state, "gui", "xvfb_cube_gui");
+    expect_window_equals_osmesa(state, WindowView::Gui, "xvfb_cube_gui");
 }
 
 TEST(XvfbWindow, StructureViewInWindowEqualsOsMesaRender) {
@@ -100,7 +100,7 @@ TEST(XvfbWindow, StructureViewInWindowEqualsOsMesaRender) {
     state.scene = "builtin:teapot?n=4";
     state.accel.type = AccelType::Bvh;
     state.view.line_width = 2.5f;  // the geometry-shader path too
-    expect_window_equals_osmesa(state, "structure", "xvfb_teapot_bvh");
+    expect_window_equals_osmesa(state, WindowView::Structure, "xvfb_teapot_bvh");
 }
 
 TEST(XvfbWindow, WithoutDisplayTheWindowFailsWithGlfwsReason) {
