@@ -211,11 +211,27 @@ void draw_text(Image& dst, int x, int y, std::string_view text, int scale, Rgb c
     });
 }
 
-void draw_label(Image& dst, int x, int y, std::string_view text, int scale, int max_width) {
+namespace {
+
+/// The scale a label is drawn at: `scale`, shrunk (down to 1) until it fits in max_width.
+int fitted_scale(const Image& dst, int x, std::string_view text, int scale, int max_width, int* w, int* h) {
     if (max_width <= 0) max_width = dst.width - x;
+    text_size(text, scale, w, h);
+    while (scale > 1 && *w + 4 * scale > max_width) text_size(text, --scale, w, h);
+    return scale;
+}
+
+}  // namespace
+
+int label_height(const Image& dst, int x, std::string_view text, int scale, int max_width) {
     int w = 0, h = 0;
-    text_size(text, scale, &w, &h);
-    while (scale > 1 && w + 4 * scale > max_width) text_size(text, --scale, &w, &h);  // shrink to fit
+    scale = fitted_scale(dst, x, text, scale, max_width, &w, &h);
+    return h + 4 * scale;
+}
+
+int draw_label(Image& dst, int x, int y, std::string_view text, int scale, int max_width) {
+    int w = 0, h = 0;
+    scale = fitted_scale(dst, x, text, scale, max_width, &w, &h);
     const int pad = 2 * scale;
     for (int yy = std::max(0, y); yy < std::min(dst.height, y + h + 2 * pad); ++yy)
         for (int xx = std::max(0, x); xx < std::min(dst.width, x + w + 2 * pad); ++xx) {
@@ -223,6 +239,7 @@ void draw_label(Image& dst, int x, int y, std::string_view text, int scale, int 
             p = {uint8_t(p.r * 3 / 10), uint8_t(p.g * 3 / 10), uint8_t(p.b * 3 / 10)};
         }
     draw_text(dst, x + pad, y + pad, text, scale, {255, 255, 255});
+    return h + 2 * pad;
 }
 
 }  // namespace accelviz

@@ -57,6 +57,9 @@ void draw_text(Image& dst, int x, int y, std::string_view text, int scale, Rgb c
 void text_size(std::string_view text, int scale, int* width, int* height);
 /// Text on a translucent dark box, for labels over images. The scale shrinks (down
 /// to 1) until the label fits in `max_width` pixels (0: up to the image's right edge).
-void draw_label(Image& dst, int x, int y, std::string_view text, int scale, int max_width = 0);
+/// Returns the box's height, so the next label can go right under it.
+int draw_label(Image& dst, int x, int y, std::string_view text, int scale, int max_width = 0);
+/// The height of the box draw_label would draw (to stack labels up from a bottom edge).
+int label_height(const Image& dst, int x, std::string_view text, int scale, int max_width = 0);
 
 }  // namespace accelviz

@@ -34,7 +34,7 @@ std::string with_commas(uint64_t n) {
 /// where the title is wider than the bar, the bar widens to the title (so the ticks
 /// have room too) and the legend moves left as far as it must to stay in the image.
 void draw_legend_bar(Image& img, int x, int y, int w, int h, const std::string& title,
-                     const std::string (&ticks)[3]) {
+                     const std::array<std::string, 3>& ticks) {
     const int s = label_scale(img.height);
     int title_w = 0, title_h = 0;
     text_size(title, s, &title_w, &title_h);
@@ -86,28 +86,31 @@ Image split_view(const Frame& raster, const Frame& ray, const WorkSummary& work)
     const int s = label_scale(h);
     const int pad = 4 * s;
     draw_label(out, pad, pad, "Rasterized (z-buffer)", s + 1, w - 2 * pad);
-    draw_label(out, w + pad, pad, "Ray cast (" + work.accel_name + ")", s + 1);
+    draw_label(out, w + pad, pad, "Ray cast (" + work.accel_name + ")", s + 1, w - 2 * pad);
     const RasterStats& rs = work.raster_work;
-    draw_label(out, pad, h - 34 * s,
-               with_commas(rs.triangles_rasterized) + " triangles rasterized, " + with_commas(rs.fragments) +
-                   " fragments",
-               s, w - 2 * pad);
     const uint64_t rays = uint64_t(w) * h;
     std::string ray_text = with_commas(rays) + " rays";
     if (work.ray_work_counted)
         ray_text += ", " + with_commas(work.ray_work.box_tests) + " box tests, " +
                     with_commas(work.ray_work.triangle_tests) + " triangle tests";
-    draw_label(out, w + pad, h - 34 * s, ray_text, s);
     const DepthAgreement agree = compare_depths(raster, ray);
-    // The verdict concerns both halves: a line under each, short enough for 320-pixel halves.
-    draw_label(out, pad, h - 17 * s, fmt("depths agree on %.3f%% of shared pixels (1e-4 rel.)", agree.agreeing_percent()),
-               s, w - 2 * pad);
-    draw_label(out, w + pad, h - 17 * s, fmt("coverage differs on %.3f%% of pixels", agree.coverage_differs_percent()),
-               s);
+    // Two lines at the bottom of each half, stacked up from its bottom edge; the
+    // verdict concerns both halves, a line under each.
+    auto bottom_lines = [&](int x, const std::string& upper, const std::string& lower) {
+        const int gap = s;
+        const int lower_y = h - pad - label_height(out, x, lower, s, w - 2 * pad);
+        draw_label(out, x, lower_y, lower, s, w - 2 * pad);
+        draw_label(out, x, lower_y - gap - label_height(out, x, upper, s, w - 2 * pad), upper, s, w - 2 * pad);
+    };
+    bottom_lines(pad,
+                 with_commas(rs.triangles_rasterized) + " triangles rasterized, " + with_commas(rs.fragments) +
+                     " fragments",
+                 fmt("depths agree on %.3f%% of shared pixels (1e-4 rel.)", agree.agreeing_percent()));
+    bottom_lines(w + pad, ray_text, fmt("coverage differs on %.3f%% of pixels", agree.coverage_differs_percent()));
     return out;
 }
 
-Image depth_diff_view(const Frame& raster, const Frame& ray, double rel_tol) {
+Image depth_diff_colours(const Frame& raster, const Frame& ray, double rel_tol) {
     const int w = ray.width, h = ray.height;
     Image out(w, h, kBackground);
     // Depth range of the shared pixels, for the grey shading of agreeing pixels.
@@ -134,18 +137,30 @@ Image depth_diff_view(const Frame& raster, const Frame& ray, double rel_tol) {
                 p = colormap((std::log10(rel) - log_lo) / (log_hi - log_lo));
             }
         }
+    return out;
+}
+
+std::array<std::string, 3> depth_diff_ticks(double rel_tol) {
+    return {fmt("%.0e", rel_tol), fmt("%.0e", rel_tol * 31.6), fmt("%.0e", rel_tol * 1e3)};
+}
+
+Image depth_diff_view(const Frame& raster, const Frame& ray, double rel_tol) {
+    Image out = depth_diff_colours(raster, ray, rel_tol);
+    const int w = out.width, h = out.height;
     const int s = label_scale(h);
     const DepthAgreement agree = compare_depths(raster, ray, rel_tol);
-    draw_label(out, 4 * s, 4 * s, "Depth difference: rasterizer vs ray caster", s + 1);
-    draw_label(out, 4 * s, 4 * s + 14 * (s + 1),
-               fmt("grey: agree within %.0e relative (", rel_tol) + fmt("%.3f%% of shared pixels)", agree.agreeing_percent()),
-               s);
-    draw_label(out, 4 * s, 4 * s + 14 * (s + 1) + 12 * s,
+    int y = 4 * s;
+    y += draw_label(out, 4 * s, y, "Depth difference: rasterizer vs ray caster", s + 1) + s;
+    y += draw_label(out, 4 * s, y,
+                    fmt("grey: agree within %.0e relative (", rel_tol) +
+                        fmt("%.3f%% of shared pixels)", agree.agreeing_percent()),
+                    s) + s;
+    draw_label(out, 4 * s, y,
                "magenta: raster only, cyan: ray cast only (" + fmt("%.3f%% of pixels)", agree.coverage_differs_percent()),
                s);
     const int bar_w = std::min(w / 3, 300 * s);
     draw_legend_bar(out, w - bar_w - 8 * s, h - 22 * s, bar_w, 6 * s, "relative depth error (log scale)",
-                    {fmt("%.0e", rel_tol), fmt("%.0e", rel_tol * 31.6), fmt("%.0e", rel_tol * 1e3)});
+                    depth_diff_ticks(rel_tol));
     return out;
 }
 
@@ -161,24 +176,36 @@ Image depth_grey_view(const Frame& frame, float t_near, float t_far) {
     return out;
 }
 
+HeatScale heat_scale(const std::vector<uint32_t>& counts, double max_value) {
+    HeatScale scale;
+    uint64_t sum = 0;
+    uint32_t largest = 0;
+    for (uint32_t c : counts) {
+        sum += c;
+        largest = std::max(largest, c);
+    }
+    scale.max_value = max_value > 0 ? max_value : std::max<uint32_t>(largest, 1);
+    scale.mean = counts.empty() ? 0.0 : double(sum) / double(counts.size());
+    scale.ticks = {count_label(0), count_label(scale.max_value / 2), count_label(scale.max_value)};
+    return scale;
+}
+
+Image heat_colours(const std::vector<uint32_t>& counts, int width, int height, const HeatScale& scale) {
+    Image out(width, height);
+    for (size_t i = 0; i < counts.size() && i < out.pixels.size(); ++i)
+        out.pixels[i] = colormap(counts[i] / scale.max_value);
+    return out;
+}
+
 Image heat_view(const std::vector<uint32_t>& counts, int width, int height, const std::string& title,
                 double max_value) {
-    Image out(width, height);
-    if (max_value <= 0) {
-        uint32_t m = 0;
-        for (uint32_t c : counts) m = std::max(m, c);
-        max_value = std::max<uint32_t>(m, 1);
-    }
-    for (size_t i = 0; i < counts.size() && i < out.pixels.size(); ++i) out.pixels[i] = colormap(counts[i] / max_value);
+    const HeatScale scale = heat_scale(counts, max_value);
+    Image out = heat_colours(counts, width, height, scale);
     const int s = label_scale(height);
-    uint64_t sum = 0;
-    for (uint32_t c : counts) sum += c;
-    draw_label(out, 4 * s, 4 * s, title, s + 1);
-    draw_label(out, 4 * s, 4 * s + 14 * (s + 1),
-               fmt("mean %.1f per pixel", counts.empty() ? 0.0 : double(sum) / counts.size()), s);
+    const int y = 4 * s + draw_label(out, 4 * s, 4 * s, title, s + 1) + s;
+    draw_label(out, 4 * s, y, fmt("mean %.1f per pixel", scale.mean), s);
     const int bar_w = std::min(width / 3, 300 * s);
-    draw_legend_bar(out, width - bar_w - 8 * s, height - 22 * s, bar_w, 6 * s, "count per pixel",
-                    {count_label(0), count_label(max_value / 2), count_label(max_value)});
+    draw_legend_bar(out, width - bar_w - 8 * s, height - 22 * s, bar_w, 6 * s, "count per pixel", scale.ticks);
     return out;
 }
 

@@ -3,6 +3,7 @@
 /// where their depths disagree, and heat maps of per-pixel work. Plain images;
 /// the window shows the same pictures as textures.
 
+#include <array>
 #include <optional>
 #include <string>
 
@@ -41,9 +42,24 @@ Image split_view(const Frame& raster, const Frame& ray, const WorkSummary& work)
 /// scale = relative depth error, magenta = only the rasterizer drew, cyan = only
 /// the ray caster hit. With a legend and the agreement figures.
 Image depth_diff_view(const Frame& raster, const Frame& ray, double rel_tol = 1e-4);
+/// depth_diff_view's colours alone, for a caller that draws the text in its own font.
+Image depth_diff_colours(const Frame& raster, const Frame& ray, double rel_tol = 1e-4);
+/// The tick labels of depth_diff_view's colour bar: rel_tol, the middle, 1000 * rel_tol.
+std::array<std::string, 3> depth_diff_ticks(double rel_tol = 1e-4);
 
 /// Depth as grey (near = light, far = dark), over [t_near, t_far].
 Image depth_grey_view(const Frame& frame, float t_near, float t_far);
+
+/// The numbers a heat map's legend shows.
+struct HeatScale {
+    double max_value = 1;              ///< the count drawn in the colour map's top colour
+    double mean = 0;                   ///< the mean count per pixel
+    std::array<std::string, 3> ticks;  ///< labels at 0, the middle and the top
+};
+/// The scale of a heat map on [0, max_value] (max_value <= 0: the counts' own maximum).
+HeatScale heat_scale(const std::vector<uint32_t>& counts, double max_value);
+/// A heat map's colours alone, for a caller that draws the legend in its own font.
+Image heat_colours(const std::vector<uint32_t>& counts, int width, int height, const HeatScale& scale);
 
 /// Heat map of per-pixel counts (Frame::nodes or Frame::tests) on [0, max_value]
 /// (max_value <= 0: the frame's own maximum), with a legend showing the numbers.
