@@ -13,6 +13,7 @@
 #include "app/gl/texture.h"
 #include "app/gl/view3d.h"
 #include "app/gui/camera_control.h"
+#include "app/gui/view_labels.h"
 #include "app/gui/widget_audit.h"
 #include "core/render/colormap.h"
 #include "core/render/views.h"
@@ -64,14 +65,6 @@ Layout compute_layout(int width, int height, bool ui, bool split, RightPanel rig
 constexpr ImGuiWindowFlags kFixedPanel = ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoResize |
                                          ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoCollapse |
                                          ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoBringToFrontOnFocus;
-
-/// A small window over the 3D view (a message, a caption, a legend): placed by the
-/// code, sized to its contents, never focused.
-constexpr ImGuiWindowFlags kViewOverlay = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
-                                          ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoMove |
-                                          ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav;
-/// The same, letting clicks through to the view.
-constexpr ImGuiWindowFlags kViewLabel = kViewOverlay | ImGuiWindowFlags_NoInputs;
 
 // [SECTION] Input for the 3D view
 
@@ -148,190 +141,6 @@ void handle_view_input(AppState& state, Session& session, const Layout& layout) 
             orbit(camera, -dx * 0.008, dy * 0.008);  // drag right: the eye goes left around the target
     }
     if (hovered && io.MouseWheel != 0) dolly(camera, std::pow(0.85, double(io.MouseWheel)));
-}
-
-// [SECTION] Overlays in the 3D view
-
-/// "Loading bunny.obj ... 1.2 s" at the top of the view while the worker runs,
-/// and the last error message (with a close button).
-void draw_view_messages(Session& session, const ViewRect& rect, bool deterministic) {
-    const float margin = ImGui::GetFontSize();
-    float y = float(rect.y) + margin;
-    const ImGuiWindowFlags flags = kViewOverlay;
-    const ImVec2 centre_top(float(rect.x) + 0.5f * float(rect.width), y);
-    if (session.loader.busy()) {
-        ImGui::SetNextWindowPos(centre_top, ImGuiCond_Always, ImVec2(0.5f, 0.0f));
-        ImGui::SetNextWindowBgAlpha(0.85f);
-        if (ImGui::Begin("##loading", nullptr, flags)) {
-            if (deterministic) {
-                ImGui::Text("%s ...", session.loader.activity().c_str());
-            } else {
-                // A spinner: three dots, one lit, moving with time.
-                static constexpr const char* kFrames[] = {"   ", ".  ", ".. ", "..."};
-                const int phase = int(ImGui::GetTime() * 4.0) % 4;
-                ImGui::Text("%s%s  %.1f s", session.loader.activity().c_str(), kFrames[phase],
-                            session.loader.busy_seconds());
-            }
-        }
-        y += ImGui::GetWindowHeight() + 0.5f * margin;
-        ImGui::End();
-    }
-    if (!session.message.empty()) {
-        ImGui::SetNextWindowPos(ImVec2(centre_top.x, y), ImGuiCond_Always, ImVec2(0.5f, 0.0f));
-        ImGui::SetNextWindowSizeConstraints(ImVec2(0, 0), ImVec2(0.9f * float(rect.width), FLT_MAX));
-        ImGui::PushStyleColor(ImGuiCol_WindowBg, session.message_is_error ? ImVec4(0.55f, 0.10f, 0.08f, 0.95f)
-                                                                          : ImVec4(0.12f, 0.30f, 0.50f, 0.95f));
-        ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 1.0f, 1.0f, 1.0f));
-        if (ImGui::Begin("##message", nullptr, flags)) {
-            ImGui::PushTextWrapPos(0.85f * float(rect.width));
-            ImGui::TextUnformatted(session.message.c_str());
-            ImGui::PopTextWrapPos();
-            if (ImGui::Button("OK")) session.message.clear();
-        }
-        ImGui::End();
-        ImGui::PopStyleColor(2);
-    }
-}
-
-/// The preset just loaded (PageDown / PageUp), for a few seconds at the top right of `rect`.
-void draw_preset_caption(const Session& session, const ViewRect& rect) {
-    const float margin = ImGui::GetFontSize();
-    const ImGuiWindowFlags flags = kViewLabel;
-    ImGui::SetNextWindowPos(ImVec2(float(rect.x + rect.width) - margin, float(rect.y) + margin), ImGuiCond_Always,
-                            ImVec2(1.0f, 0.0f));
-    ImGui::SetNextWindowBgAlpha(0.85f);
-    if (ImGui::Begin("##preset_caption", nullptr, flags)) {
-        ImGui::PushTextWrapPos(0.6f * float(rect.width));
-        ImGui::TextUnformatted(session.presets.caption().c_str());
-        ImGui::PopTextWrapPos();
-    }
-    ImGui::End();
-}
-
-/// Split view: what each half is, and the work each renderer did.
-void draw_split_labels(const AppState& state, const Session& session, const Layout& layout, bool deterministic) {
-    const float margin = 0.5f * ImGui::GetFontSize();
-    const ImGuiWindowFlags flags = kViewLabel;
-    // At the top of each half; at the bottom over a heat map, whose own title sits at the top.
-    auto label = [&](const char* id, const ViewRect& rect, const std::string& title, const std::string& detail,
-                     bool at_bottom) {
-        if (at_bottom)
-            ImGui::SetNextWindowPos(ImVec2(float(rect.x) + margin, float(rect.y + rect.height) - margin),
-                                    ImGuiCond_Always, ImVec2(0.0f, 1.0f));
-        else
-            ImGui::SetNextWindowPos(ImVec2(float(rect.x) + margin, float(rect.y) + margin), ImGuiCond_Always);
-        ImGui::SetNextWindowBgAlpha(0.75f);
-        // Over a heat map, stay clear of its legend at the bottom right.
-        const float max_width = (at_bottom ? 0.6f : 1.0f) * float(rect.width) - 2 * margin;
-        if (ImGui::Begin(id, nullptr, flags)) {
-            ImGui::TextUnformatted(title.c_str());
-            ImGui::PushTextWrapPos(max_width - ImGui::GetStyle().WindowPadding.x);  // window-local x
-            ImGui::TextDisabled("%s", detail.c_str());
-            ImGui::PopTextWrapPos();
-        }
-        ImGui::End();
-    };
-    char text[256];
-    const size_t triangles = session.scene ? session.scene->mesh->triangle_count() : 0;
-    const auto& shown_cast = session.ray_cast.shown();
-    const bool cpu_raster = session.ray_cast.left_texture() != nullptr;
-    if (cpu_raster) {
-        const RasterStats& r = shown_cast->raster_work;
-        std::snprintf(text, sizeof text,
-                      "%llu triangles rasterized, %llu pixel centres tested, %llu fragments, %llu depth writes",
-                      (unsigned long long)r.triangles_rasterized, (unsigned long long)r.pixels_tested,
-                      (unsigned long long)r.fragments, (unsigned long long)r.depth_writes);
-        std::string detail = text;
-        if (state.view.left_view == LeftView::RasterDepth) {
-            std::snprintf(text, sizeof text, "; grey: t %.3g (light) .. %.3g (dark), same scale as the ray cast's",
-                          shown_cast->t_near, shown_cast->t_far);
-            detail += text;
-        }
-        if (!deterministic) {
-            std::snprintf(text, sizeof text, "  (%.0f ms)", shown_cast->raster_milliseconds);
-            detail += text;
-        }
-        label("##raster_label", layout.gl_view,
-              state.view.left_view == LeftView::RasterDepth ? "Rasterized depth (CPU z-buffer, core)"
-                                                     : "Rasterized (CPU z-buffer, core)",
-              detail, false);
-    } else if (state.view.left_view == LeftView::OpenGlDepth) {
-        std::string detail = "the depth buffer read back, as the distance t along each pixel's ray";
-        if (shown_cast && shown_cast->t_far > shown_cast->t_near) {
-            std::snprintf(text, sizeof text, "; grey: t %.3g (light) .. %.3g (dark), same scale as the ray cast's",
-                          shown_cast->t_near, shown_cast->t_far);
-            detail += text;
-        }
-        label("##raster_label", layout.gl_view, "Rasterized depth (OpenGL z-buffer)", detail, false);
-    } else {
-        std::snprintf(text, sizeof text, "every triangle projected and filled: %zu triangles", triangles);
-        label("##raster_label", layout.gl_view, "Rasterized (OpenGL z-buffer)", text, false);
-    }
-
-    const std::string structure = session.scene ? std::string(to_string(session.scene->accel_config.type)) : "?";
-    std::string title = "Ray cast (CPU, " + structure + ")";
-    std::string detail = "computing ...";
-    if (const auto& shown = session.ray_cast.shown()) {
-        const Counters& w = shown->frame.work;
-        const double rays = double(shown->key.width) * shown->key.height;
-        std::snprintf(text, sizeof text,
-                      "%.0f rays x (%.1f nodes, %.1f box tests, %.1f triangle tests) (naive: %zu triangle tests per ray)",
-                      rays, w.nodes_visited / rays, w.box_tests / rays, w.triangle_tests / rays, triangles);
-        detail = text;
-        if (state.view.right_view == RightView::Depth) {
-            std::snprintf(text, sizeof text, "; grey: t %.3g (light) .. %.3g (dark)", shown->t_near, shown->t_far);
-            detail += text;
-        }
-        if (is_heat(state.view.right_view) && state.view.heat_same_scale)
-            detail += "; heat scale shared by all structures (largest since the scene loaded)";
-        if (!deterministic) {
-            std::snprintf(text, sizeof text, "  (%.0f ms)", shown->milliseconds);
-            detail += text;
-        }
-        if (session.ray_cast.stale()) detail += "  updating ...";
-    }
-    if (state.view.right_view == RightView::HeatNodes) title += ": nodes visited";
-    if (state.view.right_view == RightView::HeatTris) title += ": triangle tests";
-    if (state.view.right_view == RightView::Depth) title += ": depth";
-    if (state.view.right_view == RightView::DepthDiff) title = "Depth: CPU raster vs ray cast (" + structure + ")";
-    label("##ray_label", layout.ray_view, title, detail,
-          state.view.right_view != RightView::RayCast && state.view.right_view != RightView::Depth);
-
-    // The divider between the halves.
-    const float x = float(layout.ray_view.x) - 1.0f;
-    ImGui::GetBackgroundDrawList()->AddLine(ImVec2(x, float(layout.view.y)),
-                                            ImVec2(x, float(layout.view.y + layout.view.height)),
-                                            IM_COL32(255, 255, 255, 255), 2.0f);
-}
-
-/// What the overlay's colours mean, at the bottom left of the 3D view.
-void draw_legend(const Session& session, const ViewRect& rect) {
-    if (session.overlay.legend.empty() || rect.empty()) return;
-    const float margin = 0.5f * ImGui::GetFontSize();
-    ImGui::SetNextWindowPos(ImVec2(float(rect.x) + margin, float(rect.y + rect.height) - margin), ImGuiCond_Always,
-                            ImVec2(0.0f, 1.0f));
-    ImGui::SetNextWindowBgAlpha(0.75f);
-    ImGui::SetNextWindowSizeConstraints(ImVec2(0, 0), ImVec2(float(rect.width) - 2 * margin, FLT_MAX));
-    const ImGuiWindowFlags flags = kViewLabel;
-    if (ImGui::Begin("##legend", nullptr, flags)) {
-        ImGui::PushTextWrapPos(float(rect.width) - 4 * margin);
-        ImGui::TextUnformatted(session.overlay.legend.c_str());
-        ImGui::PopTextWrapPos();
-        if (!session.overlay.boxes.empty()) {
-            // The colour ramp the overlay uses (skipping the map's darkest fifth, as it does).
-            const float width = 10.0f * ImGui::GetFontSize(), height = 0.6f * ImGui::GetTextLineHeight();
-            const ImVec2 p = ImGui::GetCursorScreenPos();
-            ImDrawList* draw = ImGui::GetWindowDrawList();
-            constexpr int kSteps = 32;
-            for (int i = 0; i < kSteps; ++i) {
-                const Rgb c = colormap(0.2 + 0.8 * i / double(kSteps - 1));
-                draw->AddRectFilled(ImVec2(p.x + width * i / kSteps, p.y),
-                                    ImVec2(p.x + width * (i + 1) / kSteps, p.y + height), IM_COL32(c.r, c.g, c.b, 255));
-            }
-            ImGui::Dummy(ImVec2(width, height));
-        }
-    }
-    ImGui::End();
 }
 
 /// Split view, left half "opengl-depth": the mesh alone, opaque (what the z-buffer
@@ -461,14 +270,12 @@ void draw_panels(AppState& state, Session& session, const FrameInput& input, con
         if (ImGui::Begin("##stepper", nullptr, kFixedPanel)) session.stepper.draw(state, session);
         ImGui::End();
     }
-    draw_view_messages(session, layout.view, input.deterministic);
-    // Split: over the OpenGL half, so the ray cast half's own title stays readable.
-    if (session.presets.caption_fresh()) draw_preset_caption(session, layout.gl_view);
-    // (Not over the CPU rasterizer's picture in the left half: it draws no overlay.)
-    if (state.overlay.show_structure && !session.build_stepper.shows_3d(state) && !stepping &&
-        !(split && (session.ray_cast.left_texture() || state.view.left_view == LeftView::OpenGlDepth)))
-        draw_legend(session, layout.gl_view);
-    if (split) draw_split_labels(state, session, layout, input.deterministic);
+    // The overlay's legend: not over the CPU rasterizer's picture in the left half (it draws no overlay).
+    const bool structure_legend =
+        state.overlay.show_structure && !session.build_stepper.shows_3d(state) && !stepping &&
+        !(split && (session.ray_cast.left_texture() || state.view.left_view == LeftView::OpenGlDepth));
+    draw_view_labels(state, session, {layout.view, layout.gl_view, layout.ray_view, split}, structure_legend,
+                     input.deterministic);
     session.help_window.draw(state);
 }
 

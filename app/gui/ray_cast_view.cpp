@@ -82,16 +82,21 @@ void RayCastView::update_texture(const ViewSettings& view) {
         if (!texture_) texture_ = std::make_unique<Texture>();
         const double nodes_max = view.heat_same_scale ? heat_max_nodes_ : 0;
         const double tests_max = view.heat_same_scale ? heat_max_tests_ : 0;
-        if (view.right_view == RightView::HeatNodes)
-            texture_->upload(heat_view(f.nodes, f.width, f.height, "Nodes / cells visited per pixel", nodes_max));
-        else if (view.right_view == RightView::HeatTris)
-            texture_->upload(heat_view(f.tests, f.width, f.height, "Triangle tests per pixel", tests_max));
-        else if (view.right_view == RightView::Depth)
+        // The pictures alone: the window writes their titles and legends in its own font.
+        if (view.right_view == RightView::HeatNodes) {
+            heat_scale_ = heat_scale(f.nodes, nodes_max);
+            texture_->upload(heat_colours(f.nodes, f.width, f.height, heat_scale_));
+        } else if (view.right_view == RightView::HeatTris) {
+            heat_scale_ = heat_scale(f.tests, tests_max);
+            texture_->upload(heat_colours(f.tests, f.width, f.height, heat_scale_));
+        } else if (view.right_view == RightView::Depth) {
             texture_->upload(depth_grey_view(f, shown_->t_near, shown_->t_far));
-        else if (view.right_view == RightView::DepthDiff && have_raster)
-            texture_->upload(depth_diff_view(shown_->raster, f));
-        else
+        } else if (view.right_view == RightView::DepthDiff && have_raster) {
+            agreement_ = compare_depths(shown_->raster, f);
+            texture_->upload(depth_diff_colours(shown_->raster, f));
+        } else {
             texture_->upload(f.colour);
+        }
         texture_view_ = view.right_view;
         texture_same_scale_ = view.heat_same_scale;
     }

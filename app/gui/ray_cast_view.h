@@ -20,6 +20,7 @@
 #include "app/gui/scene_loader.h"
 #include "core/render/frame.h"
 #include "core/render/rasterizer.h"
+#include "core/render/views.h"
 
 namespace accelviz {
 
@@ -60,6 +61,10 @@ public:
     const Texture* left_texture() const { return left_view_ != LeftView::OpenGl && left_texture_ ? left_texture_.get() : nullptr; }
     /// The heat maps' scale top (with same scale: the largest seen since the mesh loaded).
     double heat_max(bool nodes) const { return nodes ? heat_max_nodes_ : heat_max_tests_; }
+    /// The scale of the heat map in the texture (for its legend).
+    const HeatScale& heat_scale_shown() const { return heat_scale_; }
+    /// How the two depths agree, when the texture is the depth difference.
+    const DepthAgreement& depth_agreement_shown() const { return agreement_; }
     const std::optional<Result>& shown() const { return shown_; }
     bool busy() const { return job_.busy(); }
     bool has_result() const { return job_.has_result(); }
@@ -74,6 +79,8 @@ private:
     RightView texture_view_ = RightView::RayCast;  ///< the right_view the texture was made for
     bool texture_same_scale_ = false;
     std::unique_ptr<Texture> texture_;
+    HeatScale heat_scale_;       ///< right_view heat-*: the texture's scale
+    DepthAgreement agreement_;   ///< right_view depth-diff: the figures of the texture
     LeftView left_view_ = LeftView::OpenGl;  ///< the left_view left_texture_ was made for
     std::unique_ptr<Texture> left_texture_;
     // Same scale for all structures: the largest counts since this mesh loaded.

@@ -6,6 +6,10 @@
 
 #include "app/gui/headless.h"
 #include "app/gui/session.h"
+#include "core/accel/factory.h"
+#include "core/geometry/scene.h"
+#include "core/render/ray_caster.h"
+#include "core/render/views.h"
 #include "golden.h"
 
 namespace accelviz {
@@ -128,6 +132,63 @@ TEST(GoldenImage, SplitTriangleHeatAt1920x1080) {
     state.view.mode = ViewMode::Split;
     state.view.right_view = RightView::HeatTris;
     EXPECT_TRUE(view_matches_golden(state, WindowView::Gui, 1920, 1080, "teapot_split_heat_tris_1920x1080"));
+}
+
+// The window's split view at the smallest size the labels are laid out for (they
+// wrap and cut to fit: see view_labels.h) and at a projector's full HD.
+TEST(GoldenImage, SplitRayCastAt640x360) {
+    AppState state = teapot_with(R"({"structure": {"type": "bvh"}, "overlay": {"level_max": 2}})");
+    state.view.mode = ViewMode::Split;
+    EXPECT_TRUE(view_matches_golden(state, WindowView::Gui, 640, 360, "teapot_split_raycast_640x360"));
+}
+
+TEST(GoldenImage, SplitRayCastAt1920x1080) {
+    AppState state = teapot_with(R"({"structure": {"type": "bvh"}, "overlay": {"level_max": 2}})");
+    state.view.mode = ViewMode::Split;
+    EXPECT_TRUE(view_matches_golden(state, WindowView::Gui, 1920, 1080, "teapot_split_raycast_1920x1080"));
+}
+
+TEST(GoldenImage, SplitTriangleHeatAt640x360) {
+    AppState state = teapot_with(R"({"structure": {"type": "grid"}})");
+    state.view.mode = ViewMode::Split;
+    state.view.right_view = RightView::HeatTris;
+    EXPECT_TRUE(view_matches_golden(state, WindowView::Gui, 640, 360, "teapot_split_heat_tris_640x360"));
+}
+
+// [SECTION] The CPU views of `accelviz render` (core/render/views.h): text drawn
+// into the image, at 640x360 and 1920x1080.
+
+struct CpuFrames {
+    Frame raster, ray;
+    WorkSummary work;
+};
+
+CpuFrames cpu_frames(int width, int height) {
+    CpuFrames out;
+    auto mesh = load_scene("builtin:teapot?n=4");
+    EXPECT_TRUE(mesh) << mesh.error();
+    AccelConfig config;
+    config.type = AccelType::Grid;
+    auto accel = build_accelerator(*mesh, config);
+    EXPECT_TRUE(accel) << accel.error();
+    const Camera camera(CameraParams{{2.2, 1.6, 3.4}, {0, 0.45, 0}, {0, 1, 0}, 45}, width, height);
+    out.ray = ray_cast(**accel, make_triangles(*mesh), camera, {.threads = 0, .count_work = true});
+    out.raster = rasterize(*mesh, camera, &out.work.raster_work);
+    out.work.accel_name = "grid";
+    out.work.ray_work = out.ray.work;
+    out.work.ray_work_counted = true;
+    return out;
+}
+
+TEST(GoldenImage, CpuSplitAndHeatViewsAt640x360And1920x1080) {
+    for (const auto& [w, h] : {std::pair{640, 360}, std::pair{1920, 1080}}) {
+        const CpuFrames f = cpu_frames(w, h);
+        const std::string size = std::to_string(w) + "x" + std::to_string(h);
+        EXPECT_TRUE(matches_golden(split_view(f.raster, f.ray, f.work), "cpu_split_" + size));
+        EXPECT_TRUE(matches_golden(heat_view(f.ray.tests, w, h, "Triangles tested per pixel (grid)", 0),
+                                   "cpu_heat_tris_" + size));
+        EXPECT_TRUE(matches_golden(depth_diff_view(f.raster, f.ray), "cpu_depth_diff_" + size));
+    }
 }
 
 // [SECTION] Errors
