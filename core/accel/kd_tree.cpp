@@ -265,22 +265,11 @@ Expected<KdTree> build_kd_tree(const Mesh& mesh, const KdConfig& config) {
     const auto start = std::chrono::steady_clock::now();
     if (auto err = validate(config)) return *err;
     KdTree tree;
-    tree.build_config = config;
     KdBuildStats& st = tree.build_stats;
-    st.triangles = uint32_t(mesh.triangle_count());
-    const int depth_limit = kd_max_depth(config, st.triangles);
+    const int depth_limit = kd_max_depth(config, uint32_t(mesh.triangle_count()));
     st.depth_limit = uint32_t(depth_limit);
-    auto finish = [&] { tree.finish_stats(start); };
-    if (st.triangles == 0) {
-        st.notes.push_back("empty scene: no nodes");
-        finish();
-        return tree;
-    }
-
-    const Aabb scene = mesh.bounds();
-    const float pad = reference_padding(scene);
-    st.padding = pad;
-    tree.bounds = padded(scene, pad);
+    const float pad = tree.begin_build(mesh, config, start);
+    if (st.triangles == 0) return tree;
     const BuildContext ctx{mesh, config, pad, area(tree.bounds), depth_limit};
     const double budget = config.max_duplication * st.triangles;
     uint32_t no_progress = 0;
@@ -312,17 +301,16 @@ Expected<KdTree> build_kd_tree(const Mesh& mesh, const KdConfig& config) {
         add_counts(st, no_progress, budget_hit, subtrees[k]);
     }
 
-    tree.triangles = triangles_in_leaf_order(mesh, tree.prim_ids);
-    add_split_notes({.parts = "nodes",
-                     .leaves_at_depth_limit = st.leaves_at_depth_limit,
-                     .depth_limit = depth_limit,
-                     .leaf_size = config.leaf_size,
-                     .not_split = config.builder == KdBuilder::Median ? no_progress : 0,
-                     .not_split_why = "no axis' middle plane separates their triangles",
-                     .budget_hit = budget_hit,
-                     .max_duplication = config.max_duplication},
-                    st.notes);
-    finish();
+    tree.end_build(mesh,
+                   {.parts = "nodes",
+                    .leaves_at_depth_limit = st.leaves_at_depth_limit,
+                    .depth_limit = depth_limit,
+                    .leaf_size = config.leaf_size,
+                    .not_split = config.builder == KdBuilder::Median ? no_progress : 0,
+                    .not_split_why = "no axis' middle plane separates their triangles",
+                    .budget_hit = budget_hit,
+                    .max_duplication = config.max_duplication},
+                   start);
     return tree;
 }
 
@@ -346,21 +334,10 @@ nlohmann::json KdTree::config() const {
 }
 
 nlohmann::json KdTree::stats() const {
-    const KdBuildStats& s = build_stats;
-    return {{"triangles", s.triangles},
-            {"nodes", s.nodes},
-            {"leaves", s.leaves},
-            {"empty_leaves", s.empty_leaves},
-            {"max_depth", s.max_depth},
-            {"depth_limit", s.depth_limit},
-            {"references", s.references},
-            {"duplication", s.duplication},
-            {"max_leaf_size", s.max_leaf_size},
-            {"sah_cost", s.sah_cost},
-            {"padding", s.padding},
-            {"memory_bytes", s.memory_bytes},
-            {"build_ms", s.build_ms},
-            {"notes", s.notes}};
+    nlohmann::json out = partition_stats_json(build_stats);
+    out["depth_limit"] = build_stats.depth_limit;
+    out["sah_cost"] = build_stats.sah_cost;
+    return out;
 }
 
 std::vector<Aabb> KdTree::node_boxes() const {

@@ -21,6 +21,7 @@
 
 #include "core/accel/accel_type.h"
 #include "core/accel/cell_hits.h"
+#include "core/accel/cell_walk.h"
 #include "core/accel/spatial_refs.h"
 #include "core/geometry/mesh.h"
 #include "core/util/expected.h"
@@ -87,22 +88,9 @@ struct KdNode {
 };
 static_assert(sizeof(KdNode) == 16, "a KD node is 16 bytes");
 
-struct KdBuildStats {
-    uint32_t triangles = 0;
-    uint32_t nodes = 0;
-    uint32_t leaves = 0;
-    uint32_t empty_leaves = 0;
-    uint32_t max_depth = 0;         ///< deepest leaf (root = 0)
-    uint32_t depth_limit = 0;       ///< the max depth the build used
-    uint32_t leaves_at_depth_limit = 0;
-    uint64_t references = 0;        ///< Σ leaf sizes
-    double duplication = 0;         ///< references / triangles
-    uint32_t max_leaf_size = 0;
-    double sah_cost = 0;            ///< Σ interior P·C_trav + Σ leaf P·n·C_isect (P = area / root area)
-    float padding = 0;              ///< the references' safety margin (reference_padding)
-    uint64_t memory_bytes = 0;      ///< nodes + prim_ids + leaf-ordered triangles
-    double build_ms = 0;
-    std::vector<std::string> notes;
+struct KdBuildStats : PartitionStats {
+    uint32_t depth_limit = 0;  ///< the max depth the build used
+    double sah_cost = 0;       ///< Σ interior P·C_trav + Σ leaf P·n·C_isect (P = area / root area)
 };
 
 /// A KD tree over a mesh's triangles (invariants: PartitionTree's). A leaf holds
@@ -143,27 +131,16 @@ Hit KdTree::intersect_closest(const Ray& ray, Observer& obs) const {
     CellHits hits(ray, build_config.mailbox, build_config.strict_cell, build_stats.triangles);
     if (nodes.empty()) return hits.done(obs);
     const RayPrecomp pre(ray);
-    const SlabResult root = slab_test(bounds, pre, ray.t_min, ray.t_max);
-    obs.on({.kind = EventKind::BoxTest, .hit = root.hit(), .node = 0, .t_enter = root.t_enter, .t_exit = root.t_exit});
-    if (!(root.t_enter <= root.t_exit)) {
-        obs.on({.kind = EventKind::Cull, .reason = CullReason::MissedBox, .node = 0, .t_enter = root.t_enter,
-                .t_exit = root.t_exit});
-        return hits.done(obs);
-    }
-    struct Entry {
-        uint32_t node;
-        float t_min, t_max;
-    };
-    Entry stack[kKdStackSize];
-    int stack_size = 0;
-    Entry cur{0, root.t_enter, root.t_exit};
+    CellWalk<kKdStackSize> walk;
+    CellWalk<kKdStackSize>::Entry cur;
+    if (!walk.start(bounds, pre, ray, cur, obs)) return hits.done(obs);
     // Plain arrays: indexed by a node's axis, Vec3's operator[] would be a chain of selects.
     const float origin[3] = {ray.origin.x, ray.origin.y, ray.origin.z};
     const float dir_inv[3] = {pre.dir_inv.x, pre.dir_inv.y, pre.dir_inv.z};
     const bool dir_negative[3] = {pre.dir_negative[0] != 0, pre.dir_negative[1] != 0, pre.dir_negative[2] != 0};
-    while (true) {
+    do {
         // Down to the leaf holding the start of [t_min, t_max], deferring far children.
-        obs.on({.kind = EventKind::VisitNode, .node = cur.node, .t_enter = cur.t_min, .t_exit = cur.t_max});
+        walk.visit(cur, obs);
         const KdNode* n = &nodes[cur.node];
         while (!n->is_leaf()) {
             const int a = n->axis;
@@ -188,39 +165,17 @@ Hit KdTree::intersect_closest(const Ray& ray, Observer& obs) const {
                     cur.node = far;
                     cur.t_min = t_split;
                 } else {
-                    if (!(f.is_leaf() && f.count == 0)) {
-                        stack[stack_size++] = {far, t_split, cur.t_max};
-                        obs.on({.kind = EventKind::Push, .node = far, .t_enter = t_split, .t_exit = cur.t_max});
-                    }
+                    if (!(f.is_leaf() && f.count == 0)) walk.push({far, t_split, cur.t_max}, obs);
                     cur.node = near;
                     cur.t_max = t_split;
                 }
             }
-            obs.on({.kind = EventKind::VisitNode, .node = cur.node, .t_enter = cur.t_min, .t_exit = cur.t_max});
+            walk.visit(cur, obs);
             n = &nodes[cur.node];
         }
-        // A leaf: its triangles, with the in-cell rule.
-        obs.on({.kind = EventKind::Leaf, .node = cur.node, .first = n->first, .count = n->count,
-                .t_enter = cur.t_min, .t_exit = cur.t_max});
-        hits.enter(cur.t_max, obs);
-        for (uint32_t k = n->first; k < n->first + n->count; ++k) hits.test(triangles[k], prim_ids[k], obs);
-        if (hits.can_stop()) break;
-        // The next deferred subtree that may still hold a hit as close as the best.
-        bool found = false;
-        while (stack_size > 0) {
-            const Entry e = stack[--stack_size];
-            obs.on({.kind = EventKind::Pop, .node = e.node, .t_enter = e.t_min, .t_exit = e.t_max});
-            if (e.t_min > hits.best().t) {
-                obs.on({.kind = EventKind::Cull, .reason = CullReason::BeyondClosestHit, .node = e.node,
-                        .t_enter = e.t_min, .t_exit = e.t_max});
-                continue;
-            }
-            cur = e;
-            found = true;
-            break;
-        }
-        if (!found) break;
-    }
+        // A leaf: its triangles, with the in-cell rule; then the next deferred subtree.
+        if (walk.test_leaf(cur, n->first, n->count, triangles, prim_ids, hits, obs)) break;
+    } while (walk.pop_next(hits, cur, obs));
     return hits.done(obs);
 }
 

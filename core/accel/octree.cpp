@@ -28,19 +28,9 @@ Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config) {
     const auto start = std::chrono::steady_clock::now();
     if (auto err = validate(config)) return *err;
     Octree tree;
-    tree.build_config = config;
     OctreeBuildStats& st = tree.build_stats;
-    st.triangles = uint32_t(mesh.triangle_count());
-    auto finish = [&] { tree.finish_stats(start); };
-    if (st.triangles == 0) {
-        st.notes.push_back("empty scene: no nodes");
-        finish();
-        return tree;
-    }
-    const Aabb scene = mesh.bounds();
-    const float pad = reference_padding(scene);
-    st.padding = pad;
-    tree.bounds = padded(scene, pad);
+    const float pad = tree.begin_build(mesh, config, start);
+    if (st.triangles == 0) return tree;
     const double budget = config.max_duplication * st.triangles;
     uint64_t live_refs = st.triangles;
     bool budget_hit = false;
@@ -118,17 +108,16 @@ Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config) {
         item.refs = {};
     }
 
-    tree.triangles = triangles_in_leaf_order(mesh, tree.prim_ids);
-    add_split_notes({.parts = "cells",
-                     .leaves_at_depth_limit = st.leaves_at_depth_limit,
-                     .depth_limit = config.max_depth,
-                     .leaf_size = config.leaf_size,
-                     .not_split = no_progress,
-                     .not_split_why = "every non-empty octant would hold all of their triangles",
-                     .budget_hit = budget_hit,
-                     .max_duplication = config.max_duplication},
-                    st.notes);
-    finish();
+    tree.end_build(mesh,
+                   {.parts = "cells",
+                    .leaves_at_depth_limit = st.leaves_at_depth_limit,
+                    .depth_limit = config.max_depth,
+                    .leaf_size = config.leaf_size,
+                    .not_split = no_progress,
+                    .not_split_why = "every non-empty octant would hold all of their triangles",
+                    .budget_hit = budget_hit,
+                    .max_duplication = config.max_duplication},
+                   start);
     return tree;
 }
 
@@ -145,21 +134,7 @@ nlohmann::json Octree::config() const {
             {"mailbox", c.mailbox}};
 }
 
-nlohmann::json Octree::stats() const {
-    const OctreeBuildStats& s = build_stats;
-    return {{"triangles", s.triangles},
-            {"nodes", s.nodes},
-            {"leaves", s.leaves},
-            {"empty_leaves", s.empty_leaves},
-            {"max_depth", s.max_depth},
-            {"references", s.references},
-            {"duplication", s.duplication},
-            {"max_leaf_size", s.max_leaf_size},
-            {"padding", s.padding},
-            {"memory_bytes", s.memory_bytes},
-            {"build_ms", s.build_ms},
-            {"notes", s.notes}};
-}
+nlohmann::json Octree::stats() const { return partition_stats_json(build_stats); }
 
 std::vector<Aabb> Octree::node_boxes() const {
     std::vector<Aabb> boxes(nodes.size());

@@ -15,6 +15,7 @@
 
 #include "core/accel/accel_type.h"
 #include "core/accel/cell_hits.h"
+#include "core/accel/cell_walk.h"
 #include "core/accel/spatial_refs.h"
 #include "core/geometry/mesh.h"
 #include "core/util/expected.h"
@@ -51,21 +52,7 @@ struct OctreeNode {
     bool is_leaf() const { return leaf; }
 };
 
-struct OctreeBuildStats {
-    uint32_t triangles = 0;
-    uint32_t nodes = 0;
-    uint32_t leaves = 0;
-    uint32_t empty_leaves = 0;
-    uint32_t max_depth = 0;
-    uint32_t leaves_at_depth_limit = 0;  ///< leaves over leaf_size because of max_depth
-    uint64_t references = 0;
-    double duplication = 0;
-    uint32_t max_leaf_size = 0;
-    float padding = 0;
-    uint64_t memory_bytes = 0;
-    double build_ms = 0;
-    std::vector<std::string> notes;
-};
+struct OctreeBuildStats : PartitionStats {};
 
 /// An octree over a mesh's triangles (invariants: PartitionTree's): a cell splits
 /// at its centre into eight until few triangles remain.
@@ -109,22 +96,12 @@ Hit Octree::intersect_closest(const Ray& ray, Observer& obs) const {
     CellHits hits(ray, build_config.mailbox, /*strict_cell=*/true, build_stats.triangles);
     if (nodes.empty()) return hits.done(obs);
     const RayPrecomp pre(ray);
-    const SlabResult root = slab_test(bounds, pre, ray.t_min, ray.t_max);
-    obs.on({.kind = EventKind::BoxTest, .hit = root.hit(), .node = 0, .t_enter = root.t_enter, .t_exit = root.t_exit});
-    if (!(root.t_enter <= root.t_exit)) {
-        obs.on({.kind = EventKind::Cull, .reason = CullReason::MissedBox, .node = 0, .t_enter = root.t_enter,
-                .t_exit = root.t_exit});
-        return hits.done(obs);
-    }
-    struct Entry {
-        uint32_t node;
-        float t_min, t_max;
-    };
-    Entry stack[kOctreeStackSize];
-    int stack_size = 0;
-    Entry cur{0, root.t_enter, root.t_exit};
-    while (true) {
-        obs.on({.kind = EventKind::VisitNode, .node = cur.node, .t_enter = cur.t_min, .t_exit = cur.t_max});
+    CellWalk<kOctreeStackSize> walk;
+    using Entry = CellWalk<kOctreeStackSize>::Entry;
+    Entry cur;
+    if (!walk.start(bounds, pre, ray, cur, obs)) return hits.done(obs);
+    do {
+        walk.visit(cur, obs);
         const OctreeNode* n = &nodes[cur.node];
         while (!n->is_leaf()) {
             // Where the ray crosses each centre plane, and which side it starts on.
@@ -166,39 +143,16 @@ Hit Octree::intersect_closest(const Ray& ray, Observer& obs) const {
             for (int i = count - 1; i >= 0; --i) {
                 const OctreeNode& child = nodes[segments[i].node];
                 if (child.is_leaf() && child.count == 0) continue;
-                if (have_next) {
-                    stack[stack_size++] = cur;
-                    obs.on({.kind = EventKind::Push, .node = cur.node, .t_enter = cur.t_min, .t_exit = cur.t_max});
-                }
+                if (have_next) walk.push(cur, obs);
                 cur = segments[i];
                 have_next = true;
             }
             if (!have_next) break;  // every octant on the ray's path is empty
-            obs.on({.kind = EventKind::VisitNode, .node = cur.node, .t_enter = cur.t_min, .t_exit = cur.t_max});
+            walk.visit(cur, obs);
             n = &nodes[cur.node];
         }
-        if (n->is_leaf()) {
-            obs.on({.kind = EventKind::Leaf, .node = cur.node, .first = n->first, .count = n->count,
-                    .t_enter = cur.t_min, .t_exit = cur.t_max});
-            hits.enter(cur.t_max, obs);
-            for (uint32_t k = n->first; k < n->first + n->count; ++k) hits.test(triangles[k], prim_ids[k], obs);
-            if (hits.can_stop()) break;
-        }
-        bool found = false;
-        while (stack_size > 0) {
-            const Entry e = stack[--stack_size];
-            obs.on({.kind = EventKind::Pop, .node = e.node, .t_enter = e.t_min, .t_exit = e.t_max});
-            if (e.t_min > hits.best().t) {
-                obs.on({.kind = EventKind::Cull, .reason = CullReason::BeyondClosestHit, .node = e.node,
-                        .t_enter = e.t_min, .t_exit = e.t_max});
-                continue;
-            }
-            cur = e;
-            found = true;
-            break;
-        }
-        if (!found) break;
-    }
+        if (n->is_leaf() && walk.test_leaf(cur, n->first, n->count, triangles, prim_ids, hits, obs)) break;
+    } while (walk.pop_next(hits, cur, obs));
     return hits.done(obs);
 }
 

@@ -72,4 +72,19 @@ std::vector<Triangle> triangles_in_leaf_order(const Mesh& mesh, const std::vecto
     return out;
 }
 
+nlohmann::json partition_stats_json(const PartitionStats& s) {
+    return {{"triangles", s.triangles},
+            {"nodes", s.nodes},
+            {"leaves", s.leaves},
+            {"empty_leaves", s.empty_leaves},
+            {"max_depth", s.max_depth},
+            {"references", s.references},
+            {"duplication", s.duplication},
+            {"max_leaf_size", s.max_leaf_size},
+            {"padding", s.padding},
+            {"memory_bytes", s.memory_bytes},
+            {"build_ms", s.build_ms},
+            {"notes", s.notes}};
+}
+
 }  // namespace accelviz

@@ -11,8 +11,11 @@
 #include <string_view>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "core/geometry/mesh.h"
 #include "core/geometry/triangle.h"
+#include "core/geometry/triangle_box.h"
 
 namespace accelviz {
 
@@ -44,31 +47,24 @@ std::vector<SpatialRef> root_references(const Mesh& mesh, float pad);
 std::optional<SpatialRef> clip_reference(const SpatialRef& ref, const Mesh& mesh, const Aabb& child, float pad,
                                          ClipMode mode);
 
-/// The arrays of a space-partitioning tree (KD tree, octree) and what it was built
-/// with. Invariants of both: nodes[0] is the root and `bounds` its box (the scene's
-/// box grown by the reference padding); nodes is empty iff the mesh has no
-/// triangles; triangles[k] is triangle prim_ids[k] (leaf order: a copy, so that a
-/// leaf's triangles are contiguous in memory).
-template <class Node, class Config, class Stats>
-struct PartitionTree {
-    Aabb bounds;
-    std::vector<Node> nodes;
-    std::vector<uint32_t> prim_ids;
-    std::vector<Triangle> triangles;
-    Config build_config;
-    Stats build_stats;
-
-    /// The statistics the arrays determine, at the end of a build that began at `start`.
-    void finish_stats(std::chrono::steady_clock::time_point start) {
-        Stats& st = build_stats;
-        st.nodes = uint32_t(nodes.size());
-        st.references = prim_ids.size();
-        st.duplication = st.triangles ? double(st.references) / st.triangles : 0.0;
-        st.memory_bytes = nodes.size() * sizeof(Node) + prim_ids.size() * sizeof(uint32_t) +
-                          triangles.size() * sizeof(Triangle);
-        st.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    }
+/// What the builds of both space-partitioning trees report (KD tree, octree).
+struct PartitionStats {
+    uint32_t triangles = 0;
+    uint32_t nodes = 0;
+    uint32_t leaves = 0;
+    uint32_t empty_leaves = 0;
+    uint32_t max_depth = 0;              ///< deepest leaf (root = 0)
+    uint32_t leaves_at_depth_limit = 0;  ///< leaves over leaf_size because of the depth limit
+    uint64_t references = 0;             ///< Σ leaf sizes
+    double duplication = 0;              ///< references / triangles
+    uint32_t max_leaf_size = 0;
+    float padding = 0;                   ///< the references' safety margin (reference_padding)
+    uint64_t memory_bytes = 0;           ///< nodes + prim_ids + leaf-ordered triangles
+    double build_ms = 0;
+    std::vector<std::string> notes;
 };
+/// Its fields as JSON (bench, trace and the Stats panel), keyed by field name.
+nlohmann::json partition_stats_json(const PartitionStats& stats);
 
 /// What stopped a space-partitioning build from splitting further (KD tree,
 /// octree), for the notes that bench and the Stats panel show.
@@ -88,5 +84,58 @@ void add_split_notes(const SplitStops& stops, std::vector<std::string>& notes);
 /// The mesh's triangles in leaf order: out[k] is triangle prim_ids[k] (a copy, so a
 /// leaf's triangles are contiguous in memory).
 std::vector<Triangle> triangles_in_leaf_order(const Mesh& mesh, const std::vector<uint32_t>& prim_ids);
+
+/// The arrays of a space-partitioning tree (KD tree, octree) and what it was built
+/// with. Invariants of both: nodes[0] is the root and `bounds` its box (the scene's
+/// box grown by the reference padding); nodes is empty iff the mesh has no
+/// triangles; triangles[k] is triangle prim_ids[k] (leaf order: a copy, so that a
+/// leaf's triangles are contiguous in memory).
+template <class Node, class Config, class Stats>
+struct PartitionTree {
+    Aabb bounds;
+    std::vector<Node> nodes;
+    std::vector<uint32_t> prim_ids;
+    std::vector<Triangle> triangles;
+    Config build_config;
+    Stats build_stats;
+
+    /// A build's first step: the config and the triangle count recorded, and the root's
+    /// box (the scene's box grown by the references' padding, reference_padding).
+    /// Returns the padding; 0 for a mesh without triangles, whose tree is then
+    /// finished (empty, with a note).
+    float begin_build(const Mesh& mesh, const Config& config, std::chrono::steady_clock::time_point start) {
+        build_config = config;
+        build_stats.triangles = uint32_t(mesh.triangle_count());
+        if (build_stats.triangles == 0) {
+            build_stats.notes.push_back("empty scene: no nodes");
+            finish_stats(start);
+            return 0.0f;
+        }
+        const Aabb scene = mesh.bounds();
+        build_stats.padding = reference_padding(scene);
+        bounds = padded(scene, build_stats.padding);
+        return build_stats.padding;
+    }
+
+    /// A build's last step, once nodes and prim_ids are final: the triangles copied
+    /// into leaf order, a note for each thing that stopped the splitting, the stats.
+    void end_build(const Mesh& mesh, const SplitStops& stops, std::chrono::steady_clock::time_point start) {
+        triangles = triangles_in_leaf_order(mesh, prim_ids);
+        add_split_notes(stops, build_stats.notes);
+        finish_stats(start);
+    }
+
+private:
+    /// The statistics the arrays determine, at the end of a build that began at `start`.
+    void finish_stats(std::chrono::steady_clock::time_point start) {
+        Stats& st = build_stats;
+        st.nodes = uint32_t(nodes.size());
+        st.references = prim_ids.size();
+        st.duplication = st.triangles ? double(st.references) / st.triangles : 0.0;
+        st.memory_bytes = nodes.size() * sizeof(Node) + prim_ids.size() * sizeof(uint32_t) +
+                          triangles.size() * sizeof(Triangle);
+        st.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    }
+};
 
 }  // namespace accelviz

@@ -1,0 +1,94 @@
+#pragma once
+/// The front-to-back walk both space-partitioning trees (KD tree, octree) make:
+/// the ray enters the root's box (the lecture's slab test), goes down to the
+/// leaf holding the start of its interval while deferring the far parts on a
+/// stack, tests that leaf's triangles under the in-cell rule (cell_hits.h), and
+/// goes on with the nearest deferred part that may still hold a closer hit
+/// (early termination). How a node splits the interval (one plane, or three
+/// centre planes) is each tree's own; this is the rest, written once.
+
+#include <cstdint>
+#include <vector>
+
+#include "core/accel/cell_hits.h"
+#include "core/geometry/triangle.h"
+#include "core/math/aabb.h"
+#include "core/math/ray.h"
+#include "core/traversal/observers.h"
+
+namespace accelviz {
+
+template <int kStackSize>
+struct CellWalk {
+    /// A node and the part [t_min, t_max] of the ray inside it.
+    struct Entry {
+        uint32_t node;
+        float t_min, t_max;
+    };
+    Entry stack[kStackSize];
+    int stack_size = 0;
+
+    /// The ray against the root's box: true, with `cur` the root and the ray's part
+    /// in it, if it enters it within [ray.t_min, ray.t_max]; false after a MissedBox
+    /// cull. (Where the walk is, `cur`, stays a local of the caller's loop, so the
+    /// compiler keeps it in registers.)
+    template <class Observer>
+    bool start(const Aabb& bounds, const RayPrecomp& pre, const Ray& ray, Entry& cur, Observer& obs) const {
+        const SlabResult root = slab_test(bounds, pre, ray.t_min, ray.t_max);
+        obs.on({.kind = EventKind::BoxTest, .hit = root.hit(), .node = 0, .t_enter = root.t_enter,
+                .t_exit = root.t_exit});
+        if (!(root.t_enter <= root.t_exit)) {
+            obs.on({.kind = EventKind::Cull, .reason = CullReason::MissedBox, .node = 0, .t_enter = root.t_enter,
+                    .t_exit = root.t_exit});
+            return false;
+        }
+        cur = {0, root.t_enter, root.t_exit};
+        return true;
+    }
+
+    /// Defers `e` (a far part of the current node) for later.
+    template <class Observer>
+    void push(const Entry& e, Observer& obs) {
+        stack[stack_size++] = e;
+        obs.on({.kind = EventKind::Push, .node = e.node, .t_enter = e.t_min, .t_exit = e.t_max});
+    }
+
+    /// `cur` is a leaf holding triangles[first, first + count): they are tested, a
+    /// hit counting only inside [cur.t_min, cur.t_max]. True when no deferred part
+    /// can hold a closer hit (the walk may stop).
+    template <class Observer>
+    static bool test_leaf(const Entry& cur, uint32_t first, uint32_t count, const std::vector<Triangle>& triangles,
+                          const std::vector<uint32_t>& prim_ids, CellHits& hits, Observer& obs) {
+        obs.on({.kind = EventKind::Leaf, .node = cur.node, .first = first, .count = count, .t_enter = cur.t_min,
+                .t_exit = cur.t_max});
+        hits.enter(cur.t_max, obs);
+        for (uint32_t k = first; k < first + count; ++k) hits.test(triangles[k], prim_ids[k], obs);
+        return hits.can_stop();
+    }
+
+    /// Sets `cur` to the nearest deferred part that begins no farther than the
+    /// closest hit so far (the others are culled); false when none is left.
+    template <class Observer>
+    bool pop_next(const CellHits& hits, Entry& cur, Observer& obs) {
+        while (stack_size > 0) {
+            const Entry e = stack[--stack_size];
+            obs.on({.kind = EventKind::Pop, .node = e.node, .t_enter = e.t_min, .t_exit = e.t_max});
+            if (e.t_min > hits.best().t) {
+                obs.on({.kind = EventKind::Cull, .reason = CullReason::BeyondClosestHit, .node = e.node,
+                        .t_enter = e.t_min, .t_exit = e.t_max});
+                continue;
+            }
+            cur = e;
+            return true;
+        }
+        return false;
+    }
+
+    /// The walk arrives at `cur`.
+    template <class Observer>
+    static void visit(const Entry& cur, Observer& obs) {
+        obs.on({.kind = EventKind::VisitNode, .node = cur.node, .t_enter = cur.t_min, .t_exit = cur.t_max});
+    }
+};
+
+}  // namespace accelviz
