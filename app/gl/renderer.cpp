@@ -27,6 +27,18 @@ void float_attribute(GLuint index, GLint size, GLenum type, GLboolean normalised
     if (divisor) gl.VertexAttribDivisor(index, divisor);
 }
 
+/// Translucent drawing over the depth-tested scene: depth test (less or equal, so
+/// an edge drawn on a face shows), no depth writes (what lies behind stays
+/// visible and the depth buffer keeps the mesh alone), and "over" blending.
+void set_translucent_state() {
+    gl.Enable(GL_DEPTH_TEST);
+    gl.DepthFunc(GL_LEQUAL);
+    gl.DepthMask(GL_FALSE);
+    gl.Enable(GL_BLEND);
+    gl.BlendEquation(GL_FUNC_ADD);
+    gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+}
+
 }  // namespace
 
 // [SECTION] GPU buffers
@@ -204,16 +216,9 @@ void Renderer::use_line_program(bool boxes) {
 void Renderer::draw_boxes(const BoxBuffer& boxes) {
     if (boxes.size() == 0) return;
     use_line_program(/*boxes=*/true);
-    gl.Enable(GL_DEPTH_TEST);
-    gl.DepthFunc(GL_LEQUAL);
-    gl.DepthMask(GL_FALSE);  // the depth buffer keeps the mesh alone (read back as the raster depth)
-    if (boxes.translucent_) {
-        gl.Enable(GL_BLEND);
-        gl.BlendEquation(GL_FUNC_ADD);
-        gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-    } else {
-        gl.Disable(GL_BLEND);  // measurably faster on llvmpipe with many boxes
-    }
+    // The depth buffer keeps the mesh alone (read back as the raster depth).
+    set_translucent_state();
+    if (!boxes.translucent_) gl.Disable(GL_BLEND);  // opaque boxes: measurably faster on llvmpipe
     gl.BindVertexArray(boxes.vertex_array_.id());
     // 12 edges per box, every box at once.
     gl.DrawElementsInstanced(GL_LINES, 24, GL_UNSIGNED_BYTE, nullptr, GLsizei(boxes.size()));
@@ -224,12 +229,7 @@ void Renderer::draw_boxes(const BoxBuffer& boxes) {
 void Renderer::draw_segments(const ColouredBuffer& segments) {
     if (segments.vertex_count() < 2) return;
     use_line_program(/*boxes=*/false);
-    gl.Enable(GL_DEPTH_TEST);
-    gl.DepthFunc(GL_LEQUAL);
-    gl.DepthMask(GL_FALSE);  // as for boxes
-    gl.Enable(GL_BLEND);
-    gl.BlendEquation(GL_FUNC_ADD);
-    gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    set_translucent_state();
     gl.BindVertexArray(segments.vertex_array_.id());
     gl.DrawArrays(GL_LINES, 0, GLsizei(segments.vertex_count()));
     gl.BindVertexArray(0);
@@ -240,12 +240,7 @@ void Renderer::draw_quads(const ColouredBuffer& quads) {
     if (quads.vertex_count() < 3) return;
     use_view_program(coloured_program_);
     gl.Uniform1f(coloured_program_.uniform("depth_bias"), kEdgeDepthBias);
-    gl.Enable(GL_DEPTH_TEST);
-    gl.DepthFunc(GL_LEQUAL);
-    gl.DepthMask(GL_FALSE);  // translucent: what lies behind stays visible
-    gl.Enable(GL_BLEND);
-    gl.BlendEquation(GL_FUNC_ADD);
-    gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    set_translucent_state();
     gl.BindVertexArray(quads.vertex_array_.id());
     gl.DrawArrays(GL_TRIANGLES, 0, GLsizei(quads.vertex_count()));
     gl.BindVertexArray(0);
