@@ -285,8 +285,17 @@ void StatsPanel::draw(const AppState&, const Session& session) {
 
 void ViewPanel::draw(AppState& state, Session& session, double view_aspect) {
     if (!ImGui::CollapsingHeader("View", ImGuiTreeNodeFlags_DefaultOpen)) return;
-    ViewSettings& view = state.view;
+    draw_scale(state.view);
+    draw_colours(state.view);
+    ImGui::Checkbox("Scene bounds", &state.view.show_bounds);
+    draw_split_choices(state.view);
+    ImGui::Separator();
+    draw_camera(state, session, view_aspect);
+    ImGui::Separator();
+    draw_files(state, session);
+}
 
+void ViewPanel::draw_scale(ViewSettings& view) {
     // UI scale: the font is rebuilt at the new size, so apply it on release only.
     if (!editing_scale) ui_scale_edit = view.ui_scale;
     ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);
@@ -306,7 +315,9 @@ void ViewPanel::draw(AppState& state, Session& session, double view_aspect) {
     }
     ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);
     ImGui::SliderFloat("Line width", &view.line_width, 1.0f, 6.0f, "%.1f px", ImGuiSliderFlags_AlwaysClamp);
+}
 
+void ViewPanel::draw_colours(ViewSettings& view) {
     if (ImGui::Checkbox("Light theme", &view.light_theme)) {
         // Follow the theme with the background while it is still one of the defaults.
         const Rgb light_background{236, 236, 232};
@@ -332,8 +343,9 @@ void ViewPanel::draw(AppState& state, Session& session, double view_aspect) {
         view.background = {uint8_t(background[0] * 255.0f + 0.5f), uint8_t(background[1] * 255.0f + 0.5f),
                            uint8_t(background[2] * 255.0f + 0.5f)};
     ImGui::PopStyleVar();
-    ImGui::Checkbox("Scene bounds", &view.show_bounds);
+}
 
+void ViewPanel::draw_split_choices(ViewSettings& view) {
     // Raster vs ray cast (S).
     bool split = view.mode == ViewMode::Split;
     if (ImGui::Checkbox("Raster | ray cast (S)", &split)) view.mode = split ? ViewMode::Split : ViewMode::View3D;
@@ -352,8 +364,9 @@ void ViewPanel::draw(AppState& state, Session& session, double view_aspect) {
         if (ImGui::Combo("Ray cast shows", &current, kLabels, int(std::size(kLabels)))) view.right_view = RightView(current);
         ImGui::Checkbox("Heat: same scale for all structures", &view.heat_same_scale);
     }
+}
 
-    ImGui::Separator();
+void ViewPanel::draw_camera(AppState& state, const Session& session, double view_aspect) {
     if (state.camera) {
         float fov = float(state.camera->fov_deg);
         ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);
@@ -373,9 +386,10 @@ void ViewPanel::draw(AppState& state, Session& session, double view_aspect) {
         copied = true;
     }
     if (copied && !ImGui::IsItemHovered()) copied = false;
+}
 
+void ViewPanel::draw_files(AppState& state, Session& session) {
     // The whole state as JSON (a preset is such a file), and screenshots.
-    ImGui::Separator();
     const float button = ImGui::CalcTextSize("Save").x + ImGui::CalcTextSize("Load").x +
                          4 * ImGui::GetStyle().FramePadding.x + 2 * ImGui::GetStyle().ItemSpacing.x;
     ImGui::SetNextItemWidth(-button);

@@ -43,6 +43,13 @@ struct ViewPanel {
     std::string state_path = "accelviz-state.json";      ///< save / load the whole state
     std::string screenshot_path = "accelviz-screenshot.png";
     void draw(AppState& state, Session& session, double view_aspect);
+
+private:
+    void draw_scale(ViewSettings& view);                  ///< UI scale, presets for desk and projector, line width
+    static void draw_colours(ViewSettings& view);         ///< theme and background
+    static void draw_split_choices(ViewSettings& view);   ///< raster | ray cast and what each half shows
+    void draw_camera(AppState& state, const Session& session, double view_aspect);
+    void draw_files(AppState& state, Session& session);   ///< state JSON save / load, screenshots
 };
 
 /// One line at the bottom: scene, triangles, structure, build and frame times.

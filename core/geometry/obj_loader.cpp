@@ -101,6 +101,73 @@ std::string quoted(std::string_view word) {
     return out;
 }
 
+/// The reason a `v` line's body is wrong (empty: it is right): x, y and z must be
+/// finite floats; an optional w or vertex colour only has to be a number.
+std::string check_vertex(std::string_view body) {
+    int count = 0;
+    std::string bad;
+    for_each_word(body, [&](std::string_view word) {
+        double value = 0;
+        if (!parse_number(word, value)) {
+            bad = "bad number " + quoted(word) + " in vertex";
+            return false;
+        }
+        if (count < 3 && !(std::abs(value) <= double(std::numeric_limits<float>::max()))) {
+            bad = "non-finite coordinate " + quoted(word) + " (beyond float range or inf/nan)";
+            return false;
+        }
+        ++count;
+        return true;
+    });
+    if (bad.empty() && count < 3)
+        bad = "vertex has " + std::to_string(count) + " coordinate" + (count == 1 ? "" : "s") + ", needs x y z";
+    return bad;
+}
+
+/// The reason an `f` line's body is wrong (empty: it is right), its words being
+/// "v", "v/vt", "v//vn" or "v/vt/vn" with `defined` vertices before the line;
+/// `corners` counts them. A positive index beyond `defined` (a vertex defined
+/// later, perhaps) goes to `forward_index` to be judged at the end of the file.
+template <class ForwardIndex>
+std::string check_face(std::string_view body, size_t vertices_before, size_t& corners, ForwardIndex&& forward_index) {
+    const auto defined = static_cast<long long>(vertices_before);
+    std::string bad;
+    for_each_word(body, [&](std::string_view word) {
+        const size_t slash = word.find('/');
+        long long index = 0;
+        if (!parse_integer(word.substr(0, slash), index)) {
+            bad = "bad face index " + quoted(word) + " (want an integer, optionally /vt/vn)";
+            return false;
+        }
+        // Texture and normal indices are ignored, but tinyobjloader rejects 0 or text there.
+        for (size_t at = slash; at != std::string_view::npos;) {
+            const size_t next = word.find('/', at + 1);
+            const std::string_view part = word.substr(at + 1, next == std::string_view::npos ? next : next - at - 1);
+            long long other = 0;
+            if (!part.empty() && (!parse_integer(part, other) || other == 0)) {
+                bad = "bad texture/normal index in " + quoted(word);
+                return false;
+            }
+            at = next;
+        }
+        if (index == 0) {
+            bad = "face index 0 is invalid (OBJ indices start at 1)";
+            return false;
+        }
+        if (index < 0 && defined + index < 0) {
+            bad = "face index " + std::to_string(index) + " out of range (only " + std::to_string(defined) +
+                  " vertices before this line)";
+            return false;
+        }
+        if (index > defined) forward_index(index);
+        ++corners;
+        return true;
+    });
+    if (bad.empty() && corners < 3)
+        bad = "face has " + std::to_string(corners) + (corners == 1 ? " vertex" : " vertices") + ", needs at least 3";
+    return bad;
+}
+
 /// What the scan found in a file that passed it.
 struct ObjScan {
     size_t vertex_count = 0;    ///< `v` lines
@@ -159,25 +226,7 @@ Expected<ObjScan> scan_obj(std::string& text, const std::string& path) {
         }
 
         if (is_vertex) {
-            int count = 0;
-            std::string bad;
-            for_each_word(body, [&](std::string_view word) {
-                double value = 0;
-                if (!parse_number(word, value)) {
-                    bad = "bad number " + quoted(word) + " in vertex";
-                    return false;
-                }
-                // x, y, z must be finite floats; an optional w or vertex colour only has to be a number.
-                if (count < 3 && !(std::abs(value) <= double(std::numeric_limits<float>::max()))) {
-                    bad = "non-finite coordinate " + quoted(word) + " (beyond float range or inf/nan)";
-                    return false;
-                }
-                ++count;
-                return true;
-            });
-            if (bad.empty() && count < 3)
-                bad = "vertex has " + std::to_string(count) + " coordinate" + (count == 1 ? "" : "s") + ", needs x y z";
-            if (!bad.empty()) {
+            if (std::string bad = check_vertex(body); !bad.empty()) {
                 error_line = line_number;
                 error_reason = bad;
             }
@@ -185,46 +234,13 @@ Expected<ObjScan> scan_obj(std::string& text, const std::string& path) {
             continue;
         }
 
-        // A face: words "v", "v/vt", "v//vn" or "v/vt/vn".
         size_t corners = 0;
-        std::string bad;
-        for_each_word(body, [&](std::string_view word) {
-            const size_t slash = word.find('/');
-            long long index = 0;
-            if (!parse_integer(word.substr(0, slash), index)) {
-                bad = "bad face index " + quoted(word) + " (want an integer, optionally /vt/vn)";
-                return false;
-            }
-            // Texture and normal indices are ignored, but tinyobjloader rejects 0 or text there.
-            for (size_t at = slash; at != std::string_view::npos;) {
-                const size_t next = word.find('/', at + 1);
-                const std::string_view part = word.substr(at + 1, next == std::string_view::npos ? next : next - at - 1);
-                long long other = 0;
-                if (!part.empty() && (!parse_integer(part, other) || other == 0)) {
-                    bad = "bad texture/normal index in " + quoted(word);
-                    return false;
-                }
-                at = next;
-            }
-            const auto defined = static_cast<long long>(scan.vertex_count);
-            if (index == 0) {
-                bad = "face index 0 is invalid (OBJ indices start at 1)";
-                return false;
-            }
-            if (index < 0 && defined + index < 0) {
-                bad = "face index " + std::to_string(index) + " out of range (only " + std::to_string(defined) +
-                      " vertices before this line)";
-                return false;
-            }
-            if (index > defined && index > forward_max) {
+        std::string bad = check_face(body, scan.vertex_count, corners, [&](long long index) {
+            if (index > forward_max) {
                 forward.push_back({line_number, index});
                 forward_max = index;
             }
-            ++corners;
-            return true;
         });
-        if (bad.empty() && corners < 3)
-            bad = "face has " + std::to_string(corners) + (corners == 1 ? " vertex" : " vertices") + ", needs at least 3";
         if (!bad.empty()) {
             // Keep scanning, counting vertices only: a forward index on an earlier
             // line can only be judged with the final count, and it comes first.
