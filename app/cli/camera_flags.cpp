@@ -2,6 +2,7 @@
 
 #include <cstdio>
 
+#include "app/cli/scene_input.h"
 #include "core/geometry/scene.h"
 
 namespace accelviz::cli {
@@ -42,7 +43,7 @@ Expected<PixelRay> pixel_ray(const std::string& scene, const std::string& pixel,
     if (out.x < 0 || out.x >= width || out.y < 0 || out.y >= height)
         return Error{"--pixel " + pixel + " is outside the " + std::to_string(width) + "x" + std::to_string(height) +
                      " image"};
-    auto mesh = load_scene(scene);
+    auto mesh = load_scene_noting(scene, "trace");
     if (!mesh) return Error{mesh.error()};
     auto params = camera.resolve(mesh->bounds());
     if (!params) return Error{params.error()};

@@ -28,6 +28,7 @@
 #include "app/cli/accel_flags.h"
 #include "app/cli/camera_flags.h"
 #include "app/cli/commands.h"
+#include "app/cli/scene_input.h"
 #include "app/cli/embree_reference.h"
 #include "app/cli/flag_checks.h"
 #include "app/cli/ray_batch.h"
@@ -198,7 +199,7 @@ int run_bench(const BenchOptions& opt) {
     if (!opt.reference.empty() && !embree_available())
         return fail("--reference embree: this build has no Embree (CMake did not find embree 3)");
     if (opt.embree_width != 0 && opt.reference != "embree") return fail("--embree-width needs --reference embree");
-    auto mesh = load_scene(opt.scene);
+    auto mesh = load_scene_noting(opt.scene, "bench");
     if (!mesh) return fail(mesh.error());
     auto camera_params = opt.camera.resolve(mesh->bounds());
     if (!camera_params) return fail(camera_params.error());

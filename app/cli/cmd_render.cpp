@@ -15,6 +15,7 @@
 #include "app/cli/camera_flags.h"
 #include "app/cli/commands.h"
 #include "app/cli/flag_checks.h"
+#include "app/cli/scene_input.h"
 #include "app/gui/app_state.h"
 #include "app/gui/headless.h"
 #include "app/gui/presets.h"
@@ -79,6 +80,8 @@ double ms_since(std::chrono::steady_clock::time_point start) {
 int run_window_view(const RenderOptions& opt, WindowView view, AppState state) {
     auto loaded = load_and_build(state.scene, state.accel);
     if (!loaded) return fail(loaded.error());
+    if ((*loaded)->degenerate_note)
+        std::cerr << "accelviz render: " << state.scene << ": " << *(*loaded)->degenerate_note << "\n";
     if (opt.camera.any()) {  // over the preset's camera, or the scene's default view
         auto params = state.camera ? opt.camera.resolve(*state.camera) : opt.camera.resolve((*loaded)->bounds);
         if (!params) return fail(params.error());
@@ -176,7 +179,7 @@ int run_render(const RenderOptions& opt) {
         return run_window_view(opt, *window_view, std::move(state));
     }
 
-    auto mesh = load_scene(state.scene);
+    auto mesh = load_scene_noting(state.scene, "render");
     if (!mesh) return fail(mesh.error());
     auto camera_params = state.camera ? opt.camera.resolve(*state.camera) : opt.camera.resolve(mesh->bounds());
     if (!camera_params) return fail(camera_params.error());

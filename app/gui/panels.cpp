@@ -249,6 +249,7 @@ void StatsPanel::draw(const AppState&, const Session& session) {
     if (!session.overlay.legend.empty()) {
         hint(session.overlay.legend.c_str());
     }
+    if (scene->degenerate_note) hint(scene->degenerate_note->c_str());
     const bool same = !histogram_of.expired() && !histogram_of.owner_before(scene->accel) &&
                       !scene->accel.owner_before(histogram_of);
     if (!same) {  // a new structure: count its leaves once

@@ -33,6 +33,7 @@ LoadResult load_and_build(const std::string& source, const AccelConfig& config,
     if (!mesh) return Error{mesh.error()};
     scene->mesh = std::make_shared<const Mesh>(std::move(*mesh));
     scene->bounds = scene->mesh->bounds();
+    scene->degenerate_note = degenerate_note(*scene->mesh);
     scene->load_seconds = seconds_since(start);
     return rebuild(*scene, config, on_stage);
 }
@@ -43,6 +44,7 @@ LoadResult rebuild(const LoadedScene& from, const AccelConfig& config,
     scene->source = from.source;
     scene->mesh = from.mesh;
     scene->bounds = from.bounds;
+    scene->degenerate_note = from.degenerate_note;
     scene->load_seconds = from.load_seconds;
     scene->accel_config = config;
     if (on_stage) on_stage("Building " + std::string(to_string(config.type)));

@@ -32,6 +32,7 @@ struct LoadedScene {
     std::shared_ptr<const Accelerator> accel;  ///< built over *mesh
     double load_seconds = 0;
     double build_seconds = 0;
+    std::optional<std::string> degenerate_note;  ///< "k of N triangles have zero area ..." (degenerate_note)
 };
 
 using LoadResult = Expected<std::shared_ptr<const LoadedScene>>;

@@ -31,6 +31,18 @@ struct Mesh {
     void add_triangle(Vec3 a, Vec3 b, Vec3 c);
 };
 
+/// Triangles of zero area: their three corners coincide or lie on one line (the
+/// cross product of two edges, computed in double from the float corners, is zero).
+/// No ray meets such a triangle's plane at a single point; they cover no pixel.
+size_t count_degenerate_triangles(const Mesh& mesh);
+
+/// The scale the float arithmetic of the ray–triangle test handles exactly enough
+/// that the ray caster and the rasterizer agree. Möller–Trumbore's t is a product
+/// of three lengths: beyond 1e12 it overflows float (3.4e38), and in a scene less
+/// than 1e-12 across it sinks into float's denormals and loses its digits.
+inline constexpr double kMaxCoordinate = 1e12;  ///< largest |x|, |y| or |z| of a vertex
+inline constexpr double kMinSceneSize = 1e-12;  ///< smallest longest side of the scene's box
+
 /// The triangles of a mesh in intersection form, indexed by triangle id.
 /// Built once per mesh; structures test against it.
 std::vector<Triangle> make_triangles(const Mesh& mesh);

@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -116,6 +117,13 @@ std::string check_vertex(std::string_view body) {
             bad = "non-finite coordinate " + quoted(word) + " (beyond float range or inf/nan)";
             return false;
         }
+        if (count < 3 && std::abs(value) > kMaxCoordinate) {
+            char limit[32];
+            std::snprintf(limit, sizeof limit, "%g", kMaxCoordinate);
+            bad = "coordinate " + quoted(word) + " is beyond +-" + limit +
+                  ", where the float ray-triangle test overflows (scale the scene down)";
+            return false;
+        }
         ++count;
         return true;
     });
@@ -212,6 +220,17 @@ Expected<ObjScan> scan_obj(std::string& text, const std::string& path) {
         if (line.empty()) continue;
         const bool is_vertex = line[0] == 'v' && (line.size() == 1 || is_blank(line[1]));
         const bool is_face = line[0] == 'f' && (line.size() == 1 || is_blank(line[1]));
+        // "v1 2 3" or "f1 2 3": no OBJ statement starts so; read as one it would
+        // silently shift every later vertex index, so it is an error.
+        if ((line[0] == 'v' || line[0] == 'f') && line.size() > 1 &&
+            (std::isdigit(static_cast<unsigned char>(line[1])) || line[1] == '-' || line[1] == '+' || line[1] == '.')) {
+            if (error_line == 0) {
+                error_line = line_number;
+                error_reason = std::string("'") + line[0] + "' must be followed by a blank: " +
+                               quoted(line.substr(0, line.find_first_of(" \t"))) + " is not a statement";
+            }
+            continue;
+        }
         if (!is_vertex && !is_face) continue;  // vn, vt, g, o, usemtl, comments...
         if (const size_t hash = line.find('#'); hash != std::string_view::npos) {
             const size_t from = size_t(line.data() - text.data()) + hash;
@@ -273,6 +292,8 @@ std::string first_line(const std::string& message) {
 Expected<Mesh> load_obj_unguarded(const std::string& path) {
     auto bytes = read_whole_file(path);
     if (!bytes) return Error{bytes.error()};
+    // A UTF-8 byte-order mark (Windows tools write one) is not part of the first line.
+    if (bytes->starts_with("\xEF\xBB\xBF")) bytes->erase(0, 3);
 
     auto scan = scan_obj(*bytes, path);
     if (!scan) return Error{scan.error()};

@@ -1,13 +1,61 @@
 // load_scene: the one entry point the CLI and the window use for a scene source.
 #include "core/geometry/scene.h"
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <optional>
+
 namespace accelviz {
+
+namespace {
+
+std::string number(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3g", value);
+    return text;
+}
+
+/// A loaded mesh the program cannot show faithfully: nothing to draw, or a scale
+/// beyond what float ray–triangle tests handle (see kMaxCoordinate).
+std::optional<Error> check_drawable(const Mesh& mesh, const std::string& source) {
+    const size_t n = mesh.triangle_count();
+    if (n == 0) return std::nullopt;  // builtin:empty, kept for the degenerate-scene tests
+    if (count_degenerate_triangles(mesh) == n)
+        return Error{source + ": all " + std::to_string(n) + " triangle" + (n == 1 ? " has" : "s have") +
+                     " zero area (corners that coincide or lie on one line): nothing to draw"};
+    const Aabb box = mesh.bounds();
+    double largest = 0, longest_side = 0;
+    for (int a = 0; a < 3; ++a) {
+        largest = std::max({largest, std::fabs(double(box.lo[a])), std::fabs(double(box.hi[a]))});
+        longest_side = std::max(longest_side, double(box.hi[a]) - double(box.lo[a]));
+    }
+    if (largest > kMaxCoordinate)
+        return Error{source + ": a vertex coordinate of " + number(largest) + " is beyond +-" + number(kMaxCoordinate) +
+                     ", where the float ray-triangle test overflows (scale the scene down)"};
+    if (longest_side < kMinSceneSize)
+        return Error{source + ": the scene is " + number(longest_side) + " across, less than " + number(kMinSceneSize) +
+                     ", where the float ray-triangle test loses its digits (scale the scene up)"};
+    return std::nullopt;
+}
+
+}  // namespace
 
 Expected<Mesh> load_scene(const std::string& source) {
     constexpr std::string_view kBuiltinPrefix = "builtin:";
     if (source.empty()) return Error{"no scene given (want an OBJ file or builtin:NAME)"};
-    if (source.starts_with(kBuiltinPrefix)) return make_builtin(source.substr(kBuiltinPrefix.size()));
-    return load_obj(source);
+    Expected<Mesh> mesh = source.starts_with(kBuiltinPrefix) ? make_builtin(source.substr(kBuiltinPrefix.size()))
+                                                             : load_obj(source);
+    if (!mesh) return mesh;
+    if (auto err = check_drawable(*mesh, source)) return *err;
+    return mesh;
+}
+
+std::optional<std::string> degenerate_note(const Mesh& mesh) {
+    const size_t degenerate = count_degenerate_triangles(mesh);
+    if (degenerate == 0) return std::nullopt;
+    return std::to_string(degenerate) + " of " + std::to_string(mesh.triangle_count()) +
+           " triangles have zero area (corners that coincide or lie on one line): no ray hits them";
 }
 
 }  // namespace accelviz

@@ -5,6 +5,7 @@
 /// builtin_scenes, the Bézier evaluation), teapot_patches.cpp (the teapot's
 /// control points) and scene.cpp (load_scene).
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -40,8 +41,14 @@ struct BuiltinInfo {
 };
 const std::vector<BuiltinInfo>& builtin_scenes();
 
-/// "builtin:..." → make_builtin, anything else → load_obj. Empty source → error.
+/// "builtin:..." → make_builtin, anything else → load_obj. Errors: an empty
+/// source, what those report, and a mesh the program cannot show faithfully:
+/// every triangle of zero area (nothing to draw), a coordinate beyond
+/// ±kMaxCoordinate or a scene less than kMinSceneSize across (mesh.h).
 Expected<Mesh> load_scene(const std::string& source);
+
+/// "k of N triangles have zero area ...", for stderr and the Stats panel (none: nullopt).
+std::optional<std::string> degenerate_note(const Mesh& mesh);
 
 // ---------------------------------------------------------------------------
 // Bézier patches (the teapot)

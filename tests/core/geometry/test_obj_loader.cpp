@@ -310,3 +310,63 @@ TEST_F(ObjFiles, LoadSceneSendsBuiltinsToMakeBuiltinAndPathsToLoadObj) {
     ASSERT_FALSE(none.ok());
     EXPECT_FALSE(none.error().empty());
 }
+
+// ---------------------------------------------------------------------------
+// What editors write, and what no ray tracer can show faithfully
+
+TEST_F(ObjFiles, AUtf8ByteOrderMarkIsNotPartOfTheFirstLine) {
+    auto mesh = load_obj(write("bom.obj", "\xEF\xBB\xBFv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"));
+    ASSERT_TRUE(mesh) << mesh.error();
+    EXPECT_EQ(mesh->positions.size(), 3u);
+    EXPECT_EQ(mesh->triangle_count(), 1u);
+}
+
+TEST_F(ObjFiles, ALineThatLooksLikeAVertexButIsNotOneIsAnError) {
+    // Skipped as an unknown statement, "v1 0 0" would shift every later index by one.
+    auto mesh = load_obj(write("v1.obj", "v 0 0 0\nv1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\n"));
+    ASSERT_FALSE(mesh);
+    expect_contains(mesh.error(), "v1.obj:2:");
+    expect_contains(mesh.error(), "'v1'");
+    auto face = load_obj(write("f1.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf1 2 3\n"));
+    ASSERT_FALSE(face);
+    expect_contains(face.error(), "f1.obj:4:");
+    // vt, vn and vp are statements of their own.
+    EXPECT_TRUE(load_obj(write("vt.obj", "v 0 0 0\nvt 0 0\nvn 0 0 1\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")));
+}
+
+TEST_F(ObjFiles, CoordinatesBeyondTheFloatTestsRangeAreRefusedWithTheLimit) {
+    // Möller–Trumbore's t multiplies three lengths: at 1e13 it overflows float and the
+    // ray caster would miss what the rasterizer draws.
+    auto mesh = load_obj(write("big.obj", "v 0 0 0\nv 1e30 0 0\nv 0 1 0\nf 1 2 3\n"));
+    ASSERT_FALSE(mesh);
+    expect_contains(mesh.error(), "big.obj:2:");
+    expect_contains(mesh.error(), "1e+12");
+    EXPECT_TRUE(load_obj(write("ok.obj", "v 0 0 0\nv 1e12 0 0\nv 0 -1e12 0\nf 1 2 3\n")));
+}
+
+TEST_F(ObjFiles, ASceneWhoseTrianglesAllHaveZeroAreaIsAnError) {
+    const std::string path = write("flat.obj", "v 0 0 0\nv 1 1 1\nv 2 2 2\nf 1 2 3\nf 1 1 1\n");
+    auto loaded = load_obj(path);
+    ASSERT_TRUE(loaded) << loaded.error();  // the file is well formed ...
+    EXPECT_EQ(count_degenerate_triangles(*loaded), 2u);
+    auto scene = load_scene(path);  // ... but there is nothing to draw
+    ASSERT_FALSE(scene);
+    expect_contains(scene.error(), "all 2 triangles have zero area");
+}
+
+TEST_F(ObjFiles, SomeZeroAreaTrianglesAreCountedInANote) {
+    const std::string path = write("some.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\n");
+    auto scene = load_scene(path);
+    ASSERT_TRUE(scene) << scene.error();
+    auto note = degenerate_note(*scene);
+    ASSERT_TRUE(note);
+    expect_contains(*note, "1 of 2 triangles have zero area");
+    EXPECT_FALSE(degenerate_note(*load_scene("builtin:cube")));
+}
+
+TEST_F(ObjFiles, ASceneTooSmallForFloatIsRefusedWithTheLimit) {
+    auto scene = load_scene(write("tiny.obj", "v 0 0 0\nv 1e-15 0 0\nv 0 1e-15 0\nf 1 2 3\n"));
+    ASSERT_FALSE(scene);
+    expect_contains(scene.error(), "less than 1e-12");
+    EXPECT_TRUE(load_scene(write("small.obj", "v 0 0 0\nv 1e-9 0 0\nv 0 1e-9 0\nf 1 2 3\n")));
+}
