@@ -11,14 +11,8 @@ Aabb Mesh::bounds() const {
 
 size_t count_degenerate_triangles(const Mesh& mesh) {
     size_t count = 0;
-    for (size_t t = 0; t < mesh.triangle_count(); ++t) {
-        const Vec3 a = mesh.vertex(t, 0), b = mesh.vertex(t, 1), c = mesh.vertex(t, 2);
-        const double e1[3] = {double(b.x) - a.x, double(b.y) - a.y, double(b.z) - a.z};
-        const double e2[3] = {double(c.x) - a.x, double(c.y) - a.y, double(c.z) - a.z};
-        const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                             e1[0] * e2[1] - e1[1] * e2[0]};
-        if (n[0] == 0 && n[1] == 0 && n[2] == 0) ++count;
-    }
+    for (size_t t = 0; t < mesh.triangle_count(); ++t)
+        if (has_zero_area(mesh.vertex(t, 0), mesh.vertex(t, 1), mesh.vertex(t, 2))) ++count;
     return count;
 }
 

@@ -31,9 +31,8 @@ struct Mesh {
     void add_triangle(Vec3 a, Vec3 b, Vec3 c);
 };
 
-/// Triangles of zero area: their three corners coincide or lie on one line (the
-/// cross product of two edges, computed in double from the float corners, is zero).
-/// No ray meets such a triangle's plane at a single point; they cover no pixel.
+/// Triangles of zero area (has_zero_area in triangle.h): their three corners coincide
+/// or lie on one line. No ray hits them (Triangle::from_points); they cover no pixel.
 size_t count_degenerate_triangles(const Mesh& mesh);
 
 /// The scale the float arithmetic of the ray–triangle test handles exactly enough

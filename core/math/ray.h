@@ -9,6 +9,7 @@
 namespace accelviz {
 
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
 struct Ray {
     Vec3 origin;

@@ -361,8 +361,8 @@ DebugGeometry step_geometry(const SteppedRay& r, const StepState& s, const NodeB
     for (size_t i = first_tri; i < s.tested.size(); ++i) {
         const StepState::TestedTriangle& x = s.tested[i];
         if (x.tri >= mesh.triangle_count()) continue;
-        const Triangle t = mesh.triangle(x.tri);
-        g.triangles.push_back({{t.p0, t.p1(), t.p2()}, x.hit ? c.triangle_hit : c.triangle_miss});
+        g.triangles.push_back({{mesh.vertex(x.tri, 0), mesh.vertex(x.tri, 1), mesh.vertex(x.tri, 2)},
+                               x.hit ? c.triangle_hit : c.triangle_miss});
     }
 
     // Hits: waiting for their cell, and the closest so far.

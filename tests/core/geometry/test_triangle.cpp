@@ -92,3 +92,26 @@ TEST(ClosestHitOrder, SmallerTThenSmallerId) {
     EXPECT_FALSE(is_closer(3.0f, 0, best));
     EXPECT_TRUE(is_closer(kInfinity, 0, Hit{}));  // anything beats "no hit" at the same infinity, by id
 }
+
+// Found by fuzzing (tests/fuzz/corpus/obj/zero_area_hit_at_origin.obj): a zero-area
+// triangle (two equal corners) whose det was rounding noise instead of 0 "hit" a ray
+// at u = v = t = 0, at the ray's origin, far from the triangle. Brute force reported
+// it and the grid (which never visits a cell at the origin) did not.
+TEST(MollerTrumbore, AZeroAreaTriangleIsNeverHit) {
+    const Vec3 a{0, 1, 0}, b{8, 0, 1};
+    Ray ray;
+    ray.origin = {0x1.1c2c88p+3f, -0x1.248864p+3f, 0x1.88736ep+2f};
+    ray.dir = {-0x1.9a1af2p-2f, 0x1.95189ap-1f, -0x1.d9436ap-2f};
+    EXPECT_TRUE(has_zero_area(a, b, b));
+    EXPECT_FALSE(intersect_triangle(Triangle::from_points(a, b, b), ray).hit);
+    // Collinear and coincident corners, and rays straight at them.
+    const Vec3 m{4, 0.5f, 0.5f};
+    EXPECT_TRUE(has_zero_area(a, m, b));
+    EXPECT_TRUE(has_zero_area(a, a, a));
+    EXPECT_FALSE(has_zero_area(a, b, Vec3{0, 0, 0}));
+    Ray at_middle;
+    at_middle.origin = m + Vec3{0, 0, -3};
+    at_middle.dir = {0, 0, 1};
+    EXPECT_FALSE(intersect_triangle(Triangle::from_points(a, m, b), at_middle).hit);
+    EXPECT_FALSE(intersect_triangle(Triangle::from_points(a, a, a), at_middle).hit);
+}

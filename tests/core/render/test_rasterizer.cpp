@@ -87,8 +87,7 @@ TEST(RasterFillRule, SharedEdgesAndAVertexOnPixelCentresAreDrawnExactlyOnce) {
     // its right (world x > 0); y = 0 a top edge of the triangles below it (world y < 0).
     auto world_sign = [&](int x, int y, int axis) {
         const uint32_t id = f.tri[f.index(x, y)];
-        const Triangle t = m.triangle(id);
-        return (t.p0 + t.p1() + t.p2())[axis] > 0 ? 1 : -1;
+        return (m.vertex(id, 0) + m.vertex(id, 1) + m.vertex(id, 2))[axis] > 0 ? 1 : -1;
     };
     for (int y : {0, 10, 40, 62}) EXPECT_EQ(world_sign(31, y, 0), 1) << "row " << y;
     for (int x : {0, 10, 40, 62}) EXPECT_EQ(world_sign(x, 31, 1), -1) << "column " << x;
