@@ -289,16 +289,14 @@ std::string first_line(const std::string& message) {
     return line.empty() ? "tinyobjloader could not parse the file" : "tinyobjloader: " + line;
 }
 
-Expected<Mesh> load_obj_unguarded(const std::string& path) {
-    auto bytes = read_whole_file(path);
-    if (!bytes) return Error{bytes.error()};
+Expected<Mesh> parse_obj_unguarded(std::string bytes, const std::string& path) {
     // A UTF-8 byte-order mark (Windows tools write one) is not part of the first line.
-    if (bytes->starts_with("\xEF\xBB\xBF")) bytes->erase(0, 3);
+    if (bytes.starts_with("\xEF\xBB\xBF")) bytes.erase(0, 3);
 
-    auto scan = scan_obj(*bytes, path);
+    auto scan = scan_obj(bytes, path);
     if (!scan) return Error{scan.error()};
     if (scan->triangle_count == 0) {
-        if (bytes->find_first_not_of(" \t\r\n") == std::string::npos) return located_error(path, 0, "empty file (no triangles)");
+        if (bytes.find_first_not_of(" \t\r\n") == std::string::npos) return located_error(path, 0, "empty file (no triangles)");
         return located_error(path, 0, "no triangles (" + std::to_string(scan->vertex_count) + " vertices, no faces)");
     }
 
@@ -307,7 +305,7 @@ Expected<Mesh> load_obj_unguarded(const std::string& path) {
     // triangulate below, because tinyobjloader's own triangulation splits quads
     // along the shorter diagonal and clips ears of larger polygons, which is not
     // the documented fan and can drop triangles of a degenerate polygon.
-    std::istringstream stream(std::move(*bytes));
+    std::istringstream stream(std::move(bytes));
     tinyobj::attrib_t attrib;
     std::vector<tinyobj::shape_t> shapes;
     std::string warn, err;
@@ -352,15 +350,28 @@ Expected<Mesh> load_obj_unguarded(const std::string& path) {
 
 }  // namespace
 
-Expected<Mesh> load_obj(const std::string& path) {
-    // Nothing may escape to the caller: a huge file can still run out of memory.
+/// Runs `load` with nothing escaping to the caller: a huge file can still run out of memory.
+template <class Load>
+Expected<Mesh> guarded(const std::string& path, Load&& load) {
     try {
-        return load_obj_unguarded(path);
+        return load();
     } catch (const std::exception& e) {
         return located_error(path, 0, std::string("cannot load: ") + e.what());
     } catch (...) {
         return located_error(path, 0, "cannot load: unknown error");
     }
+}
+
+Expected<Mesh> load_obj(const std::string& path) {
+    return guarded(path, [&]() -> Expected<Mesh> {
+        auto bytes = read_whole_file(path);
+        if (!bytes) return Error{bytes.error()};
+        return parse_obj_unguarded(std::move(*bytes), path);
+    });
+}
+
+Expected<Mesh> parse_obj(std::string text, const std::string& name) {
+    return guarded(name, [&]() -> Expected<Mesh> { return parse_obj_unguarded(std::move(text), name); });
 }
 
 }  // namespace accelviz

@@ -26,6 +26,9 @@ namespace accelviz {
 /// with fewer than 3 vertices). Never throws.
 Expected<Mesh> load_obj(const std::string& path);
 
+/// load_obj of OBJ text held in memory; `name` stands for the path in messages.
+Expected<Mesh> parse_obj(std::string text, const std::string& name);
+
 /// A built-in scene, e.g. "cube", "cornell", "teapot?n=8", "soup?n=1000&seed=7".
 /// `spec` is what follows "builtin:". Unknown names or parameters, values that are
 /// not numbers or lie out of range are errors whose message lists what is accepted.
