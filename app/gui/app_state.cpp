@@ -81,13 +81,21 @@ Vec3d read_vec3(const nlohmann::json& j, const char* field) {
     return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()};
 }
 
+/// A whole number in [lo, hi] (no 16.9, true or 1e82: a float out of int's range
+/// would be undefined behaviour to convert), or fail naming the field.
+int read_whole(const nlohmann::json& j, const std::string& field, int lo, int hi) {
+    bool ok = false;
+    if (j.is_number_unsigned()) ok = j.get<uint64_t>() <= uint64_t(hi);
+    else if (j.is_number_integer()) ok = j.get<int64_t>() >= lo && j.get<int64_t>() <= hi;
+    if (!ok)
+        throw std::runtime_error(field + ": expected a whole number from " + std::to_string(lo) + " to " +
+                                 std::to_string(hi) + ", got " + j.dump());
+    return int(j.get<int64_t>());
+}
+
 Rgb read_rgb(const nlohmann::json& j, const char* field) {
     if (!j.is_array() || j.size() != 3) throw std::runtime_error(std::string(field) + ": expected [r, g, b]");
-    auto channel = [&](int i) {
-        const int v = j[size_t(i)].get<int>();
-        if (v < 0 || v > 255) throw std::runtime_error(std::string(field) + ": channels are 0..255");
-        return uint8_t(v);
-    };
+    auto channel = [&](int i) { return uint8_t(read_whole(j[size_t(i)], std::string(field), 0, 255)); };
     return {channel(0), channel(1), channel(2)};
 }
 
@@ -325,7 +333,9 @@ Expected<AppState> app_state_from_json(const nlohmann::json& j) {
             if (st.contains("pixel") && !st["pixel"].is_null()) {
                 const auto& p = st["pixel"];
                 if (!p.is_array() || p.size() != 2) return Error{"stepper.pixel: expected [x, y]"};
-                s.stepper.pixel = std::array<int, 2>{p[0].get<int>(), p[1].get<int>()};
+                // Pixels of an image at most 16384 wide and high, as `render` makes.
+                s.stepper.pixel = std::array<int, 2>{read_whole(p[0], "stepper.pixel", 0, 16383),
+                                                     read_whole(p[1], "stepper.pixel", 0, 16383)};
             }
         }
     } catch (const std::exception& e) {  // ours name the field; nlohmann's do not

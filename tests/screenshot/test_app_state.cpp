@@ -79,6 +79,11 @@ TEST(AppStateJson, WrongKindsOfValueNameTheField) {
         {"build_step.bins: expected a whole number", R"({"build_step": {"bins": 2.5}})"},
         {"camera.eye: expected [x, y, z] (three numbers)", R"({"camera": {"eye": ["a", 0, 0]}})"},
         {"view.ui_scale: expected a number, got \"big\"", R"({"view": {"ui_scale": "big"}})"},
+        // Found by fuzz_app_state: a float beyond int's range was converted (undefined behaviour).
+        {"stepper.pixel: expected a whole number from 0 to 16383, got 4.3", R"({"stepper": {"pixel": [3, 4.3e82]}})"},
+        {"stepper.pixel: expected a whole number from 0 to 16383, got -1", R"({"stepper": {"pixel": [-1, 0]}})"},
+        {"view.background: expected a whole number from 0 to 255, got 1e+300", R"({"view": {"background": [1e300, 0, 0]}})"},
+        {"view.background: expected a whole number from 0 to 255, got 256", R"({"view": {"background": [256, 0, 0]}})"},
     };
     for (const auto& [expected, json] : cases) {
         auto state = app_state_from_json(nlohmann::json::parse(json));
