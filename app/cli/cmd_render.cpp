@@ -80,8 +80,7 @@ double ms_since(std::chrono::steady_clock::time_point start) {
 int run_window_view(const RenderOptions& opt, WindowView view, AppState state) {
     auto loaded = load_and_build(state.scene, state.accel);
     if (!loaded) return fail(loaded.error());
-    if ((*loaded)->degenerate_note)
-        std::cerr << "accelviz render: " << state.scene << ": " << *(*loaded)->degenerate_note << "\n";
+    print_scene_note((*loaded)->degenerate_note, state.scene, "render");
     if (opt.camera.any()) {  // over the preset's camera, or the scene's default view
         auto params = state.camera ? opt.camera.resolve(*state.camera) : opt.camera.resolve((*loaded)->bounds);
         if (!params) return fail(params.error());

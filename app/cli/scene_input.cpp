@@ -6,13 +6,13 @@
 
 namespace accelviz::cli {
 
-void note_degenerate_triangles(const Mesh& mesh, const std::string& source, const char* command) {
-    if (auto note = degenerate_note(mesh)) std::cerr << "accelviz " << command << ": " << source << ": " << *note << "\n";
+void print_scene_note(const std::optional<std::string>& note, const std::string& source, const char* command) {
+    if (note) std::cerr << "accelviz " << command << ": " << source << ": " << *note << "\n";
 }
 
 Expected<Mesh> load_scene_noting(const std::string& source, const char* command) {
     Expected<Mesh> mesh = load_scene(source);
-    if (mesh) note_degenerate_triangles(*mesh, source, command);
+    if (mesh) print_scene_note(degenerate_note(*mesh), source, command);
     return mesh;
 }
 
