@@ -297,7 +297,7 @@ void StepperPanel::draw_slab_inspector(const SlabInspection& s) const {
     ImGui::PushStyleColor(ImGuiCol_Text, s.hit ? im_vec4(kStepColours.tested_hit) : im_vec4(kStepColours.tested_miss));
     ImGui::TextWrapped("%s", s.verdict.c_str());
     ImGui::PopStyleColor();
-    if (s.widened) grey_text("BVH: each plane distance moved outwards by 2^-16 (core/accel/box_test.h)");
+    if (s.widened) grey_text("BVH: each plane distance moved outwards by 2^-16 (core/math/box_test.h)");
 }
 
 void StepperPanel::draw_compare() {

@@ -27,8 +27,9 @@ struct BruteForce {
     Hit intersect_closest(const Ray& ray, Observer& obs) const {
         Hit best;
         Ray r = ray;
+        const BoxTestRay box_ray(ray);
         for (uint32_t id = 0; id < triangles.size(); ++id) {
-            const TriangleTest test = intersect_triangle(triangles[id], r);
+            const TriangleTest test = intersect_triangle(triangles[id], r, box_ray);
             obs.on({.kind = EventKind::TriangleTest, .hit = test.hit, .tri = id,
                     .t = test.t, .u = test.u, .v = test.v});
             if (test.hit && is_closer(test.t, id, best)) {
@@ -43,8 +44,9 @@ struct BruteForce {
     }
 
     bool intersect_any(const Ray& ray) const {
+        const BoxTestRay box_ray(ray);
         for (const Triangle& tri : triangles)
-            if (intersect_triangle(tri, ray).hit) return true;
+            if (intersect_triangle(tri, ray, box_ray).hit) return true;
         return false;
     }
 };

@@ -7,10 +7,11 @@
 ///
 /// Exactness: every traversal tests triangles with intersect_triangle() on the
 /// same Triangle values make_triangles() gives, keeps the closest by is_closer(),
-/// tests boxes with a slab test widened by a few ulps (core/accel/box_test.h) and
+/// tests boxes with a slab test widened by a few ulps (core/math/box_test.h) and
 /// culls a node only when that widened entry distance is strictly beyond the
-/// closest hit; so it returns the same triangle and bit-identical t as BruteForce
-/// (except where Möller–Trumbore itself is unreliable: see box_test.h, "Limit").
+/// closest hit; so it returns the same triangle and bit-identical t as BruteForce.
+/// (The triangle test keeps every hit inside its triangle's widened box, so no
+/// node holding the hit is culled before it is found: core/geometry/triangle.h.)
 /// Box events report the widened interval, clipped to the ray's [t_min, t_max].
 
 #include <cstdint>
@@ -20,7 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/accel/accel_type.h"
-#include "core/accel/box_test.h"
+#include "core/math/box_test.h"
 #include "core/accel/bvh_config.h"
 #include "core/geometry/triangle.h"
 #include "core/traversal/observers.h"
@@ -166,7 +167,7 @@ private:
     /// so far, inclusive), updating `best` and `ray.t_max`. Any-hit: true at the
     /// first hit (in `best`), which ends the walk.
     template <StopAt kStop, class Entry, class Observer>
-    bool intersect_leaf(const Entry& leaf, Ray& ray, Hit& best, Observer& obs) const;
+    bool intersect_leaf(const Entry& leaf, Ray& ray, const BoxTestRay& box_ray, Hit& best, Observer& obs) const;
 
     /// The ray spends time in the box within [t_min, t_max]: the clipped interval is
     /// not empty. (SlabResult::hit() also asks for t_exit >= 0, which is the same for
@@ -192,12 +193,13 @@ private:
 // ---------------------------------------------------------------------------
 
 template <StopAt kStop, class Entry, class Observer>
-[[gnu::always_inline]] inline bool Bvh::intersect_leaf(const Entry& leaf, Ray& ray, Hit& best, Observer& obs) const {
+[[gnu::always_inline]] inline bool Bvh::intersect_leaf(const Entry& leaf, Ray& ray, const BoxTestRay& box_ray,
+                                                      Hit& best, Observer& obs) const {
     obs.on({.kind = EventKind::Leaf, .node = leaf.node, .first = leaf.first, .count = leaf.count,
             .t_enter = leaf.t_enter, .t_exit = leaf.t_exit});
     const uint32_t end = leaf.first + leaf.count;
     for (uint32_t k = leaf.first; k < end; ++k) {
-        const TriangleTest test = intersect_triangle(triangles[k], ray);
+        const TriangleTest test = intersect_triangle(triangles[k], ray, box_ray);
         obs.on({.kind = EventKind::TriangleTest, .hit = test.hit, .tri = prim_ids[k], .t = test.t, .u = test.u,
                 .v = test.v});
         if constexpr (kStop == StopAt::AnyHit) {
@@ -237,7 +239,7 @@ Hit Bvh::walk(const Ray& ray, Observer& obs) const {
         obs.on({.kind = EventKind::VisitNode, .node = current.node, .t_enter = current.t_enter,
                 .t_exit = current.t_exit});
         if (current.is_leaf()) {
-            if (intersect_leaf<kStop>(current, shrinking, best, obs)) return done(best, obs);
+            if (intersect_leaf<kStop>(current, shrinking, box_ray, best, obs)) return done(best, obs);
         } else if constexpr (kNearestFirst) {
             // find_hit_order (lecture): test both children; keep those the ray enters
             // no later than the closest hit so far; go to the nearer, defer the other.

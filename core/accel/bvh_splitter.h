@@ -128,9 +128,7 @@ using PrimRefs = std::vector<PrimRef, LargeArrayAllocator<PrimRef>>;
 /// The lecture splits by "the position of the primitive's centroid" (重心): the
 /// mean of the three corners, summed in corner order.
 inline PrimRef make_prim_ref(Vec3 p0, Vec3 p1, Vec3 p2, uint32_t id) {
-    Aabb box;
-    for (Vec3 p : {p0, p1, p2}) box.grow(p);  // as Mesh::triangle_bounds
-    return {Box4(box), (p0 + p1 + p2) / 3.0f, id};
+    return {Box4(triangle_box(p0, p1, p2)), (p0 + p1 + p2) / 3.0f, id};
 }
 
 /// A node's triangles during the build: positions [begin, end) of the builder's order.

@@ -89,7 +89,7 @@ public:
     /// wrong answers when a triangle's hit lies beyond the cell it was tested in.
     /// `triangle_count`: ids are below it (the mailbox's bitset size).
     CellHits(const Ray& ray, bool use_mailbox, bool strict_cell, uint32_t triangle_count)
-        : test_ray_(ray), use_mailbox_(use_mailbox), strict_(strict_cell), mailbox_(triangle_count) {}
+        : test_ray_(ray), box_ray_(ray), use_mailbox_(use_mailbox), strict_(strict_cell), mailbox_(triangle_count) {}
 
     /// The walk enters a cell spanning [t_in, t_out] along the ray. A hit
     /// remembered from an earlier cell whose t lies in this cell is accepted now.
@@ -109,7 +109,7 @@ public:
             obs.on({.kind = EventKind::MailboxSkip, .tri = id});
             return;
         }
-        const TriangleTest test = intersect_triangle(triangle, test_ray_);
+        const TriangleTest test = intersect_triangle(triangle, test_ray_, box_ray_);
         obs.on({.kind = EventKind::TriangleTest, .hit = test.hit, .tri = id, .t = test.t, .u = test.u, .v = test.v});
         if (!test.hit || !is_closer(test.t, id, best_)) return;
         best_ = {id, test.t, test.u, test.v};
@@ -147,6 +147,7 @@ public:
 
 private:
     Ray test_ray_;  ///< the ray with t_max = closest hit so far
+    BoxTestRay box_ray_;  ///< for the triangle test's own-box rule
     Hit best_;
     float t_out_ = kInfinity;
     bool pending_ = false;  ///< best_ lies beyond the cells walked so far

@@ -241,8 +241,7 @@ SahChart compute_sah_chart(const Mesh& mesh, std::span<const uint32_t> prim_ids,
     refs.reserve(prim_ids.size());
     for (uint32_t id : prim_ids) {
         const Vec3 p0 = mesh.vertex(id, 0), p1 = mesh.vertex(id, 1), p2 = mesh.vertex(id, 2);
-        Ref r{{}, (p0 + p1 + p2) / 3.0f, id};
-        for (Vec3 p : {p0, p1, p2}) r.box.grow(p);
+        const Ref r{triangle_box(p0, p1, p2), (p0 + p1 + p2) / 3.0f, id};
         chart.bounds.grow(r.box);
         chart.centroid_bounds.grow(r.center);
         refs.push_back(r);

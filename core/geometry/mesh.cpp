@@ -4,8 +4,7 @@ namespace accelviz {
 
 Aabb Mesh::bounds() const {
     Aabb b;
-    for (const auto& tri : indices)
-        for (uint32_t i : tri) b.grow(positions[i]);
+    for (size_t t = 0; t < indices.size(); ++t) b.grow(triangle_bounds(t));
     return b;
 }
 

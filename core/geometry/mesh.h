@@ -20,12 +20,9 @@ struct Mesh {
     Triangle triangle(size_t tri) const {
         return Triangle::from_points(vertex(tri, 0), vertex(tri, 1), vertex(tri, 2));
     }
-    Aabb triangle_bounds(size_t tri) const {
-        Aabb b;
-        for (int c = 0; c < 3; ++c) b.grow(vertex(tri, c));
-        return b;
-    }
-    /// Bounds of all referenced vertices (empty box for an empty mesh).
+    /// The box structures build around triangle `tri` (triangle_box).
+    Aabb triangle_bounds(size_t tri) const { return triangle_box(vertex(tri, 0), vertex(tri, 1), vertex(tri, 2)); }
+    /// Bounds of all triangles' boxes (triangle_bounds; empty box for an empty mesh).
     Aabb bounds() const;
     /// Adds a triangle from three points (appends three vertices).
     void add_triangle(Vec3 a, Vec3 b, Vec3 c);

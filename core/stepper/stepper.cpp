@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "core/accel/box_test.h"
+#include "core/math/box_test.h"
 #include "core/accel/brute_force.h"
 #include "core/accel/bvh.h"
 #include "core/accel/factory.h"
@@ -102,7 +102,7 @@ std::optional<SlabInspection> inspect_box_test(const SteppedRay& r, const NodeBo
     s.widened = r.widened_box_test;
     float enter, exit;
     if (r.widened_box_test) {
-        // widened_slab_test (core/accel/box_test.h), one axis at a time, in its order.
+        // widened_slab_test (core/math/box_test.h), one axis at a time, in its order.
         const BoxTestRay ray(r.ray);
         const bool behind = r.ray.t_min < 0.0f;
         const Vec3& near_scale = behind ? ray.dir_inv : ray.near_dir_inv;
@@ -235,6 +235,9 @@ TriangleInspection inspect_triangle_test(const SteppedRay& r, size_t index) {
         out.verdict = "miss: v < 0, outside the triangle";
     else if (!inside)
         out.verdict = "miss: 1-u-v < 0, outside the triangle";
+    else if (e.t >= r.ray.t_min && e.t <= out.t_max)
+        out.verdict = "miss: u, v say inside, but the ray misses the triangle's own box: rounding on a sliver, "
+                      "not a hit (core/geometry/triangle.h)";
     else if (e.t < r.ray.t_min)
         out.verdict = "miss: inside, but behind the ray's start (t < t_min)";
     else if (out.t_max < r.ray.t_max)

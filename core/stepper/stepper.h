@@ -31,7 +31,7 @@ namespace accelviz {
 struct SteppedRay {
     Ray ray;
     std::string structure;         ///< Accelerator::name(): "naive", "bvh", ...
-    bool widened_box_test = false;  ///< the BVH's box test (core/accel/box_test.h) widens the slabs
+    bool widened_box_test = false;  ///< the BVH's box test (core/math/box_test.h) widens the slabs
     std::vector<TraversalEvent> events;
     Hit hit;
 };

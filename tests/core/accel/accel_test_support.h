@@ -8,16 +8,64 @@
 #include <bit>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <tbb/parallel_for.h>
 
 #include "core/accel/brute_force.h"
+#include "core/accel/factory.h"
 #include "core/geometry/mesh.h"
 #include "core/util/random.h"
 
 namespace accelviz::test {
+
+/// Every structure with every option that changes what it builds or how it walks
+/// (builders, the BVH's two traversals, grid insertion, KD and octree clipping,
+/// mailbox on and off), each with a label: what exactness and determinism are
+/// tested on, and what the fuzzer checks against brute force.
+inline std::vector<std::pair<std::string, AccelConfig>> all_configurations() {
+    std::vector<std::pair<std::string, AccelConfig>> out;
+    for (BvhBuilder builder : {BvhBuilder::Midpoint, BvhBuilder::Median, BvhBuilder::SahSweep, BvhBuilder::SahBinned}) {
+        AccelConfig c;
+        c.type = AccelType::Bvh;
+        c.bvh.builder = builder;
+        out.push_back({"bvh " + std::string(to_string(builder)), c});
+    }
+    AccelConfig unordered;
+    unordered.type = AccelType::Bvh;
+    unordered.bvh_traversal = BvhTraversal::Unordered;
+    out.push_back({"bvh unordered", unordered});
+    for (GridInsert insert : {GridInsert::Box, GridInsert::Exact})
+        for (bool mailbox : {true, false}) {
+            AccelConfig c;
+            c.type = AccelType::Grid;
+            c.grid.insert = insert;
+            c.grid.mailbox = mailbox;
+            out.push_back({"grid " + std::string(to_string(insert)) + (mailbox ? "" : " no-mailbox"), c});
+        }
+    for (KdBuilder builder : {KdBuilder::Median, KdBuilder::Sah})
+        for (ClipMode clip : {ClipMode::Box, ClipMode::Exact}) {
+            AccelConfig c;
+            c.type = AccelType::Kd;
+            c.kd.builder = builder;
+            c.kd.clip = clip;
+            c.kd.mailbox = clip == ClipMode::Box;  // both mailbox states, without doubling the list
+            out.push_back({"kd " + std::string(to_string(builder)) + " " + std::string(to_string(clip)) +
+                               (c.kd.mailbox ? " mailbox" : ""),
+                           c});
+        }
+    for (ClipMode clip : {ClipMode::Box, ClipMode::Exact}) {
+        AccelConfig c;
+        c.type = AccelType::Octree;
+        c.octree.clip = clip;
+        c.octree.mailbox = clip == ClipMode::Box;
+        out.push_back({"octree " + std::string(to_string(clip)) + (c.octree.mailbox ? "" : " no-mailbox"), c});
+    }
+    return out;
+}
 
 /// A direction uniform on the unit sphere.
 inline Vec3 random_direction(Rng& rng) {
@@ -118,8 +166,9 @@ inline std::vector<Ray> make_test_rays(const Mesh& mesh, size_t count, uint64_t 
 /// intersect_triangle() accepts on [t_min, t_max]; u, v of that triangle. The
 /// triangle tests are laid out structure-of-arrays so the compiler vectorizes
 /// them; IEEE arithmetic is element-wise, so each lane computes exactly what
-/// intersect_triangle computes (same operations, same order, no contraction).
-/// check_oracle() confirms that against BruteForce itself.
+/// intersect_triangle computes (same operations, same order, no contraction) up
+/// to its inside test; a lane inside is then tested by intersect_triangle itself,
+/// which adds the own-box rule. check_oracle() confirms that against BruteForce.
 inline std::vector<Hit> brute_force_answers(const Mesh& mesh, const std::vector<Ray>& rays) {
     const std::vector<Triangle> tris = make_triangles(mesh);
     const size_t n = tris.size();
@@ -132,9 +181,9 @@ inline std::vector<Hit> brute_force_answers(const Mesh& mesh, const std::vector<
     std::vector<Hit> answers(rays.size());
     tbb::parallel_for(size_t(0), rays.size(), [&](size_t r) {
         const Ray& ray = rays[r];
+        const BoxTestRay box_ray(ray);
         constexpr size_t kBlock = 512;
-        float t[kBlock];
-        unsigned char hit[kBlock];
+        unsigned char inside[kBlock];
         Hit best;
         for (size_t begin = 0; begin < n; begin += kBlock) {
             const size_t m = std::min(kBlock, n - begin);
@@ -151,18 +200,14 @@ inline std::vector<Hit> brute_force_answers(const Mesh& mesh, const std::vector<
                 const float qy = tz * e1x[i] - tx * e1z[i];
                 const float qz = tx * e1y[i] - ty * e1x[i];
                 const float v = (ray.dir.x * qx + ray.dir.y * qy + ray.dir.z * qz) * inv_det;
-                const float tt = (e2x[i] * qx + e2y[i] * qy + e2z[i] * qz) * inv_det;
-                t[k] = tt;
-                hit[k] = (det != 0.0f) & (u >= 0.0f) & (v >= 0.0f) & (u + v <= 1.0f) & (tt >= ray.t_min) &
-                         (tt <= ray.t_max);
+                inside[k] = (det != 0.0f) & (u >= 0.0f) & (v >= 0.0f) & (u + v <= 1.0f);
             }
-            for (size_t k = 0; k < m; ++k)
-                if (hit[k] && is_closer(t[k], uint32_t(begin + k), best)) best = {uint32_t(begin + k), t[k], 0, 0};
-        }
-        if (best.found()) {
-            const TriangleTest test = intersect_triangle(tris[best.tri], ray);
-            best.u = test.u;
-            best.v = test.v;
+            for (size_t k = 0; k < m; ++k) {
+                if (!inside[k]) continue;
+                const uint32_t id = uint32_t(begin + k);
+                const TriangleTest test = intersect_triangle(tris[id], ray, box_ray);
+                if (test.hit && is_closer(test.t, id, best)) best = {id, test.t, test.u, test.v};
+            }
         }
         answers[r] = best;
     });
@@ -190,6 +235,42 @@ inline std::string describe(const Hit& h) {
     char buf[128];
     std::snprintf(buf, sizeof buf, "tri %u t=%.9g u=%.9g v=%.9g", h.tri, h.t, h.u, h.v);
     return buf;
+}
+
+/// The rays the OBJ fuzzer traces through an input of `input_size` bytes: seeded by
+/// the size, so a saved input replays exactly (and an edited one does not).
+inline std::vector<Ray> fuzz_rays(const Mesh& mesh, size_t input_size) { return make_test_rays(mesh, 64, input_size); }
+
+/// The first disagreement of any configuration (all_configurations) with brute
+/// force on `rays`, as a message: another triangle or a t not bit-identical for
+/// the closest hit, or another answer to "any hit?". nullopt when all agree.
+/// (What the OBJ fuzzer checks on every input, and its corpus's test replays.)
+inline std::optional<std::string> first_disagreement(const Mesh& mesh, const std::vector<Ray>& rays) {
+    const BruteForce brute(mesh);
+    std::vector<Hit> want;
+    for (const Ray& ray : rays) {
+        NoObserver none;
+        want.push_back(brute.intersect_closest(ray, none));
+    }
+    for (const auto& [label, config] : all_configurations()) {
+        auto built = build_accelerator(mesh, config);
+        if (!built) return label + " does not build: " + built.error();
+        for (size_t i = 0; i < rays.size(); ++i) {
+            const Hit got = (*built)->intersect_closest(rays[i]);
+            const bool same = got.tri == want[i].tri && std::bit_cast<uint32_t>(got.t) == std::bit_cast<uint32_t>(want[i].t);
+            const bool any = (*built)->intersect_any(rays[i]);
+            if (same && any == want[i].found()) continue;
+            char ray_text[256];
+            std::snprintf(ray_text, sizeof ray_text, "ray (%a %a %a) -> (%a %a %a) [%a, %a]", rays[i].origin.x,
+                          rays[i].origin.y, rays[i].origin.z, rays[i].dir.x, rays[i].dir.y, rays[i].dir.z,
+                          rays[i].t_min, rays[i].t_max);
+            char hits[160];
+            std::snprintf(hits, sizeof hits, "tri %u t %a (any-hit: %s), brute force tri %u t %a", got.tri, got.t,
+                          any ? "hit" : "miss", want[i].tri, want[i].t);
+            return label + " differs from brute force: " + ray_text + ": " + hits;
+        }
+    }
+    return std::nullopt;
 }
 
 }  // namespace accelviz::test

@@ -46,38 +46,6 @@ Fingerprint fingerprint(const Mesh& mesh, const AccelConfig& config, const std::
     return out;
 }
 
-/// Every builder and build option of every structure.
-std::vector<std::pair<std::string, AccelConfig>> configurations() {
-    std::vector<std::pair<std::string, AccelConfig>> out;
-    for (BvhBuilder builder : {BvhBuilder::Midpoint, BvhBuilder::Median, BvhBuilder::SahSweep, BvhBuilder::SahBinned}) {
-        AccelConfig c;
-        c.type = AccelType::Bvh;
-        c.bvh.builder = builder;
-        out.push_back({"bvh " + std::string(to_string(builder)), c});
-    }
-    for (GridInsert insert : {GridInsert::Box, GridInsert::Exact}) {
-        AccelConfig c;
-        c.type = AccelType::Grid;
-        c.grid.insert = insert;
-        out.push_back({"grid " + std::string(to_string(insert)), c});
-    }
-    for (KdBuilder builder : {KdBuilder::Median, KdBuilder::Sah})
-        for (ClipMode clip : {ClipMode::Box, ClipMode::Exact}) {
-            AccelConfig c;
-            c.type = AccelType::Kd;
-            c.kd.builder = builder;
-            c.kd.clip = clip;
-            out.push_back({"kd " + std::string(to_string(builder)) + " " + std::string(to_string(clip)), c});
-        }
-    for (ClipMode clip : {ClipMode::Box, ClipMode::Exact}) {
-        AccelConfig c;
-        c.type = AccelType::Octree;
-        c.octree.clip = clip;
-        out.push_back({"octree " + std::string(to_string(clip)), c});
-    }
-    return out;
-}
-
 TEST(BuildDeterminism, TheFingerprintTellsTwoTreesApart) {
     auto mesh = load_scene("builtin:soup?n=2000&seed=11");
     ASSERT_TRUE(mesh) << mesh.error();
@@ -97,7 +65,7 @@ TEST(BuildDeterminism, SameStructureOnEveryRunAndAnyNumberOfThreadsSlow) {
         auto mesh = load_scene(source);
         ASSERT_TRUE(mesh) << mesh.error();
         const std::vector<Ray> rays = test::make_test_rays(*mesh, 200, 5);
-        for (const auto& [label, config] : configurations()) {
+        for (const auto& [label, config] : test::all_configurations()) {
             SCOPED_TRACE(std::string(source) + ", " + label);
             const Fingerprint first = fingerprint(*mesh, config, rays);
             const Fingerprint again = fingerprint(*mesh, config, rays);

@@ -110,6 +110,21 @@ TEST(Stepper, TriangleInspectorExplainsEachVerdict) {
     EXPECT_NE(tests[4].verdict.find("parallel"), std::string::npos) << tests[4].verdict;
 }
 
+TEST(Stepper, TriangleInspectorNamesTheOwnBoxRule) {
+    // A sliver that float Möller–Trumbore says the ray hits, though the ray passes
+    // beside its box (test_own_box_rule.cpp): the inspector says why it is no hit.
+    Mesh m;
+    m.add_triangle({1, 16666, 1}, {5, 1, 0}, {0, 1, 1});
+    const auto accel = build(m, AccelType::Naive);
+    const SteppedRay r = record_ray(*accel, Ray{{0x1.e267ap+13f, -0x1.17e8dp+12f, -0x1.d2343cp+13f},
+                                                {-0x1.685f4p-1f, 0x1.a2513cp-3f, 0x1.5c5672p-1f}});
+    ASSERT_GE(r.events.size(), 1u);
+    ASSERT_EQ(r.events[0].kind, EventKind::TriangleTest);
+    const TriangleInspection test = inspect_triangle_test(r, 0);
+    EXPECT_FALSE(test.hit);
+    EXPECT_NE(test.verdict.find("own box"), std::string::npos) << test.verdict;
+}
+
 TEST(Stepper, NodeBoxesNestAndHoldTheirLeafIntervals) {
     const Mesh& mesh = teapot();
     for (const AccelType type : {AccelType::Bvh, AccelType::Kd, AccelType::Octree, AccelType::Grid}) {

@@ -1,7 +1,8 @@
 #pragma once
 /// The BVH's ray–box test: the lecture's slab test (core/math/aabb.h), widened
 /// by a few units in the last place so that it never rejects a box around a
-/// triangle that Möller–Trumbore accepts.
+/// triangle that Möller–Trumbore accepts. The ray–triangle test uses the same
+/// widened test on each triangle's own box (intersect_triangle, core/geometry/triangle.h).
 ///
 /// Why widen? The slab test and Möller–Trumbore round differently. A ray aimed
 /// exactly at a vertex that is also a box corner can come out "just outside the
@@ -20,13 +21,12 @@
 /// The cost of a wider box is only an occasional extra node visit: the answer
 /// is decided by the triangle tests, exactly as in brute force.
 ///
-/// Limit: no small margin covers every case. Möller–Trumbore's error in t grows
-/// as 1/det, so for a nearly degenerate (sliver) triangle hit exactly at a vertex
-/// it can report t well before the triangle's own box (we saw up to 4% at the
-/// collapsed tip of the teapot's lid). Brute force accepts that hit; algorithm 2
-/// may have culled the box by then. In our tests: 0 of 1,000,000 seeded rays differ
-/// on same-centroid, cornell, sphere; 8 on the stadium and 1 on teapot?n=16, all
-/// aimed exactly at such a vertex. Algorithm 1 and any-hit (no culling) agree on all.
+/// No margin alone covers every case: Möller–Trumbore's error grows as 1/det, so
+/// for a sliver triangle hit exactly at a vertex it can report t well outside the
+/// triangle's own box (up to 4% at the collapsed tip of the teapot's lid), or a hit
+/// on a ray that passes beside the box. The triangle test's own-box rule closes
+/// that gap: every hit it reports lies in its triangle's widened box, hence in
+/// every node box above it, since this test's interval only grows with the box.
 
 #include "core/math/aabb.h"
 
