@@ -51,25 +51,38 @@ std::array<int, 3> choose_resolution(Vec3 extent, uint32_t triangles, const Grid
     std::array<int, 3> res{1, 1, 1};
     const double target = double(c.density) * triangles;
     // Cubic cells of side s over the axes with extent: Π(e_a / s) = target.
-    // An axis capped at max_cells_per_axis is fixed, and s is solved again for the rest.
+    // Axes that would get fewer than one cell are fixed at one and s is solved again
+    // for the rest; only then are axes that would get more than max_cells_per_axis
+    // fixed at that cap (and s solved again). Without the first rule a thin axis,
+    // 1e-7 across in a scene 2e12 long, shrank s so far that the other axes were
+    // capped: a million cells for 5 triangles.
     bool capped[3] = {false, false, false};
-    for (int round = 0; round < 3; ++round) {
+    bool one_cell[3] = {false, false, false};
+    for (int a = 0; a < 3; ++a) one_cell[a] = !(extent[a] > 0.0f);  // zero extent: one cell
+    for (int round = 0; round < 4; ++round) {
         double volume = 1, fixed = 1;
         int free_axes = 0;
         for (int a = 0; a < 3; ++a) {
-            if (!(extent[a] > 0.0f)) continue;  // zero extent: one cell
+            if (one_cell[a]) continue;
             if (capped[a]) fixed *= c.max_cells_per_axis;
             else { volume *= extent[a]; ++free_axes; }
         }
+        for (int a = 0; a < 3; ++a) res[a] = one_cell[a] ? 1 : capped[a] ? c.max_cells_per_axis : res[a];
         if (free_axes == 0) break;
         const double side = std::pow(volume * fixed / std::max(target, 1.0), 1.0 / free_axes);
+        double n[3] = {1, 1, 1};
+        bool below_one = false;
+        for (int a = 0; a < 3; ++a) {
+            if (one_cell[a] || capped[a]) continue;
+            n[a] = std::round(extent[a] / side);
+            if (n[a] < 1.0) one_cell[a] = below_one = true;
+        }
+        if (below_one) continue;
         bool new_cap = false;
         for (int a = 0; a < 3; ++a) {
-            if (!(extent[a] > 0.0f)) { res[a] = 1; continue; }
-            if (capped[a]) { res[a] = c.max_cells_per_axis; continue; }
-            const double n = std::max(1.0, std::round(extent[a] / side));
-            if (n > c.max_cells_per_axis) { capped[a] = true; new_cap = true; }
-            res[a] = int(std::min<double>(n, c.max_cells_per_axis));
+            if (one_cell[a] || capped[a]) continue;
+            if (n[a] > c.max_cells_per_axis) capped[a] = new_cap = true;
+            res[a] = int(std::min<double>(n[a], c.max_cells_per_axis));
         }
         if (!new_cap) break;
     }

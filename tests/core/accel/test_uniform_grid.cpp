@@ -81,6 +81,20 @@ TEST(UniformGrid, FlatSceneGetsOneCellAcrossItsFlatAxis) {
     EXPECT_GT(grid.res[0], 1);
 }
 
+TEST(UniformGrid, AThinAxisDoesNotInflateTheOthers) {
+    // From the fuzzer: a scene 2e12 long, 3 deep and 1e-7 high (with 5 triangles,
+    // 135 cells by the rule) got 1024 x 1 x 1024 cells, 4 million references.
+    Mesh m;
+    m.add_triangle({-1e12f, 0, 0}, {1e12f, 0, 0}, {0, 1e-7f, 3});
+    m.add_triangle({0, 0, 0}, {1, 0, 0}, {0, 1e-7f, 1});
+    const UniformGrid grid = build(m, GridConfig{});
+    EXPECT_EQ(grid.build_stats.requested_cells, 54u);
+    EXPECT_LE(grid.build_stats.cells, 54u) << grid.res[0] << " x " << grid.res[1] << " x " << grid.res[2];
+    EXPECT_EQ(grid.res[1], 1);
+    EXPECT_EQ(grid.res[2], 1);
+    EXPECT_TRUE(grid.build_stats.notes.empty());
+}
+
 TEST(UniformGrid, CapsAreReportedNotHidden) {
     const SceneCase& scene = scene_case("builtin:soup?n=2000&seed=3", 10);
     GridConfig c;
