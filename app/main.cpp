@@ -29,6 +29,14 @@ int main(int argc, char** argv) {
     std::string scene = default_window_scene();
     app.add_option("SCENE", scene, "Scene for the window: an OBJ path or builtin:NAME (default: " + scene + ")");
     const std::vector<Command> commands = {register_render(app), register_trace(app), register_bench(app)};
+    // The mesh cache (core/geometry/mesh_cache.h), for the window and every command.
+    bool no_cache = false;
+    const std::string no_cache_help =
+        "Parse OBJ files afresh: neither read nor write the binary copies kept in $XDG_CACHE_HOME/accelviz "
+        "(else ~/.cache/accelviz) that make a file's second load fast";
+    app.add_flag("--no-cache", no_cache, no_cache_help);
+    for (const Command& command : commands)
+        if (command.sub) command.sub->add_flag("--no-cache", no_cache, no_cache_help);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -44,6 +52,7 @@ int main(int argc, char** argv) {
         std::cerr << who << ": " << e.what() << "; see " << who << " --help\n";
         return e.get_exit_code();
     }
+    accelviz::set_default_mesh_cache(no_cache ? accelviz::MeshCache::Skip : accelviz::MeshCache::Use);
     try {
         for (const Command& command : commands)
             if (command.sub && command.sub->parsed()) return command.run();

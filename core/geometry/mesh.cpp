@@ -1,18 +1,33 @@
 #include "core/geometry/mesh.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
 namespace accelviz {
 
+// Both passes below run on every load over every triangle (10 million for the
+// lecture's big scenes), so they are split across the cores; min, max and counts
+// do not depend on the order, so the results are the same on any number of threads.
+
 Aabb Mesh::bounds() const {
-    Aabb b;
-    for (size_t t = 0; t < indices.size(); ++t) b.grow(triangle_bounds(t));
-    return b;
+    return tbb::parallel_reduce(
+        tbb::blocked_range<size_t>(0, indices.size(), 1 << 16), Aabb{},
+        [&](const tbb::blocked_range<size_t>& range, Aabb b) {
+            for (size_t t = range.begin(); t < range.end(); ++t) b.grow(triangle_bounds(t));
+            return b;
+        },
+        [](Aabb a, const Aabb& b) { return merge(a, b); });
 }
 
 size_t count_degenerate_triangles(const Mesh& mesh) {
-    size_t count = 0;
-    for (size_t t = 0; t < mesh.triangle_count(); ++t)
-        if (has_zero_area(mesh.vertex(t, 0), mesh.vertex(t, 1), mesh.vertex(t, 2))) ++count;
-    return count;
+    return tbb::parallel_reduce(
+        tbb::blocked_range<size_t>(0, mesh.triangle_count(), 1 << 16), size_t(0),
+        [&](const tbb::blocked_range<size_t>& range, size_t count) {
+            for (size_t t = range.begin(); t < range.end(); ++t)
+                if (has_zero_area(mesh.vertex(t, 0), mesh.vertex(t, 1), mesh.vertex(t, 2))) ++count;
+            return count;
+        },
+        [](size_t a, size_t b) { return a + b; });
 }
 
 void Mesh::add_triangle(Vec3 a, Vec3 b, Vec3 c) {

@@ -5,6 +5,7 @@
 /// builtin_scenes, the Bézier evaluation), teapot_patches.cpp (the teapot's
 /// control points) and scene.cpp (load_scene).
 
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -44,11 +45,26 @@ struct BuiltinInfo {
 };
 const std::vector<BuiltinInfo>& builtin_scenes();
 
-/// "builtin:..." → make_builtin, anything else → load_obj. Errors: an empty
-/// source, what those report, and a mesh the program cannot show faithfully:
-/// every triangle of zero area (nothing to draw), a coordinate beyond
-/// ±kMaxCoordinate or a scene less than kMinSceneSize across (mesh.h).
+/// Whether load_scene may use the mesh cache (core/geometry/mesh_cache.h) for OBJ
+/// files. The program turns it on for the whole process (its --no-cache flag
+/// leaves it off); until then load_scene touches no file but the one asked for.
+enum class MeshCache { Skip, Use };
+void set_default_mesh_cache(MeshCache cache);
+MeshCache default_mesh_cache();
+
+/// "builtin:..." → make_builtin, anything else → load_obj (or its cached copy, see
+/// load_obj_cached). Errors: an empty source, what those report, and a mesh the
+/// program cannot show faithfully: every triangle of zero area (nothing to draw), a
+/// coordinate beyond ±kMaxCoordinate or a scene less than kMinSceneSize across (mesh.h).
+Expected<Mesh> load_scene(const std::string& source, MeshCache cache);
+/// load_scene with default_mesh_cache().
 Expected<Mesh> load_scene(const std::string& source);
+
+/// load_obj through the mesh cache in `cache_dir`: a valid copy of this version of
+/// the file if there is one (`*from_cache` says so), else the parsed file, whose
+/// copy is then written.
+Expected<Mesh> load_obj_cached(const std::string& path, const std::filesystem::path& cache_dir,
+                               bool* from_cache = nullptr);
 
 /// "k of N triangles have zero area ...", for stderr and the Stats panel (none: nullopt).
 std::optional<std::string> degenerate_note(const Mesh& mesh);
