@@ -142,11 +142,13 @@ Expected<UniformGrid> build_uniform_grid(const Mesh& mesh, const GridConfig& con
     st.cells_per_axis = g.res;
     st.cells = cells;
 
-    // Pass 1: the cells of each triangle (in triangle order, so each cell's list
-    // ends up sorted by id: deterministic and easy to read in the stepper).
-    std::vector<uint32_t> cell_count(cells, 0);
-    std::vector<uint32_t> pairs_cell;  // cell of each (triangle, cell) reference, triangle by triangle
-    std::vector<uint32_t> pairs_first(size_t(st.triangles) + 1, 0);
+    // Pass 1: the cells of each triangle, triangle by triangle, counted per cell in
+    // cell_start (which pass 2 turns into the lists' starts). The lecture's 27 N cells
+    // are mostly empty: one array of cells + 1 is all the build gives them.
+    g.cell_start.assign(cells + 1, 0);
+    std::vector<uint32_t, LargeArrayAllocator<uint32_t>> pairs_cell;  // cell of each reference, triangle by triangle
+    pairs_cell.reserve(size_t(st.triangles) * 4);  // a triangle meets about 4 of the rule's cells
+    std::vector<uint32_t, LargeArrayAllocator<uint32_t>> pairs_first(size_t(st.triangles) + 1, 0);
     for (uint32_t t = 0; t < st.triangles; ++t) {
         pairs_first[t] = uint32_t(pairs_cell.size());
         const Aabb box = padded(mesh.triangle_bounds(t), pad);
@@ -168,7 +170,7 @@ Expected<UniformGrid> build_uniform_grid(const Mesh& mesh, const GridConfig& con
                         continue;
                     const uint32_t id = g.cell_id(i, j, k);
                     pairs_cell.push_back(id);
-                    ++cell_count[id];
+                    ++g.cell_start[id];
                 }
         if (pairs_cell.size() > config.max_references) {
             std::ostringstream s;
@@ -179,18 +181,21 @@ Expected<UniformGrid> build_uniform_grid(const Mesh& mesh, const GridConfig& con
     }
     pairs_first[st.triangles] = uint32_t(pairs_cell.size());
 
-    // Pass 2: prefix sums, then fill (counting sort by cell).
-    g.cell_start.assign(cells + 1, 0);
-    for (uint64_t c = 0; c < cells; ++c) g.cell_start[c + 1] = g.cell_start[c] + cell_count[c];
+    // Pass 2, a counting sort by cell: as inclusive prefix sums the counts say where
+    // each cell's list ends; filling the lists back to front, last triangle first,
+    // moves each entry to where its list starts, and leaves every list in increasing
+    // id order (deterministic, and easy to read in the stepper).
+    for (uint64_t c = 1; c < cells; ++c) g.cell_start[c] += g.cell_start[c - 1];
+    g.cell_start[cells] = uint32_t(pairs_cell.size());
     g.tri_ids.resize(pairs_cell.size());
-    std::vector<uint32_t> cursor(g.cell_start.begin(), g.cell_start.end() - 1);
-    for (uint32_t t = 0; t < st.triangles; ++t)
-        for (uint32_t r = pairs_first[t]; r < pairs_first[t + 1]; ++r) g.tri_ids[cursor[pairs_cell[r]]++] = t;
+    for (uint32_t t = st.triangles; t-- > 0;)
+        for (uint32_t r = pairs_first[t + 1]; r-- > pairs_first[t];) g.tri_ids[--g.cell_start[pairs_cell[r]]] = t;
 
     st.references = g.tri_ids.size();
     for (uint64_t c = 0; c < cells; ++c) {
-        st.max_per_cell = std::max(st.max_per_cell, cell_count[c]);
-        if (cell_count[c] == 0) ++st.empty_cells;
+        const uint32_t count = g.cell_start[c + 1] - g.cell_start[c];
+        st.max_per_cell = std::max(st.max_per_cell, count);
+        if (count == 0) ++st.empty_cells;
     }
     st.mean_per_cell = double(st.references) / double(cells);
     st.mean_per_nonempty_cell =
