@@ -68,7 +68,7 @@ struct TriangleTest {
 /// The own-box rule for a test whose u, v say inside (see intersect_triangle): sets
 /// r.hit, or r.off_own_box, and brings r.t into the box. Not inlined: it runs for a
 /// small share of the tests, and kept out of the structures' inner loops it leaves
-/// them their registers (inlined, the BVH traced the bunny about 5% slower).
+/// them their registers (the cost both ways: docs/performance.md).
 [[gnu::noinline]] inline void apply_own_box_rule(const Triangle& tri, const Ray& ray, const BoxTestRay& box_ray,
                                                  TriangleTest& r) {
     // The variant of the widened test the BVH picks for this ray. The interval is not
@@ -102,10 +102,11 @@ struct TriangleTest {
 /// construction: the widened slab interval only grows when the box grows (rounding
 /// is monotone), and every node box holds its triangles' boxes (triangle_box), so
 /// a node containing a triangle is entered no later than that triangle's t and is
-/// never culled before the hit is found. For a well-shaped triangle the clamp never
-/// moves t: the box is widened by 2^-16 of t, far more than the test's error.
+/// never culled before the hit is found. For a well-shaped triangle the clamp seldom
+/// moves t (the box is widened by 2^-16 of t, more than the test's usual error), and
+/// then towards the exact distance, which lies in the box.
 /// `box_ray` is BoxTestRay(ray), computed once per ray by the caller. Always
-/// inlined: called in the structures' inner loops, where a call costs 5-10%.
+/// inlined: it is the structures' inner loop, where a call is a measurable cost.
 [[gnu::always_inline]] inline TriangleTest intersect_triangle(const Triangle& tri, const Ray& ray, const BoxTestRay& box_ray) {
     TriangleTest r;
     const Vec3 pvec = cross(ray.dir, tri.edge2);
