@@ -1,6 +1,7 @@
 #include "core/geometry/triangle_box.h"
 
 #include <cmath>
+#include <utility>
 
 namespace accelviz {
 
@@ -70,7 +71,9 @@ Aabb clip_triangle_to_box(Vec3 p0, Vec3 p1, Vec3 p2, const Aabb& box) {
     if (box.empty()) return {};
     // A convex polygon clipped by 6 half-spaces has at most 3 + 6 vertices.
     constexpr int kMax = 9;
-    V3d poly[kMax + 1], next[kMax + 1];
+    V3d buffers[2][kMax + 1];
+    V3d* poly = buffers[0];
+    V3d* next = buffers[1];
     int count = 3;
     const double zero[3] = {0, 0, 0};
     poly[0] = sub(p0, zero);
@@ -81,6 +84,12 @@ Aabb clip_triangle_to_box(Vec3 p0, Vec3 p1, Vec3 p2, const Aabb& box) {
             // Keep the part with sign * (x_a - plane) >= 0: x >= lo, or x <= hi.
             const double plane = side == 0 ? double(box.lo[a]) : double(box.hi[a]);
             const double sign = side == 0 ? 1.0 : -1.0;
+            // A plane with every corner on the kept side changes nothing (most planes of
+            // a cell that a triangle straddles on one axis only): skip its pass.
+            int inside = 0;
+            for (int i = 0; i < count; ++i) inside += sign * (poly[i][a] - plane) >= 0 ? 1 : 0;
+            if (inside == count) continue;
+            if (inside == 0) return {};
             int out = 0;
             for (int i = 0; i < count; ++i) {
                 const V3d& cur = poly[i];
@@ -97,7 +106,7 @@ Aabb clip_triangle_to_box(Vec3 p0, Vec3 p1, Vec3 p2, const Aabb& box) {
                 }
             }
             count = out;
-            for (int i = 0; i < count; ++i) poly[i] = next[i];
+            std::swap(poly, next);
         }
     }
     if (count == 0) return {};
