@@ -24,7 +24,8 @@ constexpr uint32_t kVersion = 1;
 constexpr uint64_t kEdgeBytes = 1 << 20;  ///< hashed at each end of the OBJ file
 
 static_assert(sizeof(Vec3) == 12, "a vertex is stored as three floats");
-static_assert(sizeof(std::array<uint32_t, 3>) == 12, "a triangle is stored as three indices");
+constexpr uint64_t kTriangleBytes = sizeof(std::array<uint32_t, 3>);
+static_assert(kTriangleBytes == 12, "a triangle is stored as three indices");
 
 /// The copy's header, followed by the path's bytes (zero-padded to a multiple of 8,
 /// so that the arrays after it are aligned when the file is mapped), the positions
@@ -165,10 +166,10 @@ std::optional<Mesh> read_mesh_cache(const std::filesystem::path& file, const Obj
         return std::nullopt;
     // The file must be exactly as long as its header says (no truncation, nothing extra).
     const uint64_t size = map.size();
-    if (h.vertex_count > size / sizeof(Vec3) || h.triangle_count > size / 12) return std::nullopt;
+    if (h.vertex_count > size / sizeof(Vec3) || h.triangle_count > size / kTriangleBytes) return std::nullopt;
     const uint64_t positions_at = sizeof h + padded(h.path_length);
     const uint64_t indices_at = positions_at + h.vertex_count * sizeof(Vec3);
-    if (size != indices_at + h.triangle_count * 12) return std::nullopt;
+    if (size != indices_at + h.triangle_count * kTriangleBytes) return std::nullopt;
     const std::string path(map.data() + sizeof h, h.path_length);
     if (path != key.path) return std::nullopt;
     Mesh mesh;
@@ -208,7 +209,7 @@ bool write_mesh_cache(const std::filesystem::path& file, const ObjKey& key, cons
         out.write(zeros, std::streamsize(padded(key.path.size()) - key.path.size()));
         out.write(reinterpret_cast<const char*>(mesh.positions.data()),
                   std::streamsize(mesh.positions.size() * sizeof(Vec3)));
-        out.write(reinterpret_cast<const char*>(mesh.indices.data()), std::streamsize(mesh.indices.size() * 12));
+        out.write(reinterpret_cast<const char*>(mesh.indices.data()), std::streamsize(mesh.indices.size() * kTriangleBytes));
         out.close();
         if (!out) {
             std::filesystem::remove(temp, ec);

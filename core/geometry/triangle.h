@@ -50,8 +50,8 @@ struct Triangle {
 /// as the intersection test sees them (Triangle::box), so that it holds the box
 /// the test's own-box rule uses (intersect_triangle), bit for bit.
 inline Aabb triangle_box(Vec3 p0, Vec3 p1, Vec3 p2) {
-    Aabb b;
-    for (Vec3 p : {p0, p1, p2, p0 + (p1 - p0), p0 + (p2 - p0)}) b.grow(p);
+    Aabb b = Triangle{p0, p1 - p0, p2 - p0}.box();  // not from_points: a zero-area triangle still has a box
+    for (Vec3 p : {p1, p2}) b.grow(p);
     return b;
 }
 
