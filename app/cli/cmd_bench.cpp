@@ -5,7 +5,7 @@
 //
 // Method: the rays are generated once, before timing (both structures trace the
 // same array, in the ray caster's 16x16 tiles); frame_ms times tracing only, and
-// build_ms the whole build (mesh to structure). Both are wall-clock medians over
+// build_ms the whole build (mesh to structure), on the same number of threads. Both are wall-clock medians over
 // --repeat runs; *_cpu_ms are the process's CPU time over the same runs (which, on a
 // machine shared with other work, is the steadier figure for one thread). per_ray is
 // the work behind them (nodes visited, box and triangle tests, mailbox skips), from
@@ -24,6 +24,7 @@
 #include <memory>
 
 #include <nlohmann/json.hpp>
+#include <tbb/global_control.h>
 
 #include "app/cli/accel_flags.h"
 #include "app/cli/camera_flags.h"
@@ -206,6 +207,8 @@ int run_bench(const BenchOptions& opt) {
     const std::vector<Ray> rays = camera_rays(Camera(*camera_params, opt.width, opt.height));
     const int threads = effective_threads(opt.threads);  // what runs: 0 and too many ask for all cores
     const std::string name(to_string(opt.accel.type));
+    // The builds (oneTBB) get the same threads as the tracing.
+    const tbb::global_control build_threads(tbb::global_control::max_allowed_parallelism, size_t(threads));
 
     // Ours (and the reference, when asked for) build R times, then trace R times. With a
     // reference the two alternate run by run, so a machine that slows down or speeds up
@@ -277,8 +280,8 @@ Command register_bench(CLI::App& app) {
     sub->add_option("--width", opt->width, "Image width in pixels")->check(whole_number(1, 16384))->capture_default_str();
     sub->add_option("--height", opt->height, "Image height in pixels")->check(whole_number(1, 16384))->capture_default_str();
     sub->add_option("--threads", opt->threads,
-                    "Tracing threads (0 = all cores; more than the cores run on all cores, and `threads` says "
-                    "how many ran)")
+                    "Threads for building and tracing (0 = all cores; more than the cores run on all cores, and "
+                    "`threads` says how many ran)")
         ->check(whole_number(0, 1024))
         ->capture_default_str();
     sub->add_option("--repeat", opt->repeat, "Runs of build and of trace; the medians are reported")

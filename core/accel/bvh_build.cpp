@@ -1,12 +1,18 @@
 // The BVH build's driver: one decision per node (leaf or split, and which split),
-// an explicit work stack, the leaf-order copy, statistics and notes. The builders
+// big subtrees built in parallel and small ones depth first, the leaf-order copy,
+// statistics and notes. The builders
 // that propose splits live one per file behind bvh_splitter.h.
 #include "core/accel/bvh_build.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <memory>
 #include <optional>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 
 #include "core/accel/bvh_splitter.h"
 #include "core/accel/sah.h"
@@ -89,35 +95,285 @@ BuildDecision decide(Splitter& splitter, const NodeToDecide& node, const BvhConf
     return within_budget ? BuildDecision::SplitForcedBySize : BuildDecision::SplitInHalfDepthBudget;
 }
 
+// ---------------------------------------------------------------------------
+// [SECTION] Building subtrees, in parallel where they are big
+// ---------------------------------------------------------------------------
+
+/// Nodes of this many triangles or more have their two subtrees built in parallel
+/// (oneTBB tasks); smaller ones are built depth first by one task. A fixed size, not
+/// a share of the threads, so the same subtrees are built the same way on any number
+/// of threads: the tree is the same bit for bit.
+constexpr uint32_t kParallelSubtree = 4096;
+/// Triangles per chunk in the build's parallel loops over all triangles.
+constexpr size_t kParallelChunk = size_t(1) << 14;
+
+using DecisionCounts = std::array<uint32_t, kBuildDecisionCount>;
+using NodeArray = decltype(Bvh::nodes);
+
+/// A node still to build; its boxes come along when the parent's partition measured them.
+struct Task {
+    uint32_t node, begin, end, depth;
+    bool measured = false;
+    Aabb bounds, centroid_bounds;
+};
+
+/// What deciding one node gave: a leaf, or a split with its two children still to build.
+struct Decided {
+    bool leaf = true;
+    Task left, right;  ///< for a split; their `node` is left to the caller
+};
+
+/// Decides `task`'s node and writes it to `node` (its box; for a leaf its triangle
+/// range; for a split count 0, the caller sets `first` to the left child's index).
+/// A split reorders the node's range. With a recorder, the decision is appended to
+/// it under the node index task.node.
+Decided decide_node(Splitter& splitter, const Task& task, const BvhConfig& config, BvhNode& node,
+                    DecisionCounts& counts, BuildRecorder* recorder) {
+    const SahCostModel model{config.cost_trav, config.cost_isect};
+    const Range range{task.begin, task.end};
+    Aabb bounds = task.bounds, centroid_bounds = task.centroid_bounds;
+    if (!task.measured) splitter.measure(range, bounds, centroid_bounds);
+    node.bounds = bounds;
+
+    std::optional<BuildStep> step;
+    if (recorder) step.emplace();
+    SplitChoice choice;
+    const BuildDecision decision = decide(splitter, {range, task.depth, bounds, centroid_bounds}, config, choice,
+                                          step && recorder->record_candidates ? &*step : nullptr);
+    ++counts[size_t(decision)];
+
+    Decided result;
+    if (is_leaf(decision)) {
+        node.first = range.begin;
+        node.count = range.count();
+    } else {
+        node.count = 0;
+        ChildBounds children;
+        const uint32_t mid = splits_in_half(decision) ? splitter.partition_in_half(range)
+                                                      : splitter.partition(range, choice, children);
+        if (!children.filled) {
+            splitter.measure({range.begin, mid}, children.bounds[0], children.centroid_bounds[0]);
+            splitter.measure({mid, range.end}, children.bounds[1], children.centroid_bounds[1]);
+        }
+        result.leaf = false;
+        result.left = {0, range.begin, mid, task.depth + 1, true, children.bounds[0], children.centroid_bounds[0]};
+        result.right = {0, mid, range.end, task.depth + 1, true, children.bounds[1], children.centroid_bounds[1]};
+        if (step) {
+            step->split_cost = model.split_cost(bounds.area(), children.bounds[0].area(), mid - range.begin,
+                                                children.bounds[1].area(), range.end - mid);
+            step->left_count = mid - range.begin;
+            if (!splits_in_half(decision)) {
+                step->axis = choice.axis;
+                step->split_position = choice.position;
+            }
+        }
+    }
+    if (step) {
+        step->node = task.node;
+        step->depth = task.depth;
+        step->first = range.begin;
+        step->count = range.count();
+        step->bounds = bounds;
+        step->centroid_bounds = centroid_bounds;
+        step->decision = decision;
+        step->leaf_cost = model.leaf_cost(range.count());
+        recorder->steps.push_back(std::move(*step));
+    }
+    return result;
+}
+
+/// Where the build keeps the nodes of its depth-first parts until their places in the
+/// tree are known: one block of at most 2N - 1 nodes (a binary tree over N non-empty
+/// leaves has no more), handed out front to back as parts finish. Which part lands
+/// where depends on the threads' timing, but each part is then copied to its one
+/// place in the tree, so the tree does not. Not initialized: a slot is written before
+/// it is read; only the used front is touched.
+class NodeStore {
+public:
+    explicit NodeStore(uint32_t triangles) : size_(2 * size_t(triangles) - 1), nodes_(Allocator().allocate(size_)) {}
+    ~NodeStore() { Allocator().deallocate(nodes_, size_); }
+    NodeStore(const NodeStore&) = delete;
+    NodeStore& operator=(const NodeStore&) = delete;
+    /// Keeps a copy of `nodes`; returns where it is.
+    const BvhNode* keep(const std::vector<BvhNode>& nodes) {
+        BvhNode* at = nodes_ + used_.fetch_add(nodes.size());
+        std::copy(nodes.begin(), nodes.end(), at);
+        return at;
+    }
+
+private:
+    using Allocator = LargeArrayAllocator<BvhNode>;
+    size_t size_;
+    BvhNode* nodes_;
+    std::atomic<size_t> used_{0};
+};
+
+/// Builds the subtree of `root` depth first into `nodes`: the subtree's root at [0]
+/// and its descendants after it, with child indices local to `nodes`. The layout: a
+/// split node's two children side by side at the next free index, then the left
+/// child's descendants, then the right child's (the left child goes straight on as
+/// the next task, the right one waits on the stack).
+void build_depth_first(Splitter& splitter, Task root, const BvhConfig& config, std::vector<BvhNode>& nodes,
+                       DecisionCounts& counts, BuildRecorder* recorder) {
+    root.node = 0;
+    nodes.assign(1, BvhNode{});
+    std::vector<Task> work;
+    std::optional<Task> left_next = root;
+    while (left_next || !work.empty()) {
+        Task task;
+        if (left_next) {
+            task = *left_next;
+            left_next.reset();
+        } else {
+            task = work.back();
+            work.pop_back();
+        }
+        BvhNode node;
+        Decided decided = decide_node(splitter, task, config, node, counts, recorder);
+        if (!decided.leaf) {
+            node.first = uint32_t(nodes.size());
+            decided.left.node = node.first;
+            decided.right.node = node.first + 1;
+            nodes.resize(nodes.size() + 2);
+            work.push_back(decided.right);
+            left_next = decided.left;
+        }
+        nodes[task.node] = node;
+    }
+}
+
+/// A subtree as the build left it: built depth first by one task (its nodes kept in
+/// the store, `left` and `right` empty), or, when big, its root decided here and its
+/// two children's subtrees built in parallel.
+struct Subtree {
+    const BvhNode* nodes = nullptr;  ///< built depth first: in the store
+    uint32_t node_count = 0;         ///< built depth first: how many
+    BvhNode root;                    ///< built in parallel: the root
+    std::unique_ptr<Subtree> left, right;
+    DecisionCounts counts{};
+};
+
+std::unique_ptr<Subtree> build_subtree(Splitter& splitter, const Task& task, const BvhConfig& config,
+                                       NodeStore& store) {
+    auto subtree = std::make_unique<Subtree>();
+    if (task.end - task.begin < kParallelSubtree) {
+        thread_local std::vector<BvhNode> nodes;  // reused: it stays in the cache
+        build_depth_first(splitter, task, config, nodes, subtree->counts, nullptr);
+        subtree->nodes = store.keep(nodes);
+        subtree->node_count = uint32_t(nodes.size());
+        return subtree;
+    }
+    const Decided decided = decide_node(splitter, task, config, subtree->root, subtree->counts, nullptr);
+    if (decided.leaf) {
+        subtree->nodes = &subtree->root;
+        subtree->node_count = 1;
+        return subtree;
+    }
+    // The two children work on disjoint ranges of the records: one keeps this splitter,
+    // the other gets a fork.
+    const std::unique_ptr<Splitter> fork = splitter.fork();
+    tbb::parallel_invoke([&] { subtree->left = build_subtree(splitter, decided.left, config, store); },
+                         [&] { subtree->right = build_subtree(*fork, decided.right, config, store); });
+    return subtree;
+}
+
+/// A depth-first part of the tree and where its nodes go: its root to `slot`, the
+/// rest from `next` on.
+struct Placement {
+    const BvhNode* nodes;
+    uint32_t count, slot, next;
+};
+
+/// Lays `subtree` out as build_depth_first would have over the whole tree: its root at
+/// `slot`, its descendants from `next` on. Nodes built in parallel are written at
+/// once; depth-first parts are listed in `parts` to be copied after. Returns the
+/// first index after the subtree. Adds its decision counts to `counts`.
+uint32_t place(const Subtree& subtree, uint32_t slot, uint32_t next, NodeArray& nodes, std::vector<Placement>& parts,
+               DecisionCounts& counts) {
+    for (size_t d = 0; d < counts.size(); ++d) counts[d] += subtree.counts[d];
+    if (!subtree.left) {
+        parts.push_back({subtree.nodes, subtree.node_count, slot, next});
+        return next + subtree.node_count - 1;
+    }
+    nodes[slot] = subtree.root;
+    nodes[slot].first = next;
+    const uint32_t after_left = place(*subtree.left, next, next + 2, nodes, parts, counts);
+    return place(*subtree.right, next + 1, after_left, nodes, parts, counts);
+}
+
+/// Copies a depth-first part to its place: local index k > 0 lands at next + k - 1.
+void copy_part(const Placement& part, NodeArray& nodes) {
+    auto moved = [&](BvhNode node) {
+        if (!node.is_leaf()) node.first = part.next + node.first - 1;
+        return node;
+    };
+    nodes[part.slot] = moved(part.nodes[0]);
+    for (uint32_t k = 1; k < part.count; ++k) nodes[part.next + k - 1] = moved(part.nodes[k]);
+}
+
+/// Counts the nodes of a subtree.
+size_t node_count(const Subtree& subtree) {
+    if (!subtree.left) return subtree.node_count;
+    return 1 + node_count(*subtree.left) + node_count(*subtree.right);
+}
+
 /// Fills bvh.triangles in leaf order: triangles[k] = mesh.triangle(prim_ids[k]). The ids
 /// jump around the mesh, so each triangle's index triple and corners are a cache miss of
 /// their own; the loop asks for them some triangles ahead (the index triple first, its
 /// corners once the triple has had time to arrive) so the misses overlap instead of
-/// following each other.
+/// following each other. Chunks of the array are filled in parallel.
 void copy_triangles_in_leaf_order(const Mesh& mesh, Bvh& bvh) {
     constexpr size_t kTriplesAhead = 16, kCornersAhead = 8;
     const auto& ids = bvh.prim_ids;
-    const size_t n = ids.size();
-    bvh.triangles.reserve(n);
-    for (size_t k = 0; k < n; ++k) {
-        if (k + kTriplesAhead < n) prefetch(&mesh.indices[ids[k + kTriplesAhead]]);
-        if (k + kCornersAhead < n) {
-            for (uint32_t corner : mesh.indices[ids[k + kCornersAhead]]) prefetch(&mesh.positions[corner]);
+    bvh.triangles.resize(ids.size());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, ids.size(), kParallelChunk), [&](const tbb::blocked_range<size_t>& r) {
+        const size_t end = r.end();
+        for (size_t k = r.begin(); k < end; ++k) {
+            if (k + kTriplesAhead < end) prefetch(&mesh.indices[ids[k + kTriplesAhead]]);
+            if (k + kCornersAhead < end) {
+                for (uint32_t corner : mesh.indices[ids[k + kCornersAhead]]) prefetch(&mesh.positions[corner]);
+            }
+            bvh.triangles[k] = mesh.triangle(ids[k]);
         }
-        bvh.triangles.push_back(mesh.triangle(ids[k]));
-    }
+    });
 }
 
-/// Depths, leaf sizes and SAH cost of the tree, gathered as the build makes its nodes
-/// (parents before children, left subtree first).
+/// Depths, leaf sizes and SAH cost of the finished tree, summed over its nodes in
+/// depth-first order (parents before children, left subtree first), so the float sums
+/// are the same however the tree was built.
 class TreeStats {
 public:
     TreeStats(const SahCostModel& model, uint32_t max_leaf_size) : model_(model), max_leaf_size_(max_leaf_size) {}
 
-    /// Every node, the root first: its share of the SAH cost (its hit probability times
-    /// C_trav for an interior node, times count · C_isect for a leaf).
+    void gather(const Bvh& bvh, BvhBuildStats& stats) {
+        stats.nodes = uint32_t(bvh.nodes.size());
+        stats.memory_bytes = bvh.nodes.size() * sizeof(BvhNode) + bvh.prim_ids.size() * sizeof(uint32_t) +
+                             bvh.triangles.size() * sizeof(Triangle);
+        if (bvh.nodes.empty()) return;
+        root_area_ = bvh.nodes[0].bounds.area();
+        struct Visit {
+            uint32_t node, depth;
+        };
+        std::vector<Visit> stack{{0, 0}};
+        while (!stack.empty()) {
+            const Visit v = stack.back();
+            stack.pop_back();
+            const BvhNode& node = bvh.nodes[v.node];
+            add_node(node.bounds, v.depth, node.count, stats);
+            if (!node.is_leaf()) {
+                stack.push_back({node.first + 1, v.depth + 1});
+                stack.push_back({node.first, v.depth + 1});
+            }
+        }
+        if (stats.leaves == 0) return;
+        stats.avg_leaf_depth = depth_sum_ / stats.leaves;
+        stats.sah_cost = sah_;
+    }
+
+private:
+    /// One node's share of the SAH cost (its hit probability times C_trav for an
+    /// interior node, times count · C_isect for a leaf), and the leaf statistics.
     void add_node(const Aabb& bounds, uint32_t depth, uint32_t leaf_count, BvhBuildStats& stats) {
-        if (depth == 0) root_area_ = bounds.area();
         const double p = SahCostModel::hit_probability(bounds.area(), root_area_);
         if (leaf_count == 0) {
             sah_ += p * model_.cost_trav;
@@ -131,17 +387,7 @@ public:
         if (leaf_count > max_leaf_size_) ++stats.leaves_over_limit;
         sah_ += p * leaf_count * model_.cost_isect;
     }
-    /// Totals and memory, once the tree is complete.
-    void finish(const Bvh& bvh, BvhBuildStats& stats) const {
-        stats.nodes = uint32_t(bvh.nodes.size());
-        stats.memory_bytes = bvh.nodes.size() * sizeof(BvhNode) + bvh.prim_ids.size() * sizeof(uint32_t) +
-                             bvh.triangles.size() * sizeof(Triangle);
-        if (stats.leaves == 0) return;
-        stats.avg_leaf_depth = depth_sum_ / stats.leaves;
-        stats.sah_cost = sah_;
-    }
 
-private:
     SahCostModel model_;
     uint32_t max_leaf_size_;
     float root_area_ = 0;
@@ -180,106 +426,50 @@ Expected<Bvh> build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecor
     Bvh bvh;
     bvh.build_config = requested;
     const BvhConfig& config = bvh.build_config;
-    const SahCostModel model{config.cost_trav, config.cost_isect};
     BvhBuildStats& stats = bvh.build_stats;
     const auto n = uint32_t(mesh.triangle_count());
     stats.triangles = n;
 
-    TreeStats tree_stats(model, uint32_t(config.max_leaf_size));
     if (n > 0) {
-        PrimRefs refs;
-        refs.reserve(n);
-        for (uint32_t i = 0; i < n; ++i) refs.push_back(make_prim_ref(mesh.vertex(i, 0), mesh.vertex(i, 1), mesh.vertex(i, 2), i));
+        PrimRefs refs(n);
+        tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n, kParallelChunk), [&](const tbb::blocked_range<uint32_t>& r) {
+            for (uint32_t i = r.begin(); i < r.end(); ++i)
+                refs[i] = make_prim_ref(mesh.vertex(i, 0), mesh.vertex(i, 1), mesh.vertex(i, 2), i);
+        });
         std::unique_ptr<Splitter> splitter = make_splitter(config, std::move(refs));
 
-        bvh.nodes.reserve(2 * size_t(n) - 1);  // a binary tree with at most n leaves
-        bvh.nodes.emplace_back();
-        /// A node still to build; its boxes come along when the parent's partition measured them.
-        struct Task {
-            uint32_t node, begin, end, depth;
-            bool measured = false;
-            Aabb bounds, centroid_bounds;
-        };
-        // The left child goes straight on as the next task; the right one waits on the
-        // stack: left subtrees are built (and laid out) first, depth first.
-        std::vector<Task> work;
-        std::optional<Task> left_next = Task{0, 0, n, 0, false, {}, {}};
-        while (left_next || !work.empty()) {
-            Task task;
-            if (left_next) {
-                task = *left_next;
-                left_next.reset();
-            } else {
-                task = work.back();
-                work.pop_back();
-            }
-            const Range range{task.begin, task.end};
-            Aabb bounds = task.bounds, centroid_bounds = task.centroid_bounds;
-            if (!task.measured) splitter->measure(range, bounds, centroid_bounds);
-            bvh.nodes[task.node].bounds = bounds;
-
-            std::optional<BuildStep> step;
-            if (recorder) step.emplace();
-            SplitChoice choice;
-            const BuildDecision decision =
-                decide(*splitter, {range, task.depth, bounds, centroid_bounds}, config, choice,
-                       step && recorder->record_candidates ? &*step : nullptr);
-            ++stats.decisions[size_t(decision)];
-
-            if (is_leaf(decision)) {
-                bvh.nodes[task.node].first = range.begin;
-                bvh.nodes[task.node].count = range.count();
-                tree_stats.add_node(bounds, task.depth, range.count(), stats);
-            } else {
-                tree_stats.add_node(bounds, task.depth, 0, stats);
-                ChildBounds children;
-                const uint32_t mid = splits_in_half(decision) ? splitter->partition_in_half(range)
-                                                              : splitter->partition(range, choice, children);
-                if (!children.filled) {
-                    splitter->measure({range.begin, mid}, children.bounds[0], children.centroid_bounds[0]);
-                    splitter->measure({mid, range.end}, children.bounds[1], children.centroid_bounds[1]);
-                }
-                const auto left = uint32_t(bvh.nodes.size());
-                bvh.nodes.emplace_back();
-                bvh.nodes.emplace_back();
-                bvh.nodes[task.node].first = left;
-                bvh.nodes[task.node].count = 0;
-                work.push_back({left + 1, mid, range.end, task.depth + 1, true, children.bounds[1],
-                                children.centroid_bounds[1]});
-                left_next = Task{left, range.begin, mid, task.depth + 1, true, children.bounds[0],
-                                 children.centroid_bounds[0]};
-                if (step) {
-                    step->split_cost = model.split_cost(bounds.area(), children.bounds[0].area(), mid - range.begin,
-                                                        children.bounds[1].area(), range.end - mid);
-                    step->left_count = mid - range.begin;
-                    if (!splits_in_half(decision)) {
-                        step->axis = choice.axis;
-                        step->split_position = choice.position;
-                    }
-                }
-            }
-            if (step) {
-                step->node = task.node;
-                step->depth = task.depth;
-                step->first = range.begin;
-                step->count = range.count();
-                step->bounds = bounds;
-                step->centroid_bounds = centroid_bounds;
-                step->decision = decision;
-                step->leaf_cost = model.leaf_cost(range.count());
-                recorder->steps.push_back(std::move(*step));
-            }
+        // With a recorder the decisions must come in depth-first order: one task builds all.
+        const Task root{0, 0, n, 0, false, {}, {}};
+        std::unique_ptr<Subtree> tree;
+        std::vector<BvhNode> depth_first;
+        std::optional<NodeStore> store;
+        if (recorder) {
+            tree = std::make_unique<Subtree>();
+            build_depth_first(*splitter, root, config, depth_first, tree->counts, recorder);
+            tree->nodes = depth_first.data();
+            tree->node_count = uint32_t(depth_first.size());
+        } else {
+            store.emplace(n);
+            tree = build_subtree(*splitter, root, config, *store);
         }
+        bvh.nodes.resize(node_count(*tree));
+        std::vector<Placement> parts;
+        place(*tree, 0, 1, bvh.nodes, parts, stats.decisions);
+        tbb::parallel_for(size_t(0), parts.size(), [&](size_t k) { copy_part(parts[k], bvh.nodes); });
+        store.reset();
+
         // Leaf order: the triangles of each leaf next to each other, as the traversal reads them.
         bvh.prim_ids.resize(n);
-        for (uint32_t k = 0; k < n; ++k) bvh.prim_ids[k] = splitter->prim_id(k);
+        tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n, kParallelChunk), [&](const tbb::blocked_range<uint32_t>& r) {
+            for (uint32_t k = r.begin(); k < r.end(); ++k) bvh.prim_ids[k] = splitter->prim_id(k);
+        });
         // The build records go before the leaf-order copy is made, so the two are never in
         // memory together (a lower peak).
         splitter.reset();
         copy_triangles_in_leaf_order(mesh, bvh);
     }
 
-    tree_stats.finish(bvh, stats);
+    TreeStats(SahCostModel{config.cost_trav, config.cost_isect}, uint32_t(config.max_leaf_size)).gather(bvh, stats);
     write_notes(config, stats);
     stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return bvh;

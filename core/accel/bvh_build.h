@@ -3,8 +3,11 @@
 /// returning plain data and its stats. Four builders choose the splits:
 /// midpoint and median (the lecture's heuristics), full-sweep SAH and binned SAH.
 ///
-/// The build is top-down over an explicit work stack (no recursion, so no input
-/// can overflow the call stack). Each node gets exactly one BuildDecision; an
+/// The build is top-down. Subtrees of a few thousand triangles are built depth first
+/// over an explicit work stack; above that the two children of a node are built in
+/// parallel (oneTBB), a recursion no deeper than the depth budget (kBvhMaxDepth). The
+/// tree does not depend on the number of threads: same nodes, same order, bit for bit.
+/// Each node gets exactly one BuildDecision; an
 /// optional BuildRecorder receives every decision as data (node, axis, candidate
 /// costs, chosen split, leaf cost) so the construction can be stepped split by split.
 
@@ -49,7 +52,8 @@ struct BuildRecorder {
 };
 
 /// Builds a BVH over `mesh`; a config that validate() refuses is an error (its
-/// message). With a recorder, every node's decision is appended to recorder->steps.
+/// message). With a recorder, every node's decision is appended to recorder->steps (the
+/// build then runs on one thread, so the steps come in depth-first order).
 Expected<Bvh> build_bvh(const Mesh& mesh, const BvhConfig& config, BuildRecorder* recorder = nullptr);
 
 }  // namespace accelviz

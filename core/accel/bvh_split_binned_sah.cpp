@@ -44,6 +44,8 @@ class BinnedSahSplitter final : public InPlaceSplitter {
 public:
     BinnedSahSplitter(PrimRefs refs, int bins, SahCostModel model)
         : InPlaceSplitter(std::move(refs)), bin_count_(bins), model_(model) {}
+    /// The bins are empty between nodes, so a copy starts clean.
+    std::unique_ptr<Splitter> fork() const override { return std::make_unique<BinnedSahSplitter>(*this); }
     bool uses_sah() const override { return true; }
 
     SplitChoice find_split(Range range, const Aabb& bounds, const Aabb& centroid_bounds, BuildStep* step) override {

@@ -32,6 +32,7 @@ protected:
 class MidpointSplitter final : public LongestAxisSplitter {
 public:
     using LongestAxisSplitter::LongestAxisSplitter;
+    std::unique_ptr<Splitter> fork() const override { return std::make_unique<MidpointSplitter>(*this); }
 
     SplitChoice find_split(Range range, const Aabb&, const Aabb& centroid_bounds, BuildStep*) override {
         const int axis = longest_axis(centroid_bounds);
@@ -66,6 +67,7 @@ public:
 class MedianSplitter final : public LongestAxisSplitter {
 public:
     using LongestAxisSplitter::LongestAxisSplitter;
+    std::unique_ptr<Splitter> fork() const override { return std::make_unique<MedianSplitter>(*this); }
 
     SplitChoice find_split(Range range, const Aabb&, const Aabb& centroid_bounds, BuildStep*) override {
         const int axis = longest_axis(centroid_bounds);

@@ -157,9 +157,16 @@ struct ChildBounds {
 /// One builder's way of choosing and applying splits. The driver (build_bvh)
 /// owns the decisions (leaf or split, fallbacks, depth budget); a splitter only
 /// measures ranges, proposes a split, and reorders its triangles.
+///
+/// A splitter works only inside the range it is given, so two splitters may work on
+/// disjoint ranges of the same triangle records at once: fork() makes the second one
+/// (same records, its own scratch), which is how the driver builds two subtrees in
+/// parallel.
 class Splitter {
 public:
     virtual ~Splitter() = default;
+    /// A splitter over the same triangle records with scratch of its own.
+    virtual std::unique_ptr<Splitter> fork() const = 0;
     virtual bool uses_sah() const = 0;
     /// Union of the range's triangle boxes, and the box of their centroids.
     virtual void measure(Range range, Aabb& bounds, Aabb& centroid_bounds) const = 0;
@@ -191,10 +198,13 @@ inline int longest_axis(const Aabb& centroid_bounds) {
     return extent[axis] > 0.0f ? axis : -1;
 }
 
-/// Splitters that reorder one array of PrimRefs in place (all but the sweep).
+/// Splitters that reorder one array of PrimRefs in place (all but the sweep). Forks
+/// share the array.
 class InPlaceSplitter : public Splitter {
 public:
-    explicit InPlaceSplitter(PrimRefs refs) : refs_(std::move(refs)) {}
+    explicit InPlaceSplitter(PrimRefs refs) : storage_(std::make_shared<PrimRefs>(std::move(refs))), refs_(*storage_) {}
+    InPlaceSplitter(const InPlaceSplitter& other) : Splitter(other), storage_(other.storage_), refs_(*storage_) {}
+    InPlaceSplitter& operator=(const InPlaceSplitter&) = delete;
     void measure(Range range, Aabb& bounds, Aabb& centroid_bounds) const override {
         measure_refs(refs_.data(), range, bounds, centroid_bounds);
     }
@@ -213,7 +223,11 @@ protected:
         return refs_[mid].centroid()[axis];
     }
 
-    PrimRefs refs_;
+private:
+    std::shared_ptr<PrimRefs> storage_;  ///< shared by the forks
+
+protected:
+    PrimRefs& refs_;
 };
 
 // ---------------------------------------------------------------------------

@@ -13,6 +13,8 @@
 #include <immintrin.h>
 #endif
 
+#include <tbb/global_control.h>
+
 #include "core/accel/brute_force.h"
 #include "core/accel/bvh_build.h"
 #include "core/accel/factory.h"
@@ -121,6 +123,7 @@ void expect_same_tree(const Bvh& a, const Bvh& b) {
         ASSERT_EQ(std::memcmp(&a.nodes[i], &b.nodes[i], sizeof(BvhNode)), 0) << "node " << i;
     EXPECT_TRUE(std::equal(a.prim_ids.begin(), a.prim_ids.end(), b.prim_ids.begin(), b.prim_ids.end()));
     EXPECT_EQ(a.build_stats.sah_cost, b.build_stats.sah_cost);
+    EXPECT_EQ(a.build_stats.decisions, b.build_stats.decisions);
 }
 
 }  // namespace
@@ -407,3 +410,26 @@ TEST(BvhBuild, FactoryValidatesTheConfig) {
     EXPECT_EQ((*good)->config()["builder"], "sah-binned");
     EXPECT_EQ((*good)->stats()["triangles"], 12);
 }
+
+TEST(BvhBuild, SubtreesBuiltInParallelMakeTheDepthFirstTree) {
+    // Above a few thousand triangles the two children of a node are built in parallel and
+    // stitched together after; with a recorder one task builds the whole tree depth first.
+    // Both must give the same nodes in the same places, on one thread and on all.
+    std::vector<std::string> sources = {"builtin:soup?n=20000&seed=3", "builtin:teapot?n=24"};
+    if (test::shared_asset_exists("bunny.obj")) sources.push_back(test::shared_asset("bunny.obj"));
+    for (const std::string& source : sources) {
+        const Mesh mesh = scene(source);
+        ASSERT_GT(mesh.triangle_count(), 10000u) << "too small to be built in parallel";
+        for (BvhBuilder builder : kBuilders) {
+            SCOPED_TRACE(source + ", " + std::string(to_string(builder)));
+            const BvhConfig config{.builder = builder};
+            BuildRecorder recorder;
+            recorder.record_candidates = false;
+            const Bvh depth_first = *build_bvh(mesh, config, &recorder);
+            expect_same_tree(depth_first, *build_bvh(mesh, config));
+            tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
+            expect_same_tree(depth_first, *build_bvh(mesh, config));
+        }
+    }
+}
+
