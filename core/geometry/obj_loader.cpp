@@ -9,7 +9,11 @@
 // Only text that passed the scan reaches tinyobjloader, which then cannot fail on
 // anything we care about; its result is checked once more before use, so a
 // disagreement between the two parsers is an error message, never a crash.
+//
+// Both passes work on pieces of the file (whole lines, about 8 MiB each) in
+// parallel; the messages and the mesh are those of one pass from the top.
 #include <tiny_obj_loader.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -20,7 +24,8 @@
 #include <cstring>
 #include <filesystem>
 #include <limits>
-#include <sstream>
+#include <istream>
+#include <streambuf>
 #include <string_view>
 #include <system_error>
 
@@ -134,10 +139,12 @@ std::string check_vertex(std::string_view body) {
 
 /// The reason an `f` line's body is wrong (empty: it is right), its words being
 /// "v", "v/vt", "v//vn" or "v/vt/vn" with `defined` vertices before the line;
-/// `corners` counts them. A positive index beyond `defined` (a vertex defined
-/// later, perhaps) goes to `forward_index` to be judged at the end of the file.
+/// `corners` counts them; a negative (relative) index sets `relative_index`. A
+/// positive index beyond `defined` (a vertex defined later, perhaps) goes to
+/// `forward_index` to be judged at the end of the file.
 template <class ForwardIndex>
-std::string check_face(std::string_view body, size_t vertices_before, size_t& corners, ForwardIndex&& forward_index) {
+std::string check_face(std::string_view body, size_t vertices_before, size_t& corners, bool& relative_index,
+                       ForwardIndex&& forward_index) {
     const auto defined = static_cast<long long>(vertices_before);
     std::string bad;
     for_each_word(body, [&](std::string_view word) {
@@ -162,6 +169,7 @@ std::string check_face(std::string_view body, size_t vertices_before, size_t& co
             bad = "face index 0 is invalid (OBJ indices start at 1)";
             return false;
         }
+        if (index < 0) relative_index = true;
         if (index < 0 && defined + index < 0) {
             bad = "face index " + std::to_string(index) + " out of range (only " + std::to_string(defined) +
                   " vertices before this line)";
@@ -176,108 +184,188 @@ std::string check_face(std::string_view body, size_t vertices_before, size_t& co
     return bad;
 }
 
-/// What the scan found in a file that passed it.
-struct ObjScan {
-    size_t vertex_count = 0;    ///< `v` lines
-    size_t triangle_count = 0;  ///< after fan triangulation
-};
+/// Calls `fn(std::string_view line)` for each line of text[begin, end). Lines end at
+/// "\n", "\r\n" or a lone "\r", as in tinyobjloader, so both count lines (and so
+/// vertices, on which relative indices depend) alike.
+template <class Fn>
+void for_each_line(const std::string& text, size_t begin, size_t end, Fn&& fn) {
+    size_t pos = begin;
+    while (pos < end) {
+        size_t line_end = pos;
+        while (line_end < end && text[line_end] != '\n' && text[line_end] != '\r') ++line_end;
+        fn(std::string_view(text).substr(pos, line_end - pos));
+        pos = line_end;
+        if (pos < end) pos += (text[pos] == '\r' && pos + 1 < end && text[pos + 1] == '\n') ? 2 : 1;
+    }
+}
 
-/// The validation pass over `v` and `f` lines. Lines end at "\n", "\r\n" or a lone
-/// "\r", as in tinyobjloader, so both count vertices alike (relative indices
-/// depend on that count). It also blanks out a comment at the end of a `v` or `f`
-/// line ("f 1 2 3 # top"), which tinyobjloader would read as one more index.
-Expected<ObjScan> scan_obj(std::string& text, const std::string& path) {
-    ObjScan scan;
-    // A positive index may point forward (to a vertex defined later in the file),
-    // so it can only be judged at the end. Remembered: each index larger than every
-    // vertex count so far and every index remembered before. The earliest line with
-    // an index beyond the final count is then the first such entry (the list is
-    // increasing), which keeps the list short.
+/// What a line is, for the scan: a vertex (`v`), a face (`f`), a line that looks like
+/// one of them and is not ("v1 2 3", "f1 2 3": no OBJ statement starts so; read as one
+/// it would silently shift every later vertex index), or anything else (vn, vt, g, o,
+/// usemtl, comments, blank lines...). Leading blanks are removed from `line`.
+enum class ObjLine { Other, Vertex, Face, Malformed };
+
+ObjLine classify(std::string_view& line) {
+    size_t start = 0;
+    while (start < line.size() && is_blank(line[start])) ++start;
+    line.remove_prefix(start);
+    if (line.empty() || (line[0] != 'v' && line[0] != 'f')) return ObjLine::Other;
+    if (line.size() == 1 || is_blank(line[1])) return line[0] == 'v' ? ObjLine::Vertex : ObjLine::Face;
+    if (std::isdigit(static_cast<unsigned char>(line[1])) || line[1] == '-' || line[1] == '+' || line[1] == '.')
+        return ObjLine::Malformed;
+    return ObjLine::Other;
+}
+
+/// A piece of the file made of whole lines, text[begin, end). The file is scanned and
+/// parsed piece by piece in parallel: a first pass counts each piece's lines and
+/// vertices, so that each piece then knows its first line number and how many
+/// vertices come before it (what relative and forward indices are judged by).
+struct ObjPiece {
+    size_t begin = 0, end = 0;
+    size_t lines = 0, vertices = 0;                 ///< in this piece (first pass)
+    size_t lines_before = 0, vertices_before = 0;   ///< in the pieces before it
+    size_t triangles = 0, triangles_before = 0;     ///< after fan triangulation (the scan)
+
+    // The scan's findings.
     struct ForwardIndex {
         size_t line;
         long long index;
     };
+    /// A positive index may point forward (to a vertex defined later in the file),
+    /// so it can only be judged at the end. Remembered: each index larger than every
+    /// vertex count so far and every index remembered before in this piece. The
+    /// earliest line with an index beyond the final count is then the first such
+    /// entry of the file (each piece's list is increasing), which keeps the lists short.
     std::vector<ForwardIndex> forward;
-    long long forward_max = 0;
-
-    size_t line_number = 0;
-    size_t error_line = 0;  // the first error found on the way (0: none)
+    size_t error_line = 0;  ///< the piece's first error (0: none)
     std::string error_reason;
+    bool relative_index = false;  ///< a negative (relative) vertex index
+};
 
-    size_t pos = 0;
-    while (pos < text.size()) {
-        // One line: [pos, line_end), then skip its terminator.
-        size_t line_end = pos;
-        while (line_end < text.size() && text[line_end] != '\n' && text[line_end] != '\r') ++line_end;
-        std::string_view line = std::string_view(text).substr(pos, line_end - pos);  // a view, not a copy
-        pos = line_end;
-        if (pos < text.size()) pos += (text[pos] == '\r' && pos + 1 < text.size() && text[pos + 1] == '\n') ? 2 : 1;
-        ++line_number;
-
-        size_t start = 0;
-        while (start < line.size() && is_blank(line[start])) ++start;
-        line.remove_prefix(start);
-        if (line.empty()) continue;
-        const bool is_vertex = line[0] == 'v' && (line.size() == 1 || is_blank(line[1]));
-        const bool is_face = line[0] == 'f' && (line.size() == 1 || is_blank(line[1]));
-        // "v1 2 3" or "f1 2 3": no OBJ statement starts so; read as one it would
-        // silently shift every later vertex index, so it is an error.
-        if ((line[0] == 'v' || line[0] == 'f') && line.size() > 1 &&
-            (std::isdigit(static_cast<unsigned char>(line[1])) || line[1] == '-' || line[1] == '+' || line[1] == '.')) {
-            if (error_line == 0) {
-                error_line = line_number;
-                error_reason = std::string("'") + line[0] + "' must be followed by a blank: " +
-                               quoted(line.substr(0, line.find_first_of(" \t"))) + " is not a statement";
-            }
-            continue;
+/// Pieces of about kPieceBytes ending at a line feed, so none splits a line. Their
+/// number depends on the file alone (not on the threads), and so does the mesh.
+std::vector<ObjPiece> split_into_pieces(const std::string& text) {
+    constexpr size_t kPieceBytes = size_t(8) << 20;
+    std::vector<ObjPiece> pieces;
+    size_t begin = 0;
+    while (begin < text.size()) {
+        size_t end = text.size();
+        if (text.size() - begin > 2 * kPieceBytes) {
+            const size_t feed = text.find('\n', begin + kPieceBytes);
+            if (feed != std::string::npos) end = feed + 1;
         }
-        if (!is_vertex && !is_face) continue;  // vn, vt, g, o, usemtl, comments...
+        pieces.emplace_back();
+        pieces.back().begin = begin;
+        pieces.back().end = end;
+        begin = end;
+    }
+    return pieces;
+}
+
+/// The validation pass over one piece's `v` and `f` lines. It also blanks out a
+/// comment at the end of a `v` or `f` line ("f 1 2 3 # top"), which tinyobjloader
+/// would read as one more index.
+void scan_piece(std::string& text, ObjPiece& piece) {
+    size_t line_number = piece.lines_before;
+    size_t vertex_count = piece.vertices_before;
+    long long forward_max = 0;
+    for_each_line(text, piece.begin, piece.end, [&](std::string_view line) {
+        ++line_number;
+        const ObjLine kind = classify(line);
+        if (kind == ObjLine::Malformed) {
+            if (piece.error_line == 0) {
+                piece.error_line = line_number;
+                piece.error_reason = std::string("'") + line[0] + "' must be followed by a blank: " +
+                                     quoted(line.substr(0, line.find_first_of(" \t"))) + " is not a statement";
+            }
+            return;
+        }
+        if (kind == ObjLine::Other) return;
         if (const size_t hash = line.find('#'); hash != std::string_view::npos) {
             const size_t from = size_t(line.data() - text.data()) + hash;
-            std::fill(text.begin() + std::ptrdiff_t(from), text.begin() + std::ptrdiff_t(line_end), ' ');
+            std::fill(text.begin() + std::ptrdiff_t(from), text.begin() + std::ptrdiff_t(from + line.size() - hash), ' ');
             line = line.substr(0, hash);
         }
         const std::string_view body = line.substr(1);
-
-        if (error_line != 0) {  // after an error: only count vertices (see below)
-            if (is_vertex) ++scan.vertex_count;
-            continue;
-        }
-
-        if (is_vertex) {
-            if (std::string bad = check_vertex(body); !bad.empty()) {
-                error_line = line_number;
-                error_reason = bad;
+        if (kind == ObjLine::Vertex) {
+            if (piece.error_line == 0) {
+                if (std::string bad = check_vertex(body); !bad.empty()) {
+                    piece.error_line = line_number;
+                    piece.error_reason = bad;
+                }
             }
-            ++scan.vertex_count;
-            continue;
+            ++vertex_count;
+            return;
         }
-
+        if (piece.error_line != 0) return;  // after an error only vertices are counted
         size_t corners = 0;
-        std::string bad = check_face(body, scan.vertex_count, corners, [&](long long index) {
+        std::string bad = check_face(body, vertex_count, corners, piece.relative_index, [&](long long index) {
             if (index > forward_max) {
-                forward.push_back({line_number, index});
+                piece.forward.push_back({line_number, index});
                 forward_max = index;
             }
         });
         if (!bad.empty()) {
-            // Keep scanning, counting vertices only: a forward index on an earlier
+            // Scanning goes on, counting vertices only: a forward index on an earlier
             // line can only be judged with the final count, and it comes first.
-            error_line = line_number;
-            error_reason = bad;
-            continue;
+            piece.error_line = line_number;
+            piece.error_reason = bad;
+            return;
         }
-        scan.triangle_count += corners - 2;
-    }
+        piece.triangles += corners - 2;
+    });
+}
 
+/// What the scan found in a file that passed it.
+struct ObjScan {
+    size_t vertex_count = 0;    ///< `v` lines
+    size_t triangle_count = 0;  ///< after fan triangulation
+    bool relative_index = false;
+    std::vector<ObjPiece> pieces;
+};
+
+/// The validation pass over `v` and `f` lines, piece by piece in parallel. It stops
+/// at the file's first problem, "PATH:LINE: reason", exactly as one pass from the
+/// top would.
+Expected<ObjScan> scan_obj(std::string& text, const std::string& path) {
+    ObjScan scan;
+    scan.pieces = split_into_pieces(text);
+    std::vector<ObjPiece>& pieces = scan.pieces;
+    tbb::parallel_for(size_t(0), pieces.size(), [&](size_t k) {
+        ObjPiece& piece = pieces[k];
+        for_each_line(text, piece.begin, piece.end, [&](std::string_view line) {
+            ++piece.lines;
+            if (classify(line) == ObjLine::Vertex) ++piece.vertices;
+        });
+    });
+    for (size_t k = 1; k < pieces.size(); ++k) {
+        pieces[k].lines_before = pieces[k - 1].lines_before + pieces[k - 1].lines;
+        pieces[k].vertices_before = pieces[k - 1].vertices_before + pieces[k - 1].vertices;
+    }
+    tbb::parallel_for(size_t(0), pieces.size(), [&](size_t k) { scan_piece(text, pieces[k]); });
+
+    size_t error_line = 0;
+    std::string error_reason;
+    for (ObjPiece& piece : pieces) {
+        scan.vertex_count += piece.vertices;
+        piece.triangles_before = scan.triangle_count;
+        scan.triangle_count += piece.triangles;
+        scan.relative_index = scan.relative_index || piece.relative_index;
+        if (piece.error_line != 0 && error_line == 0) {
+            error_line = piece.error_line;
+            error_reason = piece.error_reason;
+        }
+    }
     const auto total = static_cast<long long>(scan.vertex_count);
-    for (const ForwardIndex& f : forward) {
-        if (f.index <= total) continue;
-        if (error_line == 0 || f.line < error_line)
-            return located_error(path, f.line,
-                                 "face index " + std::to_string(f.index) + " out of range (file has " +
-                                     std::to_string(total) + " vertices)");
-        break;
+    for (const ObjPiece& piece : pieces) {
+        for (const ObjPiece::ForwardIndex& f : piece.forward) {
+            if (f.index <= total) continue;
+            if (error_line == 0 || f.line < error_line)
+                return located_error(path, f.line,
+                                     "face index " + std::to_string(f.index) + " out of range (file has " +
+                                         std::to_string(total) + " vertices)");
+            return located_error(path, error_line, error_reason);
+        }
     }
     if (error_line != 0) return located_error(path, error_line, error_reason);
     return scan;
@@ -287,6 +375,69 @@ Expected<ObjScan> scan_obj(std::string& text, const std::string& path) {
 std::string first_line(const std::string& message) {
     const std::string line = message.substr(0, message.find('\n'));
     return line.empty() ? "tinyobjloader could not parse the file" : "tinyobjloader: " + line;
+}
+
+/// A read-only stream over text[begin, end): tinyobjloader reads a piece of the file
+/// where it lies, without a copy.
+class PieceBuffer : public std::streambuf {
+public:
+    PieceBuffer(const std::string& text, size_t begin, size_t end) {
+        char* data = const_cast<char*>(text.data());  // only read: a streambuf's get area is char*
+        setg(data + begin, data + begin, data + end);
+    }
+};
+
+/// tinyobjloader's reading of one piece (which passed the scan): its vertices go to
+/// mesh.positions from piece.vertices_before on, its faces, fan-triangulated, to
+/// mesh.indices from piece.triangles_before on. Returns what went wrong (empty: nothing).
+///
+/// No material reader: mtllib/usemtl lines are ignored. triangulate=false: we fan-
+/// triangulate, because tinyobjloader's own triangulation splits quads along the
+/// shorter diagonal and clips ears of larger polygons, which is not the documented
+/// fan and can drop triangles of a degenerate polygon. A positive index comes back
+/// as index - 1 whatever the piece; a negative one relative to the piece's own
+/// vertices, which is why a file with negative indices is read as one piece.
+std::string parse_piece(const std::string& text, const ObjPiece& piece, size_t vertex_total, Mesh& mesh) {
+    PieceBuffer buffer(text, piece.begin, piece.end);
+    std::istream stream(&buffer);
+    tinyobj::attrib_t attrib;
+    std::vector<tinyobj::shape_t> shapes;
+    std::string warn, err;
+    if (!tinyobj::LoadObj(&attrib, &shapes, /*materials=*/nullptr, &warn, &err, &stream,
+                          /*readMatFn=*/nullptr, /*triangulate=*/false, /*default_vcols_fallback=*/false))
+        return first_line(err);
+
+    const size_t vertex_count = attrib.vertices.size() / 3;
+    if (vertex_count != piece.vertices)
+        return "tinyobjloader read " + std::to_string(vertex_count) + " vertices, expected " +
+               std::to_string(piece.vertices);
+    for (size_t i = 0; i < vertex_count; ++i)
+        mesh.positions[piece.vertices_before + i] = {float(attrib.vertices[3 * i]), float(attrib.vertices[3 * i + 1]),
+                                                     float(attrib.vertices[3 * i + 2])};
+
+    // Fan triangulation: polygon (c0, c1, ..., c(k-1)) → (c0, ci, ci+1) for i = 1 .. k-2.
+    size_t triangle = piece.triangles_before;
+    const size_t triangle_end = piece.triangles_before + piece.triangles;
+    for (const tinyobj::shape_t& shape : shapes) {
+        const auto& corners = shape.mesh.indices;
+        size_t first = 0;
+        for (const unsigned int face_size : shape.mesh.num_face_vertices) {
+            if (first + face_size > corners.size()) return "tinyobjloader returned a truncated face list";
+            auto corner = [&](size_t k) -> long long { return corners[first + k].vertex_index; };
+            for (size_t k = 0; k < face_size; ++k)
+                if (corner(k) < 0 || corner(k) >= static_cast<long long>(vertex_total))
+                    return "face index out of range after loading";
+            for (size_t k = 1; k + 1 < face_size; ++k) {
+                if (triangle == triangle_end) return "tinyobjloader returned more triangles than the file has";
+                mesh.indices[triangle++] = {uint32_t(corner(0)), uint32_t(corner(k)), uint32_t(corner(k + 1))};
+            }
+            first += face_size;
+        }
+    }
+    if (triangle != triangle_end)
+        return "tinyobjloader returned " + std::to_string(triangle - piece.triangles_before) + " triangles, expected " +
+               std::to_string(piece.triangles);
+    return {};
 }
 
 Expected<Mesh> parse_obj_unguarded(std::string bytes, const std::string& path) {
@@ -299,52 +450,26 @@ Expected<Mesh> parse_obj_unguarded(std::string bytes, const std::string& path) {
         if (bytes.find_first_not_of(" \t\r\n") == std::string::npos) return located_error(path, 0, "empty file (no triangles)");
         return located_error(path, 0, "no triangles (" + std::to_string(scan->vertex_count) + " vertices, no faces)");
     }
+    if (scan->vertex_count > std::numeric_limits<uint32_t>::max())
+        return located_error(path, 0, "too many vertices for 32-bit indices (" + std::to_string(scan->vertex_count) + ")");
 
-    // tinyobjloader reads the text we already hold (moved, not copied). No
-    // material reader: mtllib/usemtl lines are ignored. triangulate=false: we fan-
-    // triangulate below, because tinyobjloader's own triangulation splits quads
-    // along the shorter diagonal and clips ears of larger polygons, which is not
-    // the documented fan and can drop triangles of a degenerate polygon.
-    std::istringstream stream(std::move(bytes));
-    tinyobj::attrib_t attrib;
-    std::vector<tinyobj::shape_t> shapes;
-    std::string warn, err;
-    if (!tinyobj::LoadObj(&attrib, &shapes, /*materials=*/nullptr, &warn, &err, &stream,
-                          /*readMatFn=*/nullptr, /*triangulate=*/false, /*default_vcols_fallback=*/false))
-        return located_error(path, 0, first_line(err));
-
+    std::vector<ObjPiece> pieces = std::move(scan->pieces);
+    if (scan->relative_index) {  // one piece: see parse_piece
+        ObjPiece whole;
+        whole.end = bytes.size();
+        whole.vertices = scan->vertex_count;
+        whole.triangles = scan->triangle_count;
+        pieces.assign(1, whole);
+    }
     Mesh mesh;
     mesh.name = path;
-    const size_t vertex_count = attrib.vertices.size() / 3;
-    if (vertex_count > std::numeric_limits<uint32_t>::max())
-        return located_error(path, 0, "too many vertices for 32-bit indices (" + std::to_string(vertex_count) + ")");
-    if (vertex_count != scan->vertex_count)
-        return located_error(path, 0, "tinyobjloader read " + std::to_string(vertex_count) + " vertices, expected " +
-                                          std::to_string(scan->vertex_count));
-    mesh.positions.resize(vertex_count);
-    for (size_t i = 0; i < vertex_count; ++i)
-        mesh.positions[i] = {float(attrib.vertices[3 * i]), float(attrib.vertices[3 * i + 1]),
-                             float(attrib.vertices[3 * i + 2])};
-
-    // Fan triangulation: polygon (c0, c1, ..., c(k-1)) → (c0, ci, ci+1) for i = 1 .. k-2.
-    mesh.indices.reserve(scan->triangle_count);
-    for (const tinyobj::shape_t& shape : shapes) {
-        const auto& corners = shape.mesh.indices;
-        size_t first = 0;
-        for (const unsigned int face_size : shape.mesh.num_face_vertices) {
-            if (first + face_size > corners.size()) return located_error(path, 0, "tinyobjloader returned a truncated face list");
-            auto corner = [&](size_t k) -> long long { return corners[first + k].vertex_index; };
-            for (size_t k = 0; k < face_size; ++k)
-                if (corner(k) < 0 || corner(k) >= static_cast<long long>(vertex_count))
-                    return located_error(path, 0, "face index out of range after loading");
-            for (size_t k = 1; k + 1 < face_size; ++k)
-                mesh.indices.push_back({uint32_t(corner(0)), uint32_t(corner(k)), uint32_t(corner(k + 1))});
-            first += face_size;
-        }
-    }
-    if (mesh.indices.size() != scan->triangle_count)
-        return located_error(path, 0, "tinyobjloader returned " + std::to_string(mesh.indices.size()) +
-                                          " triangles, expected " + std::to_string(scan->triangle_count));
+    mesh.positions.resize(scan->vertex_count);
+    mesh.indices.resize(scan->triangle_count);
+    std::vector<std::string> problems(pieces.size());
+    tbb::parallel_for(size_t(0), pieces.size(),
+                      [&](size_t k) { problems[k] = parse_piece(bytes, pieces[k], scan->vertex_count, mesh); });
+    for (const std::string& problem : problems)
+        if (!problem.empty()) return located_error(path, 0, problem);
     return mesh;
 }
 

@@ -370,3 +370,120 @@ TEST_F(ObjFiles, ASceneTooSmallForFloatIsRefusedWithTheLimit) {
     expect_contains(scene.error(), "less than 1e-12");
     EXPECT_TRUE(load_scene(write("small.obj", "v 0 0 0\nv 1e-9 0 0\nv 0 1e-9 0\nf 1 2 3\n")));
 }
+
+// ---------------------------------------------------------------------------
+// Big files: read in pieces of about 8 MiB, in parallel
+// ---------------------------------------------------------------------------
+
+namespace {
+
+/// A ~25 MB OBJ (several pieces) with its expected mesh: a strip of quads, each
+/// quad's two vertices then its face, so faces refer back into earlier pieces; the
+/// first face refers forward to the last vertices; lines end in "\r\n" every
+/// seventh line and carry a comment every eleventh.
+struct BigObj {
+    std::string text;
+    std::vector<Vec3> positions;
+    std::vector<Tri> triangles;
+    std::vector<size_t> face_lines;  ///< the line number of each quad's face
+    size_t lines = 0;
+};
+
+const BigObj& big_obj() {
+    static const BigObj obj = [] {
+        constexpr size_t kQuads = 420000;
+        BigObj o;
+        auto line = [&](const std::string& body) {
+            ++o.lines;
+            o.text += body;
+            if (o.lines % 11 == 0) o.text += " # note";
+            o.text += o.lines % 7 == 0 ? "\r\n" : "\n";
+        };
+        const size_t vertices = 2 * (kQuads + 1);
+        line("o strip");
+        line("f 1 2 " + std::to_string(vertices) + " " + std::to_string(vertices - 1));  // forward
+        o.triangles.push_back({0, 1, uint32_t(vertices - 1)});
+        o.triangles.push_back({0, uint32_t(vertices - 1), uint32_t(vertices - 2)});
+        o.face_lines.push_back(o.lines);
+        for (size_t q = 0; q <= kQuads; ++q) {
+            for (int side = 0; side < 2; ++side) {
+                const Vec3 p{float(q) * 0.25f, float(side), float(q % 13) * 0.125f};
+                o.positions.push_back(p);
+                char buffer[96];
+                std::snprintf(buffer, sizeof buffer, "v %.9g %.9g %.9g", double(p.x), double(p.y), double(p.z));
+                line(buffer);
+            }
+            if (q == 0) continue;
+            const uint32_t a = uint32_t(2 * q - 2), b = a + 1, c = a + 3, d = a + 2;  // 0-based
+            line("f " + std::to_string(a + 1) + " " + std::to_string(b + 1) + " " + std::to_string(c + 1) + " " +
+                 std::to_string(d + 1));
+            o.triangles.push_back({a, b, c});
+            o.triangles.push_back({a, c, d});
+            o.face_lines.push_back(o.lines);
+        }
+        return o;
+    }();
+    return obj;
+}
+
+void expect_mesh(const Mesh& mesh, const BigObj& obj) {
+    ASSERT_EQ(mesh.positions.size(), obj.positions.size());
+    ASSERT_EQ(mesh.indices.size(), obj.triangles.size());
+    for (size_t i = 0; i < obj.positions.size(); ++i) ASSERT_EQ(mesh.positions[i], obj.positions[i]) << "vertex " << i;
+    for (size_t i = 0; i < obj.triangles.size(); ++i) ASSERT_EQ(mesh.indices[i], obj.triangles[i]) << "triangle " << i;
+}
+
+/// The text with line `number` (1-based) replaced by `body`.
+std::string with_line(std::string text, size_t number, const std::string& body) {
+    size_t begin = 0;
+    for (size_t n = 1; n < number; ++n) begin = text.find('\n', begin) + 1;
+    size_t end = begin;
+    while (text[end] != '\n' && text[end] != '\r') ++end;
+    return text.replace(begin, end - begin, body);
+}
+
+}  // namespace
+
+TEST(BigObj, ReadInPiecesItGivesEveryVertexAndTriangleInFileOrder) {
+    const BigObj& obj = big_obj();
+    ASSERT_GT(obj.text.size(), size_t(24) << 20) << "must span several pieces";
+    auto mesh = parse_obj(obj.text, "big.obj");
+    ASSERT_TRUE(mesh) << mesh.error();
+    expect_mesh(*mesh, obj);
+}
+
+TEST(BigObj, AFileWithRelativeIndicesIsReadAsOnePieceToTheSameMesh) {
+    // The last face again with negative indices: the same corners, counted back from
+    // the latest vertex (tinyobjloader resolves them against the vertices it has read).
+    const BigObj& obj = big_obj();
+    const std::string text = with_line(obj.text, obj.face_lines.back(), "f -4 -3 -1 -2");
+    auto mesh = parse_obj(text, "big.obj");
+    ASSERT_TRUE(mesh) << mesh.error();
+    expect_mesh(*mesh, obj);
+}
+
+TEST(BigObj, AnErrorInALaterPieceNamesItsLineInTheWholeFile) {
+    const BigObj& obj = big_obj();
+    const size_t line = obj.face_lines[obj.face_lines.size() - 1000] - 1;  // a vertex line near the end
+    auto mesh = parse_obj(with_line(obj.text, line, "v 1 2 oops"), "big.obj");
+    ASSERT_FALSE(mesh);
+    EXPECT_EQ(mesh.error(), "big.obj:" + std::to_string(line) + ": bad number 'oops' in vertex");
+}
+
+TEST(BigObj, TheEarliestProblemWinsAcrossPieces) {
+    const BigObj& obj = big_obj();
+    const size_t late = obj.face_lines[obj.face_lines.size() - 10];
+    const size_t early = obj.face_lines[5];
+    const std::string too_far = "face index 999999999 out of range (file has " + std::to_string(obj.positions.size()) +
+                                " vertices)";
+    // A forward index beyond the file on an early line, a bad face on a late one.
+    std::string text = with_line(with_line(obj.text, early, "f 1 2 999999999"), late, "f 1 2");
+    auto mesh = parse_obj(text, "big.obj");
+    ASSERT_FALSE(mesh);
+    EXPECT_EQ(mesh.error(), "big.obj:" + std::to_string(early) + ": " + too_far);
+    // The other way round: the bad face first.
+    text = with_line(with_line(obj.text, early, "f 1 2"), late, "f 1 2 999999999");
+    mesh = parse_obj(text, "big.obj");
+    ASSERT_FALSE(mesh);
+    EXPECT_EQ(mesh.error(), "big.obj:" + std::to_string(early) + ": face has 2 vertices, needs at least 3");
+}
