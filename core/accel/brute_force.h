@@ -14,7 +14,7 @@
 namespace accelviz {
 
 struct BruteForce {
-    std::vector<Triangle> triangles;  ///< indexed by triangle id
+    TriangleArray triangles;  ///< indexed by triangle id
 
     explicit BruteForce(const Mesh& mesh) : triangles(make_triangles(mesh)) {}
 

@@ -70,7 +70,7 @@ enum class StopAt {
 struct Bvh {
     std::vector<BvhNode, BvhNodeAllocator> nodes;
     std::vector<uint32_t, LargeArrayAllocator<uint32_t>> prim_ids;   ///< leaf order → triangle id
-    std::vector<Triangle, LargeArrayAllocator<Triangle>> triangles;  ///< leaf order, triangles[k] is triangle prim_ids[k]
+    TriangleArray triangles;  ///< leaf order, triangles[k] is triangle prim_ids[k]
     BvhConfig build_config;           ///< what it was built with
     BvhBuildStats build_stats;        ///< what the build produced
     BvhTraversal traversal = BvhTraversal::Ordered;  ///< which closest-hit algorithm intersect_closest runs

@@ -57,7 +57,7 @@ struct CellWalk {
     /// hit counting only inside [cur.t_min, cur.t_max]. True when no deferred part
     /// can hold a closer hit (the walk may stop).
     template <class Observer>
-    static bool test_leaf(const Entry& cur, uint32_t first, uint32_t count, const std::vector<Triangle>& triangles,
+    static bool test_leaf(const Entry& cur, uint32_t first, uint32_t count, const TriangleArray& triangles,
                           const std::vector<uint32_t>& prim_ids, CellHits& hits, Observer& obs) {
         obs.on({.kind = EventKind::Leaf, .node = cur.node, .first = first, .count = count, .t_enter = cur.t_min,
                 .t_exit = cur.t_max});

@@ -65,8 +65,8 @@ void add_split_notes(const SplitStops& stops, std::vector<std::string>& notes) {
     }
 }
 
-std::vector<Triangle> triangles_in_leaf_order(const Mesh& mesh, const std::vector<uint32_t>& prim_ids) {
-    std::vector<Triangle> out;
+TriangleArray triangles_in_leaf_order(const Mesh& mesh, const std::vector<uint32_t>& prim_ids) {
+    TriangleArray out;
     out.reserve(prim_ids.size());
     for (uint32_t id : prim_ids) out.push_back(mesh.triangle(id));
     return out;

@@ -83,7 +83,7 @@ void add_split_notes(const SplitStops& stops, std::vector<std::string>& notes);
 
 /// The mesh's triangles in leaf order: out[k] is triangle prim_ids[k] (a copy, so a
 /// leaf's triangles are contiguous in memory).
-std::vector<Triangle> triangles_in_leaf_order(const Mesh& mesh, const std::vector<uint32_t>& prim_ids);
+TriangleArray triangles_in_leaf_order(const Mesh& mesh, const std::vector<uint32_t>& prim_ids);
 
 /// The arrays of a space-partitioning tree (KD tree, octree) and what it was built
 /// with. Invariants of both: nodes[0] is the root and `bounds` its box (the scene's
@@ -95,7 +95,7 @@ struct PartitionTree {
     Aabb bounds;
     std::vector<Node> nodes;
     std::vector<uint32_t> prim_ids;
-    std::vector<Triangle> triangles;
+    TriangleArray triangles;
     Config build_config;
     Stats build_stats;
 

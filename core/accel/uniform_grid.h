@@ -82,7 +82,7 @@ struct UniformGrid {
     /// cells are tens of megabytes, and their page faults were a fifth of the build.
     std::vector<uint32_t, LargeArrayAllocator<uint32_t>> cell_start;  ///< prefix sums, size cells + 1
     std::vector<uint32_t, LargeArrayAllocator<uint32_t>> tri_ids;     ///< references, cell by cell
-    std::vector<Triangle> triangles;             ///< by triangle id (make_triangles)
+    TriangleArray triangles;             ///< by triangle id (make_triangles)
     GridConfig build_config;
     GridBuildStats build_stats;
 

@@ -1,6 +1,7 @@
 #include "core/geometry/mesh.h"
 
 #include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
 namespace accelviz {
@@ -38,9 +39,11 @@ void Mesh::add_triangle(Vec3 a, Vec3 b, Vec3 c) {
     indices.push_back({base, base + 1, base + 2});
 }
 
-std::vector<Triangle> make_triangles(const Mesh& mesh) {
-    std::vector<Triangle> tris(mesh.triangle_count());
-    for (size_t i = 0; i < tris.size(); ++i) tris[i] = mesh.triangle(i);
+TriangleArray make_triangles(const Mesh& mesh) {
+    TriangleArray tris(mesh.triangle_count());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, tris.size(), 1 << 16), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t i = range.begin(); i < range.end(); ++i) tris[i] = mesh.triangle(i);
+    });
     return tris;
 }
 

@@ -41,6 +41,6 @@ inline constexpr double kMinSceneSize = 1e-12;  ///< smallest longest side of th
 
 /// The triangles of a mesh in intersection form, indexed by triangle id.
 /// Built once per mesh; structures test against it.
-std::vector<Triangle> make_triangles(const Mesh& mesh);
+TriangleArray make_triangles(const Mesh& mesh);
 
 }  // namespace accelviz

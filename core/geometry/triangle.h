@@ -4,7 +4,10 @@
 
 #include <cstdint>
 
+#include <vector>
+
 #include "core/math/box_test.h"
+#include "core/util/large_array.h"
 
 namespace accelviz {
 
@@ -45,6 +48,9 @@ struct Triangle {
         return b;
     }
 };
+
+/// The structures' arrays of triangles (huge pages: see large_array.h).
+using TriangleArray = std::vector<Triangle, LargeArrayAllocator<Triangle>>;
 
 /// The box every structure builds around a triangle: its corners and its corners
 /// as the intersection test sees them (Triangle::box), so that it holds the box

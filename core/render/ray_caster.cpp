@@ -17,7 +17,7 @@ int effective_threads(int requested) {
     return requested <= 0 ? cores : std::min(requested, cores);
 }
 
-Frame ray_cast(const Accelerator& accel, const std::vector<Triangle>& triangles,
+Frame ray_cast(const Accelerator& accel, const TriangleArray& triangles,
                const Camera& camera, const RayCastOptions& options) {
     Frame frame(camera.width(), camera.height());
     if (options.count_work) {

@@ -18,7 +18,7 @@ struct RayCastOptions {
 };
 
 /// Casts every pixel's primary ray through `accel`. `triangles` (by id) are used for shading.
-Frame ray_cast(const Accelerator& accel, const std::vector<Triangle>& triangles,
+Frame ray_cast(const Accelerator& accel, const TriangleArray& triangles,
                const Camera& camera, const RayCastOptions& options = {});
 
 }  // namespace accelviz

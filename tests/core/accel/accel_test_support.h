@@ -170,7 +170,7 @@ inline std::vector<Ray> make_test_rays(const Mesh& mesh, size_t count, uint64_t 
 /// to its inside test; a lane inside is then tested by intersect_triangle itself,
 /// which adds the own-box rule. check_oracle() confirms that against BruteForce.
 inline std::vector<Hit> brute_force_answers(const Mesh& mesh, const std::vector<Ray>& rays) {
-    const std::vector<Triangle> tris = make_triangles(mesh);
+    const TriangleArray tris = make_triangles(mesh);
     const size_t n = tris.size();
     std::vector<float> p0x(n), p0y(n), p0z(n), e1x(n), e1y(n), e1z(n), e2x(n), e2y(n), e2z(n);
     for (size_t i = 0; i < n; ++i) {
