@@ -1,9 +1,12 @@
 #include "core/accel/uniform_grid.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <sstream>
+
+#include <tbb/parallel_for.h>
 
 #include "core/geometry/triangle_box.h"
 
@@ -107,6 +110,53 @@ std::array<int, 3> choose_resolution(Vec3 extent, uint32_t triangles, const Grid
     return res;
 }
 
+/// The cells along one axis whose closed extent meets an interval, as a binary search
+/// over the planes would find them, but from the uniform spacing's guess, corrected
+/// against the planes themselves (the planes are rounded to float, so the guess can
+/// be one off; the loops make the answer exact). Coordinates are finite (load_scene).
+class AxisCells {
+public:
+    AxisCells(const UniformGrid& g, int axis)
+        : p_(g.planes[axis].data()), n_(g.res[axis]), lo_(g.bounds.lo[axis]) {
+        const double extent = double(g.bounds.hi[axis]) - double(g.bounds.lo[axis]);
+        scale_ = extent > 0.0 ? double(n_) / extent : 0.0;
+    }
+    /// The number of upper planes p[1..n] below `from`, at most n - 1: the first cell.
+    int first(float from) const {
+        int i = guess(from);
+        while (i > 0 && !(p_[i] < from)) --i;
+        while (i < n_ && p_[i + 1] < from) ++i;
+        return std::min(i, n_ - 1);
+    }
+    /// The number of lower planes p[0..n-1] at or below `to`, minus one, at least 0: the last cell.
+    int last(float to) const {
+        int j = guess(to);
+        while (j >= 0 && !(p_[j] <= to)) --j;
+        while (j < n_ - 1 && p_[j + 1] <= to) ++j;
+        return std::max(j, 0);
+    }
+
+private:
+    int guess(float x) const {
+        const double cell = std::floor((double(x) - lo_) * scale_);
+        if (!(cell > 0.0)) return 0;  // (also NaN)
+        return int(std::min(cell, double(n_ - 1)));
+    }
+    const float* p_;
+    int n_;
+    double lo_, scale_ = 0.0;
+};
+
+/// Triangles per chunk of the build's parallel first pass.
+constexpr uint32_t kTrianglesPerChunk = 8192;
+
+/// One chunk's references: the cells of its triangles, triangle by triangle;
+/// triangle first + t has cells[first_of[t] .. first_of[t + 1]).
+struct ChunkReferences {
+    std::vector<uint32_t> cells;
+    std::vector<uint32_t> first_of;
+};
+
 }  // namespace
 
 Expected<UniformGrid> build_uniform_grid(const Mesh& mesh, const GridConfig& config) {
@@ -142,54 +192,69 @@ Expected<UniformGrid> build_uniform_grid(const Mesh& mesh, const GridConfig& con
     st.cells_per_axis = g.res;
     st.cells = cells;
 
-    // Pass 1: the cells of each triangle, triangle by triangle, counted per cell in
-    // cell_start (which pass 2 turns into the lists' starts). The lecture's 27 N cells
-    // are mostly empty: one array of cells + 1 is all the build gives them.
+    // Pass 1: the cells of each triangle, counted per cell in cell_start (which pass 2
+    // turns into the lists' starts). The lecture's 27 N cells are mostly empty: one
+    // array of cells + 1 is all the build gives them. Chunks of triangles run in
+    // parallel, each keeping its references (cells, triangle by triangle) to itself;
+    // counts are added atomically (integers: the same sums in any order).
     g.cell_start.assign(cells + 1, 0);
-    std::vector<uint32_t, LargeArrayAllocator<uint32_t>> pairs_cell;  // cell of each reference, triangle by triangle
-    pairs_cell.reserve(size_t(st.triangles) * 4);  // a triangle meets about 4 of the rule's cells
-    std::vector<uint32_t, LargeArrayAllocator<uint32_t>> pairs_first(size_t(st.triangles) + 1, 0);
-    for (uint32_t t = 0; t < st.triangles; ++t) {
-        pairs_first[t] = uint32_t(pairs_cell.size());
-        const Aabb box = padded(mesh.triangle_bounds(t), pad);
-        int lo[3], hi[3];
-        for (int a = 0; a < 3; ++a) {
-            // Cells [lo, hi] whose closed extent meets the padded triangle box.
-            const auto& p = g.planes[a];
-            lo[a] = std::clamp(int(std::lower_bound(p.begin() + 1, p.end(), box.lo[a]) - (p.begin() + 1)), 0,
-                               g.res[a] - 1);
-            hi[a] = std::clamp(int(std::upper_bound(p.begin(), p.end() - 1, box.hi[a]) - p.begin()) - 1, 0,
-                               g.res[a] - 1);
+    const uint32_t chunk_count = (st.triangles + kTrianglesPerChunk - 1) / kTrianglesPerChunk;
+    std::vector<ChunkReferences> chunks(chunk_count);
+    const std::array<AxisCells, 3> axis_cells = {AxisCells(g, 0), AxisCells(g, 1), AxisCells(g, 2)};
+    std::atomic<uint64_t> references{0};
+    std::atomic<bool> too_many{false};
+    tbb::parallel_for(uint32_t(0), chunk_count, [&](uint32_t c) {
+        ChunkReferences& chunk = chunks[c];
+        const uint32_t first = c * kTrianglesPerChunk, end = std::min(st.triangles, first + kTrianglesPerChunk);
+        chunk.first_of.reserve(end - first + 1);
+        chunk.cells.reserve(size_t(end - first) * 4);  // a triangle meets about 4 of the rule's cells
+        for (uint32_t t = first; t < end && !too_many.load(std::memory_order_relaxed); ++t) {
+            chunk.first_of.push_back(uint32_t(chunk.cells.size()));
+            const Aabb box = padded(mesh.triangle_bounds(t), pad);
+            int lo[3], hi[3];
+            for (int a = 0; a < 3; ++a) {
+                lo[a] = axis_cells[a].first(box.lo[a]);
+                hi[a] = axis_cells[a].last(box.hi[a]);
+            }
+            const Vec3 p0 = mesh.vertex(t, 0), p1 = mesh.vertex(t, 1), p2 = mesh.vertex(t, 2);
+            for (int k = lo[2]; k <= hi[2]; ++k)
+                for (int j = lo[1]; j <= hi[1]; ++j)
+                    for (int i = lo[0]; i <= hi[0]; ++i) {
+                        if (config.insert == GridInsert::Exact &&
+                            !triangle_overlaps_box(p0, p1, p2, padded(g.cell_bounds(i, j, k), pad)))
+                            continue;
+                        const uint32_t id = g.cell_id(i, j, k);
+                        chunk.cells.push_back(id);
+                        std::atomic_ref<uint32_t>(g.cell_start[id]).fetch_add(1, std::memory_order_relaxed);
+                    }
+            // Early out (memory): this chunk's references and those of finished chunks are
+            // parts of the total, so it is over the limit if they are.
+            if (chunk.cells.size() + references.load(std::memory_order_relaxed) > config.max_references)
+                too_many = true;
         }
-        const Vec3 p0 = mesh.vertex(t, 0), p1 = mesh.vertex(t, 1), p2 = mesh.vertex(t, 2);
-        for (int k = lo[2]; k <= hi[2]; ++k)
-            for (int j = lo[1]; j <= hi[1]; ++j)
-                for (int i = lo[0]; i <= hi[0]; ++i) {
-                    if (config.insert == GridInsert::Exact &&
-                        !triangle_overlaps_box(p0, p1, p2, padded(g.cell_bounds(i, j, k), pad)))
-                        continue;
-                    const uint32_t id = g.cell_id(i, j, k);
-                    pairs_cell.push_back(id);
-                    ++g.cell_start[id];
-                }
-        if (pairs_cell.size() > config.max_references) {
-            std::ostringstream s;
-            s << "grid needs more than " << config.max_references << " references (" << cells
-              << " cells); lower --grid-density or use --grid-insert exact";
-            return Error{s.str()};
-        }
+        chunk.first_of.push_back(uint32_t(chunk.cells.size()));
+        references += chunk.cells.size();
+    });
+    if (too_many || references > config.max_references) {
+        std::ostringstream s;
+        s << "grid needs more than " << config.max_references << " references (" << cells
+          << " cells); lower --grid-density or use --grid-insert exact";
+        return Error{s.str()};
     }
-    pairs_first[st.triangles] = uint32_t(pairs_cell.size());
 
     // Pass 2, a counting sort by cell: as inclusive prefix sums the counts say where
     // each cell's list ends; filling the lists back to front, last triangle first,
     // moves each entry to where its list starts, and leaves every list in increasing
     // id order (deterministic, and easy to read in the stepper).
     for (uint64_t c = 1; c < cells; ++c) g.cell_start[c] += g.cell_start[c - 1];
-    g.cell_start[cells] = uint32_t(pairs_cell.size());
-    g.tri_ids.resize(pairs_cell.size());
-    for (uint32_t t = st.triangles; t-- > 0;)
-        for (uint32_t r = pairs_first[t + 1]; r-- > pairs_first[t];) g.tri_ids[--g.cell_start[pairs_cell[r]]] = t;
+    g.cell_start[cells] = uint32_t(references.load());
+    g.tri_ids.resize(references.load());
+    for (uint32_t c = chunk_count; c-- > 0;) {
+        const ChunkReferences& chunk = chunks[c];
+        for (uint32_t t = uint32_t(chunk.first_of.size()) - 1; t-- > 0;)
+            for (uint32_t r = chunk.first_of[t + 1]; r-- > chunk.first_of[t];)
+                g.tri_ids[--g.cell_start[chunk.cells[r]]] = c * kTrianglesPerChunk + t;
+    }
 
     st.references = g.tri_ids.size();
     for (uint64_t c = 0; c < cells; ++c) {
