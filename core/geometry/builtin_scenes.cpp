@@ -1,6 +1,7 @@
 // Built-in scenes: the lecture's test cases made on the spot, "builtin:NAME?k=v&k=v".
 //
-// Every scene is a pure function of its parameters. Seeded scenes draw from Rng
+// Every scene but `instances` (which repeats a mesh loaded from a file) is a pure
+// function of its parameters. Seeded scenes draw from Rng
 // (core/util/random.h); nothing here calls libm's sin/cos/pow, whose last bits
 // may differ between machines: only + - * / and sqrt, which IEEE 754 rounds
 // exactly, and -ffp-contract=off keeps the compiler from fusing them.
@@ -8,6 +9,7 @@
 // [SECTION] Parameters      parsing "k=v&k=v" against a table of accepted keys
 // [SECTION] Shapes          cube, Cornell box, teapot, icosphere, stadium
 // [SECTION] Tricky cases    same centroid, same box, soup
+// [SECTION] Big scenes      a mesh repeated on a grid (instances)
 // [SECTION] Registry        the table make_builtin and builtin_scenes read
 #include <algorithm>
 #include <array>
@@ -15,6 +17,8 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <limits>
+#include <string>
 #include <string_view>
 #include <unordered_map>
 #include <utility>
@@ -34,7 +38,11 @@ enum class ParamKind {
     Count,  ///< a whole number in [min_value, max_value]
     Real,   ///< a finite number in [min_value, max_value]
     Seed,   ///< any 64-bit unsigned integer (min_value/max_value unused)
+    Source, ///< an OBJ path or built-in scene, up to the next '&' (default kDefaultSource)
 };
+
+/// The default of a Source parameter.
+constexpr const char* kDefaultSource = "builtin:teapot";
 
 /// One parameter a built-in accepts.
 struct ParamSpec {
@@ -49,6 +57,7 @@ struct ParamSpec {
 struct ParamValue {
     uint64_t whole = 0;
     double real = 0;
+    std::string text;  ///< Source
 };
 
 /// The values of all of a scene's parameters, defaults filled in.
@@ -64,6 +73,7 @@ struct Params {
     }
     uint64_t whole(std::string_view name) const { return get(name).whole; }
     double real(std::string_view name) const { return get(name).real; }
+    const std::string& text(std::string_view name) const { return get(name).text; }
 };
 
 /// A number as a person writes it: whole numbers without ".0" or exponent.
@@ -85,6 +95,8 @@ std::string describe(const ParamSpec& p) {
                    ", default " + format_number(p.default_value) + ")";
         case ParamKind::Seed:
             return std::string(p.name) + " (integer 0..2^64-1, default " + format_number(p.default_value) + ")";
+        case ParamKind::Source:
+            return std::string(p.name) + " (an OBJ path or builtin:NAME without '&', default " + kDefaultSource + ")";
     }
     return p.name;
 }
@@ -122,6 +134,7 @@ Expected<Params> parse_params(const std::vector<ParamSpec>& specs, std::string_v
     for (size_t i = 0; i < specs.size(); ++i) {
         params.values[i].whole = static_cast<uint64_t>(specs[i].default_value);
         params.values[i].real = specs[i].default_value;
+        if (specs[i].kind == ParamKind::Source) params.values[i].text = kDefaultSource;
     }
     std::vector<bool> given(specs.size(), false);
 
@@ -148,7 +161,10 @@ Expected<Params> parse_params(const std::vector<ParamSpec>& specs, std::string_v
         const std::string_view text = item.substr(eq + 1);
         const std::string shown = std::string(key) + "=" + std::string(text);
         ParamValue& value = params.values[index];
-        if (spec.kind == ParamKind::Real) {
+        if (spec.kind == ParamKind::Source) {
+            if (text.empty()) return fail("parameter '" + std::string(key) + "' is empty");
+            value.text = text;
+        } else if (spec.kind == ParamKind::Real) {
             if (!parse_real(text, value.real)) return fail(shown + " is not a number");
             if (!(value.real >= spec.min_value && value.real <= spec.max_value)) return fail(shown + " is out of range");
         } else {
@@ -530,14 +546,53 @@ Mesh make_single(const Params&) {
 }
 
 // ---------------------------------------------------------------------------
+// [SECTION] Big scenes
+// ---------------------------------------------------------------------------
+
+/// The lecture's 10-million-triangle scenes without a download: `mesh` (loaded as
+/// load_scene loads it, through the mesh cache) repeated nx x nz times on a grid in
+/// the x-z plane, copies 1.1 times the mesh's extent apart so that none overlap.
+Expected<Mesh> make_instances(const Params& params) {
+    const std::string& source = params.text("mesh");
+    if (source.starts_with("builtin:instances")) return Error{"mesh= cannot be another builtin:instances"};
+    auto loaded = load_scene(source);
+    if (!loaded) return Error{loaded.error()};
+    const Mesh& one = *loaded;
+    const uint64_t nx = params.whole("nx"), nz = params.whole("nz"), copies = nx * nz;
+    if (copies * one.positions.size() > std::numeric_limits<uint32_t>::max() ||
+        copies * one.indices.size() > std::numeric_limits<uint32_t>::max())
+        return Error{std::to_string(copies) + " copies of " + std::to_string(one.indices.size()) +
+                     " triangles are too many for 32-bit indices"};
+    const Aabb box = one.bounds();
+    const float step_x = 1.1f * box.extent().x, step_z = 1.1f * box.extent().z;
+    Mesh mesh;
+    mesh.positions.reserve(copies * one.positions.size());
+    mesh.indices.reserve(copies * one.indices.size());
+    for (uint64_t k = 0; k < nz; ++k)
+        for (uint64_t i = 0; i < nx; ++i) {
+            const Vec3 offset{float(i) * step_x, 0.0f, float(k) * step_z};
+            const auto base = uint32_t(mesh.positions.size());
+            for (const Vec3& p : one.positions) mesh.positions.push_back(p + offset);
+            for (const auto& t : one.indices) mesh.indices.push_back({t[0] + base, t[1] + base, t[2] + base});
+        }
+    return mesh;
+}
+
+// ---------------------------------------------------------------------------
 // [SECTION] Registry
 // ---------------------------------------------------------------------------
+
+/// A scene that cannot fail to build (all but instances), as the registry calls it.
+template <Mesh (*Make)(const Params&)>
+Expected<Mesh> always(const Params& params) {
+    return Make(params);
+}
 
 struct BuiltinDef {
     const char* name;
     const char* summary;
     std::vector<ParamSpec> params;
-    Mesh (*make)(const Params&);
+    Expected<Mesh> (*make)(const Params&);
 };
 
 constexpr double kDefaultSeed = 1;
@@ -545,39 +600,44 @@ constexpr double kMaxRandomTriangles = 10'000'000;
 
 const std::vector<BuiltinDef>& registry() {
     static const std::vector<BuiltinDef> kScenes = {
-        {"cube", "the cube [-1,1]^3, 12 triangles", {}, make_cube},
+        {"cube", "the cube [-1,1]^3, 12 triangles", {}, always<make_cube>},
         {"cornell",
          "the Cornell box (room 5.56 x 5.49 x 5.59, y up, open towards +z; two blocks, the light), 32 triangles",
          {},
-         make_cornell},
+         always<make_cornell>},
         {"teapot",
          "Newell's teapot from its 28 Bezier patches, y up on y = 0, height 0.75; n = quads per patch side: "
          "56n^2 - 4n triangles",
          {{"n", ParamKind::Count, 1, 64, 8}},
-         make_teapot},
+         always<make_teapot>},
         {"sphere",
          "icosphere of radius 1 around the origin: 20 * 4^subdiv triangles",
          {{"subdiv", ParamKind::Count, 0, 7, 3}},
-         make_sphere},
+         always<make_sphere>},
         {"stadium",
          "teapot in a stadium: a teapot of height 1 (n as for teapot) on the floor of a stadium `size` wide "
          "(66 large triangles)",
          {{"n", ParamKind::Count, 1, 64, 12}, {"size", ParamKind::Real, 5, 100000, 100}},
-         make_stadium},
+         always<make_stadium>},
         {"same-centroid",
          "n random triangles whose centroids are all exactly the origin",
          {{"n", ParamKind::Count, 1, kMaxRandomTriangles, 1000}, {"seed", ParamKind::Seed, 0, 0, kDefaultSeed}},
-         make_same_centroid},
+         always<make_same_centroid>},
         {"same-box",
          "n random triangles whose bounding boxes are all exactly [-1,1] x [-0.5,0.5] x [-0.75,0.75]",
          {{"n", ParamKind::Count, 1, kMaxRandomTriangles, 1000}, {"seed", ParamKind::Seed, 0, 0, kDefaultSeed}},
-         make_same_box},
+         always<make_same_box>},
         {"soup",
          "n random small triangles of varying size, centres uniform in [-1,1]^3",
          {{"n", ParamKind::Count, 1, kMaxRandomTriangles, 1000}, {"seed", ParamKind::Seed, 0, 0, kDefaultSeed}},
-         make_soup},
-        {"empty", "no triangles at all", {}, make_empty},
-        {"single", "one triangle in the z = 0 plane", {}, make_single},
+         always<make_soup>},
+        {"empty", "no triangles at all", {}, always<make_empty>},
+        {"single", "one triangle in the z = 0 plane", {}, always<make_single>},
+        {"instances",
+         "a mesh repeated nx x nz times on a grid in the x-z plane (a 10M-triangle scene from one scan: "
+         "builtin:instances?mesh=armadillo.obj&nx=6&nz=5)",
+         {{"mesh", ParamKind::Source, 0, 0, 0}, {"nx", ParamKind::Count, 1, 64, 4}, {"nz", ParamKind::Count, 1, 64, 3}},
+         make_instances},
     };
     return kScenes;
 }
@@ -615,8 +675,9 @@ Expected<Mesh> make_builtin(const std::string& spec) {
     if (!params) return Error{params.error()};
 
     try {
-        Mesh mesh = def->make(*params);
-        mesh.name = full;
+        auto mesh = def->make(*params);
+        if (!mesh) return Error{full + ": " + mesh.error()};
+        mesh->name = full;
         return mesh;
     } catch (const std::exception& e) {  // e.g. std::bad_alloc for a huge n
         return Error{full + ": cannot build: " + e.what()};

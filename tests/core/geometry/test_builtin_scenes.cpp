@@ -96,7 +96,7 @@ TEST(BuiltinScenes, TriangleCounts) {
 }
 
 TEST(BuiltinScenes, EveryListedSceneBuildsWithItsDefaultsAndIsWellFormed) {
-    ASSERT_EQ(builtin_scenes().size(), 10u);
+    ASSERT_EQ(builtin_scenes().size(), 11u);
     for (const BuiltinInfo& info : builtin_scenes()) {
         SCOPED_TRACE(info.name);
         EXPECT_FALSE(info.description.empty());
@@ -431,3 +431,38 @@ TEST(BuiltinScenes, ParametersAtTheEdgesOfTheirRanges) {
     EXPECT_TRUE(make_builtin("soup?seed=18446744073709551615&n=1").ok());
     EXPECT_TRUE(make_builtin("teapot?").ok());  // an empty query is no parameters
 }
+
+TEST(BuiltinScenes, InstancesRepeatAMeshOnAGridWithoutOverlap) {
+    const Mesh one = make("teapot?n=2");
+    const Mesh many = make("instances?mesh=builtin:teapot?n=2&nx=3&nz=2");
+    ASSERT_EQ(many.triangle_count(), 6 * one.triangle_count());
+    ASSERT_EQ(many.positions.size(), 6 * one.positions.size());
+    const Aabb box = one.bounds();
+    const float step_x = 1.1f * box.extent().x, step_z = 1.1f * box.extent().z;
+    for (size_t copy = 0; copy < 6; ++copy) {
+        const Vec3 offset{float(copy % 3) * step_x, 0.0f, float(copy / 3) * step_z};
+        for (size_t i = 0; i < one.positions.size(); ++i)
+            ASSERT_EQ(many.positions[copy * one.positions.size() + i], one.positions[i] + offset);
+        for (size_t t = 0; t < one.indices.size(); ++t)
+            for (int c = 0; c < 3; ++c)
+                ASSERT_EQ(many.indices[copy * one.indices.size() + t][c], one.indices[t][c] + copy * one.positions.size());
+    }
+    // The default: teapots, 4 x 3.
+    EXPECT_EQ(make("instances").triangle_count(), 12 * make("teapot").triangle_count());
+}
+
+TEST(BuiltinScenes, InstancesNameWhatIsWrongWithTheirMesh) {
+    auto missing = make_builtin("instances?mesh=/no/such/file.obj");
+    ASSERT_FALSE(missing);
+    EXPECT_EQ(missing.error(), "builtin:instances?mesh=/no/such/file.obj: /no/such/file.obj: no such file");
+    auto nested = make_builtin("instances?mesh=builtin:instances");
+    ASSERT_FALSE(nested);
+    expect_contains(nested.error(), "cannot be another builtin:instances");
+    auto empty = make_builtin("instances?mesh=");
+    ASSERT_FALSE(empty);
+    expect_contains(empty.error(), "parameter 'mesh' is empty");
+    auto wide = make_builtin("instances?nx=65");
+    ASSERT_FALSE(wide);
+    expect_contains(wide.error(), "nx=65 is out of range");
+}
+
