@@ -1,8 +1,11 @@
 #include "core/accel/octree.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <sstream>
+
+#include <tbb/parallel_for.h>
 
 #include "core/geometry/triangle_box.h"
 
@@ -16,34 +19,48 @@ std::optional<Error> validate(const OctreeConfig& c) {
 }
 
 namespace {
+
 struct WorkItem {
     uint32_t node;
     uint32_t depth;
     Aabb box;
     std::vector<SpatialRef> refs;
 };
-}  // namespace
 
-Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config) {
-    const auto start = std::chrono::steady_clock::now();
-    if (auto err = validate(config)) return *err;
-    Octree tree;
-    OctreeBuildStats& st = tree.build_stats;
-    const float pad = tree.begin_build(mesh, config, start);
-    if (st.triangles == 0) return tree;
-    const double budget = config.max_duplication * st.triangles;
-    uint64_t live_refs = st.triangles;
-    bool budget_hit = false;
+/// What building one subtree gives: local nodes (its root at 0), leaf references,
+/// and the counts the stats add up.
+struct Subtree {
+    std::vector<OctreeNode> nodes;
+    std::vector<uint32_t> prim_ids;
+    uint32_t leaves = 0, empty_leaves = 0, max_depth = 0, leaves_at_depth_limit = 0, max_leaf_size = 0;
     uint32_t no_progress = 0;
+    bool budget_hit = false;
+};
 
+/// Builds the subtree of `root` depth first over an explicit work stack. Cells whose
+/// reference count is below `defer_below` (other than the root) are left as
+/// placeholders and handed to `deferred` (their node index is local), so that they
+/// can be built separately and spliced in. `budget`: the most references this
+/// subtree may hold.
+Subtree build_subtree(const Mesh& mesh, const OctreeConfig& config, float pad, WorkItem root, double budget,
+                      size_t defer_below, std::vector<WorkItem>* deferred) {
+    Subtree out;
+    uint64_t live_refs = root.refs.size();  // references in leaves + in pending work
     std::vector<WorkItem> work;
-    work.push_back({0, 0, tree.bounds, root_references(mesh, pad)});
-    tree.nodes.emplace_back();
+    root.node = 0;
+    out.nodes.emplace_back();
+    work.push_back(std::move(root));
     std::array<std::vector<SpatialRef>, 8> children;
+    bool is_root = true;
     while (!work.empty()) {
         WorkItem item = std::move(work.back());
         work.pop_back();
         const size_t n = item.refs.size();
+        if (deferred && !is_root && n < defer_below) {
+            deferred->push_back(std::move(item));
+            continue;
+        }
+        is_root = false;
         const Vec3 centre = item.box.center();
         bool split = n > size_t(config.leaf_size) && int(item.depth) < config.max_depth;
         for (int a = 0; a < 3 && split; ++a)
@@ -79,33 +96,115 @@ Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config) {
             }
             if (all_full && non_empty >= 2) {
                 split = false;
-                ++no_progress;
+                ++out.no_progress;
             } else if (double(live_refs) + double(total) - double(n) > budget) {
                 split = false;
-                budget_hit = true;
+                out.budget_hit = true;
             } else {
                 live_refs = uint64_t(int64_t(live_refs) + int64_t(total) - int64_t(n));
             }
         }
         if (!split) {
-            OctreeNode& leaf = tree.nodes[item.node];
-            leaf = OctreeNode{centre, uint32_t(tree.prim_ids.size()), uint32_t(n), true};
-            for (const SpatialRef& r : item.refs) tree.prim_ids.push_back(r.tri);
-            ++st.leaves;
-            if (n == 0) ++st.empty_leaves;
-            if (item.depth >= uint32_t(config.max_depth) && n > size_t(config.leaf_size)) ++st.leaves_at_depth_limit;
-            st.max_depth = std::max(st.max_depth, item.depth);
-            st.max_leaf_size = std::max(st.max_leaf_size, uint32_t(n));
+            OctreeNode& leaf = out.nodes[item.node];
+            leaf = OctreeNode{centre, uint32_t(out.prim_ids.size()), uint32_t(n), true};
+            for (const SpatialRef& r : item.refs) out.prim_ids.push_back(r.tri);
+            ++out.leaves;
+            if (n == 0) ++out.empty_leaves;
+            if (item.depth >= uint32_t(config.max_depth) && n > size_t(config.leaf_size)) ++out.leaves_at_depth_limit;
+            out.max_depth = std::max(out.max_depth, item.depth);
+            out.max_leaf_size = std::max(out.max_leaf_size, uint32_t(n));
             continue;
         }
-        const uint32_t first = uint32_t(tree.nodes.size());
-        tree.nodes[item.node] = OctreeNode{centre, first, 0, false};
-        tree.nodes.resize(tree.nodes.size() + 8);
-        // Octant 7 pushed first, so octant 0 is built first: depth-first order.
+        const uint32_t first = uint32_t(out.nodes.size());
+        out.nodes[item.node] = OctreeNode{centre, first, 0, false};
+        out.nodes.resize(out.nodes.size() + 8);
+        // Octant 7 pushed first, so octant 0 is built first: depth-first order. Each
+        // octant's references are copied out at their size: the eight scratch lists
+        // keep their capacity for the next cell.
         for (int o = 7; o >= 0; --o)
             work.push_back({first + uint32_t(o), item.depth + 1, octant_box(item.box, centre, o),
-                            std::move(children[size_t(o)])});
+                            std::vector<SpatialRef>(children[size_t(o)].begin(), children[size_t(o)].end())});
         item.refs = {};
+    }
+    return out;
+}
+
+/// Appends `sub` to `tree`, its root replacing the placeholder node `at`.
+void splice(Octree& tree, uint32_t at, const Subtree& sub) {
+    const uint32_t base = uint32_t(tree.nodes.size());  // where sub's node 1 goes
+    const uint32_t prim_base = uint32_t(tree.prim_ids.size());
+    auto global = [&](uint32_t local) { return local == 0 ? at : base + local - 1; };
+    for (uint32_t i = 0; i < sub.nodes.size(); ++i) {
+        OctreeNode n = sub.nodes[i];
+        n.first = n.is_leaf() ? n.first + prim_base : global(n.first);
+        if (i == 0) tree.nodes[at] = n;
+        else tree.nodes.push_back(n);
+    }
+    tree.prim_ids.insert(tree.prim_ids.end(), sub.prim_ids.begin(), sub.prim_ids.end());
+}
+
+void add_counts(OctreeBuildStats& st, uint32_t& no_progress, bool& budget_hit, const Subtree& sub) {
+    st.leaves += sub.leaves;
+    st.empty_leaves += sub.empty_leaves;
+    st.max_depth = std::max(st.max_depth, sub.max_depth);
+    st.leaves_at_depth_limit += sub.leaves_at_depth_limit;
+    st.max_leaf_size = std::max(st.max_leaf_size, sub.max_leaf_size);
+    no_progress += sub.no_progress;
+    budget_hit |= sub.budget_hit;
+}
+
+}  // namespace
+
+Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config) {
+    const auto start = std::chrono::steady_clock::now();
+    if (auto err = validate(config)) return *err;
+    Octree tree;
+    OctreeBuildStats& st = tree.build_stats;
+    const float pad = tree.begin_build(mesh, config, start);
+    if (st.triangles == 0) return tree;
+    const double budget = config.max_duplication * st.triangles;
+    uint32_t no_progress = 0;
+    bool budget_hit = false;
+
+    // As the KD tree: the top of the tree first, one cell at a time; subtrees under
+    // cells with fewer than N/64 references are collected, built in parallel (each on
+    // its own, so the result does not depend on the threads), and spliced in in
+    // depth-first order. The reference budget is shared out in proportion to their
+    // sizes; subtrees that ran out of their share are built again with what the
+    // others left unused, shared out the same way, so that a budget the whole tree
+    // stays within does not stop one part of it.
+    std::vector<WorkItem> deferred;
+    const size_t defer_below = std::max<size_t>(4096, st.triangles / 64);
+    const Subtree top = build_subtree(mesh, config, pad, WorkItem{0, 0, tree.bounds, root_references(mesh, pad)},
+                                      budget, defer_below, &deferred);
+    tree.nodes = top.nodes;
+    tree.prim_ids = top.prim_ids;
+    add_counts(st, no_progress, budget_hit, top);
+    std::vector<uint32_t> placeholders;
+    for (const WorkItem& w : deferred) placeholders.push_back(w.node);
+    std::vector<Subtree> subtrees(deferred.size());
+    auto build_shares = [&](const std::vector<size_t>& which, double budget_left) {
+        double refs = 0;
+        for (size_t k : which) refs += double(deferred[k].refs.size());
+        tbb::parallel_for(size_t(0), which.size(), [&](size_t i) {
+            const WorkItem& item = deferred[which[i]];
+            const double share = budget_left * double(item.refs.size()) / std::max(refs, 1.0);
+            subtrees[which[i]] = build_subtree(mesh, config, pad, item, std::max(share, 1.0), 0, nullptr);
+        });
+    };
+    std::vector<size_t> all(deferred.size());
+    for (size_t k = 0; k < all.size(); ++k) all[k] = k;
+    build_shares(all, std::max(0.0, budget - double(top.prim_ids.size())));
+    std::vector<size_t> again;
+    double used = double(top.prim_ids.size());
+    for (size_t k = 0; k < subtrees.size(); ++k) {
+        if (subtrees[k].budget_hit) again.push_back(k);
+        else used += double(subtrees[k].prim_ids.size());
+    }
+    if (!again.empty()) build_shares(again, std::max(0.0, budget - used));
+    for (size_t k = 0; k < deferred.size(); ++k) {
+        splice(tree, placeholders[k], subtrees[k]);
+        add_counts(st, no_progress, budget_hit, subtrees[k]);
     }
 
     tree.end_build(mesh,
