@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 
 #include "core/geometry/triangle_box.h"
+#include "core/util/sort_floats.h"
 
 namespace accelviz {
 
@@ -62,10 +63,10 @@ bool goes_above(const SpatialRef& r, int axis, float s) { return r.box.hi[axis] 
 
 /// The SAH over every reference-box boundary strictly inside the node, on all
 /// three axes: cost(s) = C_trav + C_isect · (A_below·N_below + A_above·N_above) / A,
-/// times (1 - empty_bonus) when one side is empty. Sorting the lower and upper
-/// bounds per axis makes the node O(n log n), the tree O(N log² N).
+/// times (1 - empty_bonus) when one side is empty. The lower and upper bounds are
+/// sorted per axis (sort_ascending: linear for big nodes).
 Plane best_sah_plane(const std::vector<SpatialRef>& refs, const Aabb& box, const KdConfig& c,
-                     std::vector<float>& los, std::vector<float>& his) {
+                     std::vector<float>& los, std::vector<float>& his, SortScratch& scratch) {
     Plane best;
     best.cost = kInfinity;
     const size_t n = refs.size();
@@ -80,8 +81,8 @@ Plane best_sah_plane(const std::vector<SpatialRef>& refs, const Aabb& box, const
             los[i] = refs[i].box.lo[a];
             his[i] = refs[i].box.hi[a];
         }
-        std::sort(los.begin(), los.end());
-        std::sort(his.begin(), his.end());
+        sort_ascending(los, scratch);
+        sort_ascending(his, scratch);
         // Sweep the candidates (the merged, sorted lo and hi values) upwards.
         // below = #{lo < s}, above = n - #{hi <= s}.
         size_t i_lo = 0, i_hi = 0;
@@ -147,6 +148,7 @@ Subtree build_subtree(const BuildContext& ctx, WorkItem root, double budget, siz
     out.nodes.emplace_back();
     work.push_back(std::move(root));
     std::vector<float> los, his;  // scratch for the SAH sweep
+    SortScratch sort_scratch;
     std::vector<SpatialRef> below, above;
     bool is_root = true;
     while (!work.empty()) {
@@ -164,7 +166,7 @@ Subtree build_subtree(const BuildContext& ctx, WorkItem root, double budget, siz
         Plane plane;
         bool split = n > size_t(config.leaf_size) && int(item.depth) < ctx.depth_limit;
         if (split && config.builder == KdBuilder::Sah) {
-            plane = best_sah_plane(item.refs, item.box, config, los, his);
+            plane = best_sah_plane(item.refs, item.box, config, los, his, sort_scratch);
             split = plane.axis >= 0 && plane.cost < config.cost_isect * double(n);
         }
         below.clear();
