@@ -1,7 +1,7 @@
 // The BVH build's driver: one decision per node (leaf or split, and which split),
 // big subtrees built in parallel and small ones depth first, the leaf-order copy,
-// statistics and notes. The builders
-// that propose splits live one per file behind bvh_splitter.h.
+// statistics and notes. The builders that propose splits live one per file behind
+// bvh_splitter.h.
 #include "core/accel/bvh_build.h"
 
 #include <algorithm>
