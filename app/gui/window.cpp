@@ -192,18 +192,26 @@ int run_window(AppState state) {
             // 4. The loop. It sleeps until something happens: an input or window
             //    event, a load finishing (the loader wakes it), or a held key or
             //    button. It draws a few frames after each event (ImGui's hover
-            //    and release states) and keeps drawing while a load runs (the
-            //    indicator counts seconds) or the user holds a key.
+            //    and release states), keeps drawing while the user holds a key,
+            //    and while a load or build runs draws ten frames a second (the
+            //    indicator counts seconds): a frame of a big scene takes both
+            //    cores for tens of ms on a software renderer, time the work needs.
             using clock = std::chrono::steady_clock;
             double frame_ms = 0;
             int frames_to_draw = 3;
             uint64_t events_seen = 0;
+            bool was_working = false;
             while (!(*window)->should_close()) {
-                const bool busy = session.has_pending_work() || any_input_held();
-                (*window)->process_events(frames_to_draw > 0 || busy ? 0.0 : 0.5);
+                const bool input_held = any_input_held();
+                const bool working = session.has_pending_work();
+                (*window)->process_events(frames_to_draw > 0 || input_held ? 0.0 : working ? 0.1 : 0.5);
                 // Events, and work finishing, are followed by a few frames: ImGui
                 // shows a new auto-sized window one frame late, hover states settle.
-                if ((*window)->event_count() != events_seen || busy) frames_to_draw = 3;
+                if ((*window)->event_count() != events_seen || input_held || (was_working && !working))
+                    frames_to_draw = 3;
+                else if (working)
+                    frames_to_draw = std::max(frames_to_draw, 1);
+                was_working = working;
                 events_seen = (*window)->event_count();
                 if (frames_to_draw == 0) continue;
                 --frames_to_draw;
