@@ -236,20 +236,6 @@ Subtree build_subtree(const BuildContext& ctx, WorkItem root, double budget, siz
     return out;
 }
 
-/// Appends `sub` to `tree`, its root replacing the placeholder node `at`.
-void splice(KdTree& tree, uint32_t at, const Subtree& sub) {
-    const uint32_t base = uint32_t(tree.nodes.size());  // where sub's node 1 goes
-    const uint32_t prim_base = uint32_t(tree.prim_ids.size());
-    auto global = [&](uint32_t local) { return local == 0 ? at : base + local - 1; };
-    for (uint32_t i = 0; i < sub.nodes.size(); ++i) {
-        KdNode n = sub.nodes[i];
-        n.first = n.is_leaf() ? n.first + prim_base : global(n.first);
-        if (i == 0) tree.nodes[at] = n;
-        else tree.nodes.push_back(n);
-    }
-    tree.prim_ids.insert(tree.prim_ids.end(), sub.prim_ids.begin(), sub.prim_ids.end());
-}
-
 void add_counts(KdBuildStats& st, uint32_t& no_progress, bool& budget_hit, const Subtree& sub) {
     st.leaves += sub.leaves;
     st.empty_leaves += sub.empty_leaves;
@@ -299,7 +285,7 @@ Expected<KdTree> build_kd_tree(const Mesh& mesh, const KdConfig& config) {
         subtrees[k] = build_subtree(ctx, std::move(deferred[k]), std::max(share, 1.0), 0, nullptr);
     });
     for (size_t k = 0; k < deferred.size(); ++k) {
-        splice(tree, placeholders[k], subtrees[k]);
+        tree.splice(placeholders[k], subtrees[k].nodes, subtrees[k].prim_ids);
         add_counts(st, no_progress, budget_hit, subtrees[k]);
     }
 

@@ -125,6 +125,21 @@ struct PartitionTree {
         finish_stats(start);
     }
 
+    /// Appends a subtree built on its own (its root at sub_nodes[0]; child indices local
+    /// to sub_nodes, leaf ranges local to sub_prim_ids), its root replacing the
+    /// placeholder node `at`: how the builds splice in the subtrees built in parallel.
+    void splice(uint32_t at, const std::vector<Node>& sub_nodes, const std::vector<uint32_t>& sub_prim_ids) {
+        const auto base = uint32_t(nodes.size());  // where the subtree's node 1 goes
+        const auto prim_base = uint32_t(prim_ids.size());
+        for (size_t i = 0; i < sub_nodes.size(); ++i) {
+            Node n = sub_nodes[i];
+            n.first = n.is_leaf() ? n.first + prim_base : (n.first == 0 ? at : base + n.first - 1);
+            if (i == 0) nodes[at] = n;
+            else nodes.push_back(n);
+        }
+        prim_ids.insert(prim_ids.end(), sub_prim_ids.begin(), sub_prim_ids.end());
+    }
+
 private:
     /// The statistics the arrays determine, at the end of a build that began at `start`.
     void finish_stats(std::chrono::steady_clock::time_point start) {
