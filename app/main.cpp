@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include "app/cli/commands.h"
+#include "app/cli/progress.h"
 #include "app/gui/window.h"
 #include "core/geometry/scene.h"
 
@@ -37,6 +38,11 @@ int main(int argc, char** argv) {
     app.add_flag("--no-cache", no_cache, no_cache_help);
     for (const Command& command : commands)
         if (command.sub) command.sub->add_flag("--no-cache", no_cache, no_cache_help);
+    // Progress lines on stderr for steps over two seconds (app/cli/progress.h).
+    bool quiet = false;
+    for (const Command& command : commands)
+        if (command.sub)
+            command.sub->add_flag("--quiet", quiet, "No progress lines on stderr for loads and builds over 2 s");
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -53,6 +59,7 @@ int main(int argc, char** argv) {
         return e.get_exit_code();
     }
     accelviz::set_default_mesh_cache(no_cache ? accelviz::MeshCache::Skip : accelviz::MeshCache::Use);
+    set_progress_lines(!quiet);
     try {
         for (const Command& command : commands)
             if (command.sub && command.sub->parsed()) return command.run();

@@ -14,6 +14,7 @@
 #include "app/cli/accel_flags.h"
 #include "app/cli/camera_flags.h"
 #include "app/cli/commands.h"
+#include "app/cli/progress.h"
 #include "app/cli/flag_checks.h"
 #include "app/cli/scene_input.h"
 #include "app/gui/app_state.h"
@@ -193,7 +194,10 @@ int run_render(const RenderOptions& opt) {
     work.accel_name = to_string(state.accel.type);
     if (needs_ray) {
         auto start = clock::now();
-        auto accel = build_accelerator(*mesh, state.accel);
+        auto accel = [&] {
+            const StepProgress progress("render", "building " + std::string(to_string(state.accel.type)));
+            return build_accelerator(*mesh, state.accel);
+        }();
         if (!accel) return fail(accel.error());
         const double build_ms = ms_since(start);
         start = clock::now();

@@ -10,6 +10,7 @@
 #include "app/cli/accel_flags.h"
 #include "app/cli/camera_flags.h"
 #include "app/cli/commands.h"
+#include "app/cli/progress.h"
 #include "app/cli/flag_checks.h"
 #include "core/geometry/scene.h"
 #include "core/traversal/event_json.h"
@@ -35,7 +36,10 @@ int run_trace(const TraceOptions& opt) {
     if (!picked) return fail(picked.error());
     const Mesh* mesh = &picked->mesh;
     const int x = picked->x, y = picked->y;
-    auto accel = build_accelerator(*mesh, opt.accel);
+    auto accel = [&] {
+        const StepProgress progress("trace", "building " + std::string(to_string(opt.accel.type)));
+        return build_accelerator(*mesh, opt.accel);
+    }();
     if (!accel) return fail(accel.error());
 
     const Ray ray = picked->ray;

@@ -2,6 +2,7 @@
 
 #include <iostream>
 
+#include "app/cli/progress.h"
 #include "core/geometry/scene.h"
 
 namespace accelviz::cli {
@@ -11,7 +12,10 @@ void print_scene_note(const std::optional<std::string>& note, const std::string&
 }
 
 Expected<Mesh> load_scene_noting(const std::string& source, const char* command) {
-    Expected<Mesh> mesh = load_scene(source);
+    Expected<Mesh> mesh = [&] {
+        const StepProgress progress(command, "loading " + source);
+        return load_scene(source);
+    }();
     if (mesh) print_scene_note(degenerate_note(*mesh), source, command);
     return mesh;
 }
