@@ -118,10 +118,8 @@ struct WorkItem {
 struct Subtree {
     std::vector<KdNode> nodes;
     std::vector<uint32_t> prim_ids;
-    uint32_t leaves = 0, empty_leaves = 0, max_depth = 0, leaves_at_depth_limit = 0, max_leaf_size = 0;
-    uint32_t no_progress = 0;
+    SubtreeCounts counts;
     double sah_cost = 0;
-    bool budget_hit = false;
 };
 
 /// The fixed inputs of every node's decision.
@@ -198,22 +196,18 @@ Subtree build_subtree(const BuildContext& ctx, WorkItem root, double budget, siz
                 }
                 split = false;
             }
-            if (!split) ++out.no_progress;
+            if (!split) ++out.counts.no_progress;
         }
         if (split && double(live_refs) + double(below.size() + above.size()) - double(n) > budget) {
             split = false;
-            out.budget_hit = true;
+            out.counts.budget_hit = true;
         }
 
         if (!split) {
             KdNode& leaf = out.nodes[item.node];
             leaf = KdNode{0, uint32_t(out.prim_ids.size()), uint32_t(n), KdNode::kLeaf};
             for (const SpatialRef& r : item.refs) out.prim_ids.push_back(r.tri);
-            ++out.leaves;
-            if (n == 0) ++out.empty_leaves;
-            if (item.depth >= uint32_t(ctx.depth_limit) && n > size_t(config.leaf_size)) ++out.leaves_at_depth_limit;
-            out.max_depth = std::max(out.max_depth, item.depth);
-            out.max_leaf_size = std::max(out.max_leaf_size, uint32_t(n));
+            out.counts.add_leaf(n, item.depth, ctx.depth_limit, config.leaf_size);
             out.sah_cost += p * double(n) * config.cost_isect;
             continue;
         }
@@ -236,16 +230,6 @@ Subtree build_subtree(const BuildContext& ctx, WorkItem root, double budget, siz
     return out;
 }
 
-void add_counts(KdBuildStats& st, uint32_t& no_progress, bool& budget_hit, const Subtree& sub) {
-    st.leaves += sub.leaves;
-    st.empty_leaves += sub.empty_leaves;
-    st.max_depth = std::max(st.max_depth, sub.max_depth);
-    st.leaves_at_depth_limit += sub.leaves_at_depth_limit;
-    st.max_leaf_size = std::max(st.max_leaf_size, sub.max_leaf_size);
-    st.sah_cost += sub.sah_cost;
-    no_progress += sub.no_progress;
-    budget_hit |= sub.budget_hit;
-}
 
 }  // namespace
 
@@ -260,8 +244,7 @@ Expected<KdTree> build_kd_tree(const Mesh& mesh, const KdConfig& config) {
     if (st.triangles == 0) return tree;
     const BuildContext ctx{mesh, config, pad, area(tree.bounds), depth_limit};
     const double budget = config.max_duplication * st.triangles;
-    uint32_t no_progress = 0;
-    bool budget_hit = false;
+    SubtreeCounts counts;  // the whole tree's: the top's and every subtree's
 
     // The top of the tree first, one node at a time; subtrees under nodes with fewer
     // than N/64 references are collected, built in parallel (each on its own, so the
@@ -273,7 +256,8 @@ Expected<KdTree> build_kd_tree(const Mesh& mesh, const KdConfig& config) {
                                       defer_below, &deferred);
     tree.nodes = top.nodes;
     tree.prim_ids = top.prim_ids;
-    add_counts(st, no_progress, budget_hit, top);
+    counts.add(top.counts);
+    st.sah_cost += top.sah_cost;
     double deferred_refs = 0;
     for (const WorkItem& w : deferred) deferred_refs += double(w.refs.size());
     const double budget_left = std::max(0.0, budget - double(top.prim_ids.size()));
@@ -286,17 +270,19 @@ Expected<KdTree> build_kd_tree(const Mesh& mesh, const KdConfig& config) {
     });
     for (size_t k = 0; k < deferred.size(); ++k) {
         tree.splice(placeholders[k], subtrees[k].nodes, subtrees[k].prim_ids);
-        add_counts(st, no_progress, budget_hit, subtrees[k]);
+        counts.add(subtrees[k].counts);
+        st.sah_cost += subtrees[k].sah_cost;
     }
 
+    counts.write_to(st);
     tree.end_build(mesh,
                    {.parts = "nodes",
                     .leaves_at_depth_limit = st.leaves_at_depth_limit,
                     .depth_limit = depth_limit,
                     .leaf_size = config.leaf_size,
-                    .not_split = config.builder == KdBuilder::Median ? no_progress : 0,
+                    .not_split = config.builder == KdBuilder::Median ? counts.no_progress : 0,
                     .not_split_why = "no axis' middle plane separates their triangles",
-                    .budget_hit = budget_hit,
+                    .budget_hit = counts.budget_hit,
                     .max_duplication = config.max_duplication},
                    start);
     return tree;

@@ -32,9 +32,7 @@ struct WorkItem {
 struct Subtree {
     std::vector<OctreeNode> nodes;
     std::vector<uint32_t> prim_ids;
-    uint32_t leaves = 0, empty_leaves = 0, max_depth = 0, leaves_at_depth_limit = 0, max_leaf_size = 0;
-    uint32_t no_progress = 0;
-    bool budget_hit = false;
+    SubtreeCounts counts;
 };
 
 /// Builds the subtree of `root` depth first over an explicit work stack. Cells whose
@@ -96,10 +94,10 @@ Subtree build_subtree(const Mesh& mesh, const OctreeConfig& config, float pad, W
             }
             if (all_full && non_empty >= 2) {
                 split = false;
-                ++out.no_progress;
+                ++out.counts.no_progress;
             } else if (double(live_refs) + double(total) - double(n) > budget) {
                 split = false;
-                out.budget_hit = true;
+                out.counts.budget_hit = true;
             } else {
                 live_refs = uint64_t(int64_t(live_refs) + int64_t(total) - int64_t(n));
             }
@@ -108,11 +106,7 @@ Subtree build_subtree(const Mesh& mesh, const OctreeConfig& config, float pad, W
             OctreeNode& leaf = out.nodes[item.node];
             leaf = OctreeNode{centre, uint32_t(out.prim_ids.size()), uint32_t(n), true};
             for (const SpatialRef& r : item.refs) out.prim_ids.push_back(r.tri);
-            ++out.leaves;
-            if (n == 0) ++out.empty_leaves;
-            if (item.depth >= uint32_t(config.max_depth) && n > size_t(config.leaf_size)) ++out.leaves_at_depth_limit;
-            out.max_depth = std::max(out.max_depth, item.depth);
-            out.max_leaf_size = std::max(out.max_leaf_size, uint32_t(n));
+            out.counts.add_leaf(n, item.depth, config.max_depth, config.leaf_size);
             continue;
         }
         const uint32_t first = uint32_t(out.nodes.size());
@@ -129,15 +123,6 @@ Subtree build_subtree(const Mesh& mesh, const OctreeConfig& config, float pad, W
     return out;
 }
 
-void add_counts(OctreeBuildStats& st, uint32_t& no_progress, bool& budget_hit, const Subtree& sub) {
-    st.leaves += sub.leaves;
-    st.empty_leaves += sub.empty_leaves;
-    st.max_depth = std::max(st.max_depth, sub.max_depth);
-    st.leaves_at_depth_limit += sub.leaves_at_depth_limit;
-    st.max_leaf_size = std::max(st.max_leaf_size, sub.max_leaf_size);
-    no_progress += sub.no_progress;
-    budget_hit |= sub.budget_hit;
-}
 
 }  // namespace
 
@@ -149,8 +134,7 @@ Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config) {
     const float pad = tree.begin_build(mesh, config, start);
     if (st.triangles == 0) return tree;
     const double budget = config.max_duplication * st.triangles;
-    uint32_t no_progress = 0;
-    bool budget_hit = false;
+    SubtreeCounts counts;  // the whole tree's: the top's and every subtree's
 
     // As the KD tree: the top of the tree first, one cell at a time; subtrees under
     // cells with fewer than N/64 references are collected, built in parallel (each on
@@ -165,7 +149,7 @@ Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config) {
                                       budget, defer_below, &deferred);
     tree.nodes = top.nodes;
     tree.prim_ids = top.prim_ids;
-    add_counts(st, no_progress, budget_hit, top);
+    counts.add(top.counts);
     std::vector<uint32_t> placeholders;
     for (const WorkItem& w : deferred) placeholders.push_back(w.node);
     std::vector<Subtree> subtrees(deferred.size());
@@ -184,23 +168,24 @@ Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config) {
     std::vector<size_t> again;
     double used = double(top.prim_ids.size());
     for (size_t k = 0; k < subtrees.size(); ++k) {
-        if (subtrees[k].budget_hit) again.push_back(k);
+        if (subtrees[k].counts.budget_hit) again.push_back(k);
         else used += double(subtrees[k].prim_ids.size());
     }
     if (!again.empty()) build_shares(again, std::max(0.0, budget - used));
     for (size_t k = 0; k < deferred.size(); ++k) {
         tree.splice(placeholders[k], subtrees[k].nodes, subtrees[k].prim_ids);
-        add_counts(st, no_progress, budget_hit, subtrees[k]);
+        counts.add(subtrees[k].counts);
     }
 
+    counts.write_to(st);
     tree.end_build(mesh,
                    {.parts = "cells",
                     .leaves_at_depth_limit = st.leaves_at_depth_limit,
                     .depth_limit = config.max_depth,
                     .leaf_size = config.leaf_size,
-                    .not_split = no_progress,
+                    .not_split = counts.no_progress,
                     .not_split_why = "every non-empty octant would hold all of their triangles",
-                    .budget_hit = budget_hit,
+                    .budget_hit = counts.budget_hit,
                     .max_duplication = config.max_duplication},
                    start);
     return tree;

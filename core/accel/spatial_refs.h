@@ -4,6 +4,7 @@
 /// follows a split. A triangle that straddles a split plane goes to both sides
 /// (lecture: 同一个基元可以包含在空间的多个区域中), with its box clipped to each side.
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <optional>
@@ -84,6 +85,42 @@ void add_split_notes(const SplitStops& stops, std::vector<std::string>& notes);
 /// The mesh's triangles in leaf order: out[k] is triangle prim_ids[k] (a copy, so a
 /// leaf's triangles are contiguous in memory).
 TriangleArray triangles_in_leaf_order(const Mesh& mesh, const std::vector<uint32_t>& prim_ids);
+
+/// What a subtree of a space-partitioning tree (KD tree, octree), built on its own
+/// by a parallel build, adds to its tree's statistics.
+struct SubtreeCounts {
+    uint32_t leaves = 0, empty_leaves = 0, max_depth = 0, leaves_at_depth_limit = 0, max_leaf_size = 0;
+    uint32_t no_progress = 0;  ///< parts made leaves because no split made progress
+    bool budget_hit = false;   ///< a split refused for the reference budget
+
+    /// A leaf of `n` references at `depth`: over `leaf_size` at `depth_limit`, it
+    /// stopped because of the limit.
+    void add_leaf(size_t n, uint32_t depth, int depth_limit, int leaf_size) {
+        ++leaves;
+        if (n == 0) ++empty_leaves;
+        if (depth >= uint32_t(depth_limit) && n > size_t(leaf_size)) ++leaves_at_depth_limit;
+        max_depth = std::max(max_depth, depth);
+        max_leaf_size = std::max(max_leaf_size, uint32_t(n));
+    }
+    /// Adds another subtree's counts (the tree's are the sum over its subtrees).
+    void add(const SubtreeCounts& o) {
+        leaves += o.leaves;
+        empty_leaves += o.empty_leaves;
+        max_depth = std::max(max_depth, o.max_depth);
+        leaves_at_depth_limit += o.leaves_at_depth_limit;
+        max_leaf_size = std::max(max_leaf_size, o.max_leaf_size);
+        no_progress += o.no_progress;
+        budget_hit = budget_hit || o.budget_hit;
+    }
+    /// Writes the leaf counts into the tree's stats.
+    void write_to(PartitionStats& st) const {
+        st.leaves = leaves;
+        st.empty_leaves = empty_leaves;
+        st.max_depth = max_depth;
+        st.leaves_at_depth_limit = leaves_at_depth_limit;
+        st.max_leaf_size = max_leaf_size;
+    }
+};
 
 /// The arrays of a space-partitioning tree (KD tree, octree) and what it was built
 /// with. Invariants of both: nodes[0] is the root and `bounds` its box (the scene's
