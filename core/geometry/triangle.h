@@ -31,13 +31,17 @@ struct Triangle {
     /// A zero-area triangle gets NaN edges, so that intersect_triangle never reports
     /// a hit on it. Its det is zero only in exact arithmetic: in float it is rounding
     /// noise, and with numerators that happen to be zero the test accepted u = v = t = 0,
-    /// a "hit" at the ray's origin far from the triangle (found by fuzzing).
+    /// a "hit" at the ray's origin far from the triangle (found by fuzzing). Zero area
+    /// as the test sees it counts too: edges that come out parallel once rounded to
+    /// float (a sliver 1e-7 wide and 30 long has edge1 == edge2 in float; fuzzing found
+    /// such a "hit" far from the sliver, which the octree, rightly, never tested).
     static Triangle from_points(Vec3 p0, Vec3 p1, Vec3 p2) {
-        if (has_zero_area(p0, p1, p2)) {
+        const Vec3 edge1 = p1 - p0, edge2 = p2 - p0;
+        if (has_zero_area(p0, p1, p2) || has_zero_area(Vec3{0, 0, 0}, edge1, edge2)) {
             const Vec3 nan{kNaN, kNaN, kNaN};
             return {p0, nan, nan};
         }
-        return {p0, p1 - p0, p2 - p0};
+        return {p0, edge1, edge2};
     }
 
     /// The box of the triangle as the test sees it: p0, p0 + edge1, p0 + edge2 in

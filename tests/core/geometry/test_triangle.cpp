@@ -115,3 +115,18 @@ TEST(MollerTrumbore, AZeroAreaTriangleIsNeverHit) {
     EXPECT_FALSE(intersect_triangle(Triangle::from_points(a, m, b), at_middle).hit);
     EXPECT_FALSE(intersect_triangle(Triangle::from_points(a, a, a), at_middle).hit);
 }
+
+TEST(MollerTrumbore, EdgesParallelInFloatCountAsZeroArea) {
+    // 1e-7 wide at one end, 33 long: in exact arithmetic a triangle, but p1 - p0 and
+    // p2 - p0 round to the same float vector, so the test sees no area. It answered
+    // u = v = 0 (a "hit" 14 units from the sliver, clamped into its box) before
+    // from_points counted it as zero area (found by fuzzing the octree).
+    const Vec3 p0{19, 27, 3}, p1{0, 0, 0}, p2{0, 0x1.ad7f2ap-24f, 0};
+    EXPECT_FALSE(has_zero_area(p0, p1, p2));
+    const Triangle tri = Triangle::from_points(p0, p1, p2);
+    EXPECT_TRUE(std::isnan(tri.edge1.x));
+    Ray ray;
+    ray.origin = {0x1.d38ae6p+5f, 0x1.bda2ccp+3f, -0x1.d23634p+2f};
+    ray.dir = {-0x1.f7edbp-1f, -0x1.18cc5ep-7f, 0x1.69caeep-3f};
+    EXPECT_FALSE(intersect_triangle(tri, ray).hit);
+}
