@@ -30,6 +30,8 @@ public:
     virtual Hit intersect_closest(const Ray& ray, RecordingObserver& obs) const = 0;
     /// Any hit in [ray.t_min, ray.t_max] (shadow rays): stops at the first one.
     virtual bool intersect_any(const Ray& ray) const = 0;
+    /// Which ray-triangle test every traversal runs.
+    virtual TriangleTestKind triangle_test() const = 0;
     /// Build configuration and statistics, as bench and the Stats panel show them.
     virtual nlohmann::json config() const { return nlohmann::json::object(); }
     virtual nlohmann::json stats() const { return nlohmann::json::object(); }
@@ -58,6 +60,7 @@ public:
         return s_.intersect_closest(ray, obs);
     }
     bool intersect_any(const Ray& ray) const override { return s_.intersect_any(ray); }
+    TriangleTestKind triangle_test() const override { return s_.triangle_test; }
     nlohmann::json config() const override { return s_.config(); }
     nlohmann::json stats() const override { return s_.stats(); }
     const S& structure() const { return s_; }

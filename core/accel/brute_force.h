@@ -15,21 +15,38 @@ namespace accelviz {
 
 struct BruteForce {
     TriangleArray triangles;  ///< indexed by triangle id
+    CornerArray corners;      ///< the same, as corners; only for the watertight test
+    TriangleTestKind triangle_test = TriangleTestKind::MollerTrumbore;
 
-    explicit BruteForce(const Mesh& mesh) : triangles(make_triangles(mesh)) {}
+    explicit BruteForce(const Mesh& mesh, TriangleTestKind test = TriangleTestKind::MollerTrumbore)
+        : triangles(make_triangles(mesh)), triangle_test(test) {
+        if (test == TriangleTestKind::Watertight) corners = make_corners(mesh);
+    }
 
     static constexpr AccelType kType = AccelType::Naive;
     std::string name() const { return std::string(to_string(kType)); }
-    nlohmann::json config() const { return nlohmann::json::object(); }
+    nlohmann::json config() const { return {{"triangle_test", to_string(triangle_test)}}; }
     nlohmann::json stats() const { return {{"triangles", triangles.size()}}; }
 
     template <class Observer>
     Hit intersect_closest(const Ray& ray, Observer& obs) const {
+        return triangle_test == TriangleTestKind::Watertight ? closest<TriangleTestKind::Watertight>(ray, obs)
+                                                             : closest<TriangleTestKind::MollerTrumbore>(ray, obs);
+    }
+
+    bool intersect_any(const Ray& ray) const {
+        return triangle_test == TriangleTestKind::Watertight ? any<TriangleTestKind::Watertight>(ray)
+                                                             : any<TriangleTestKind::MollerTrumbore>(ray);
+    }
+
+private:
+    template <TriangleTestKind kTest, class Observer>
+    Hit closest(const Ray& ray, Observer& obs) const {
         Hit best;
         Ray r = ray;
-        const BoxTestRay box_ray(ray);
+        const TriangleTester<kTest> tester(ray, triangles, corners);
         for (uint32_t id = 0; id < triangles.size(); ++id) {
-            const TriangleTest test = intersect_triangle(triangles[id], r, box_ray);
+            const TriangleTest test = tester.test(id, r);
             obs.on({.kind = EventKind::TriangleTest, .hit = test.hit, .tri = id,
                     .t = test.t, .u = test.u, .v = test.v});
             if (test.hit && is_closer(test.t, id, best)) {
@@ -43,10 +60,11 @@ struct BruteForce {
         return best;
     }
 
-    bool intersect_any(const Ray& ray) const {
-        const BoxTestRay box_ray(ray);
-        for (const Triangle& tri : triangles)
-            if (intersect_triangle(tri, ray, box_ray).hit) return true;
+    template <TriangleTestKind kTest>
+    bool any(const Ray& ray) const {
+        const TriangleTester<kTest> tester(ray, triangles, corners);
+        for (uint32_t id = 0; id < triangles.size(); ++id)
+            if (tester.test(id, ray).hit) return true;
         return false;
     }
 };

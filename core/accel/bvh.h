@@ -71,13 +71,15 @@ struct Bvh {
     std::vector<BvhNode, BvhNodeAllocator> nodes;
     std::vector<uint32_t, LargeArrayAllocator<uint32_t>> prim_ids;   ///< leaf order → triangle id
     TriangleArray triangles;  ///< leaf order, triangles[k] is triangle prim_ids[k]
+    CornerArray corners;      ///< the same, as corners; only when triangle_test is watertight
     BvhConfig build_config;           ///< what it was built with
     BvhBuildStats build_stats;        ///< what the build produced
     BvhTraversal traversal = BvhTraversal::Ordered;  ///< which closest-hit algorithm intersect_closest runs
+    TriangleTestKind triangle_test = TriangleTestKind::MollerTrumbore;  ///< which ray-triangle test the leaves run
 
     static constexpr AccelType kType = AccelType::Bvh;
     std::string name() const { return std::string(to_string(kType)); }
-    nlohmann::json config() const;  ///< build_config + traversal
+    nlohmann::json config() const;  ///< build_config + traversal + triangle_test
     nlohmann::json stats() const;   ///< build_stats
 
     /// Closest hit in [ray.t_min, ray.t_max] by the configured traversal.
@@ -115,13 +117,18 @@ struct Bvh {
 
     /// The one traversal. A ray that may hit at t < 0 (t_min < 0) needs the slower
     /// box test (box_test.h): chosen here once per ray.
+    /// So is the triangle test (the one in `triangle_test`).
     template <ChildOrder kOrder, StopAt kStop, class Observer>
     Hit traverse(const Ray& ray, Observer& obs) const {
-        return ray.t_min < 0.0f ? walk<kOrder, kStop, true>(ray, obs) : walk<kOrder, kStop, false>(ray, obs);
+        if (triangle_test == TriangleTestKind::Watertight)
+            return ray.t_min < 0.0f ? walk<kOrder, kStop, true, TriangleTestKind::Watertight>(ray, obs)
+                                    : walk<kOrder, kStop, false, TriangleTestKind::Watertight>(ray, obs);
+        return ray.t_min < 0.0f ? walk<kOrder, kStop, true, TriangleTestKind::MollerTrumbore>(ray, obs)
+                                : walk<kOrder, kStop, false, TriangleTestKind::MollerTrumbore>(ray, obs);
     }
 
 private:
-    template <ChildOrder kOrder, StopAt kStop, bool kMayStartBehind, class Observer>
+    template <ChildOrder kOrder, StopAt kStop, bool kMayStartBehind, TriangleTestKind kTest, class Observer>
     Hit walk(const Ray& ray, Observer& obs) const;
 
     /// Asks the memory system for the children of node `child` (one cache line: the
@@ -156,7 +163,7 @@ private:
 
     /// Tests node `node`'s box against the whole ray and reports it.
     template <bool kMayStartBehind, class Observer>
-    SlabResult test_box(uint32_t node, const BoxTestRay& box_ray, const Ray& ray, Observer& obs) const {
+    [[gnu::always_inline]] SlabResult test_box(uint32_t node, const BoxTestRay& box_ray, const Ray& ray, Observer& obs) const {
         const SlabResult box = widened_slab_test<kMayStartBehind>(nodes[node].bounds, box_ray, ray.t_min, ray.t_max);
         obs.on({.kind = EventKind::BoxTest, .hit = entered(box), .node = node, .t_enter = box.t_enter,
                 .t_exit = box.t_exit});
@@ -166,8 +173,8 @@ private:
     /// Tests the triangles of `leaf` against `ray` (whose t_max is the closest hit
     /// so far, inclusive), updating `best` and `ray.t_max`. Any-hit: true at the
     /// first hit (in `best`), which ends the walk.
-    template <StopAt kStop, class Entry, class Observer>
-    bool intersect_leaf(const Entry& leaf, Ray& ray, const BoxTestRay& box_ray, Hit& best, Observer& obs) const;
+    template <StopAt kStop, class Entry, class Tester, class Observer>
+    bool intersect_leaf(const Entry& leaf, Ray& ray, const Tester& tester, Hit& best, Observer& obs) const;
 
     /// The ray spends time in the box within [t_min, t_max]: the clipped interval is
     /// not empty. (SlabResult::hit() also asks for t_exit >= 0, which is the same for
@@ -192,14 +199,14 @@ private:
 // The traversal. Written once; NoObserver's empty on() makes it the fast path.
 // ---------------------------------------------------------------------------
 
-template <StopAt kStop, class Entry, class Observer>
-[[gnu::always_inline]] inline bool Bvh::intersect_leaf(const Entry& leaf, Ray& ray, const BoxTestRay& box_ray,
+template <StopAt kStop, class Entry, class Tester, class Observer>
+[[gnu::always_inline]] inline bool Bvh::intersect_leaf(const Entry& leaf, Ray& ray, const Tester& tester,
                                                       Hit& best, Observer& obs) const {
     obs.on({.kind = EventKind::Leaf, .node = leaf.node, .first = leaf.first, .count = leaf.count,
             .t_enter = leaf.t_enter, .t_exit = leaf.t_exit});
     const uint32_t end = leaf.first + leaf.count;
     for (uint32_t k = leaf.first; k < end; ++k) {
-        const TriangleTest test = intersect_triangle(triangles[k], ray, box_ray);
+        const TriangleTest test = tester.test(k, ray);
         obs.on({.kind = EventKind::TriangleTest, .hit = test.hit, .tri = prim_ids[k], .t = test.t, .u = test.u,
                 .v = test.v});
         if constexpr (kStop == StopAt::AnyHit) {
@@ -216,14 +223,15 @@ template <StopAt kStop, class Entry, class Observer>
     return false;
 }
 
-template <ChildOrder kOrder, StopAt kStop, bool kMayStartBehind, class Observer>
+template <ChildOrder kOrder, StopAt kStop, bool kMayStartBehind, TriangleTestKind kTest, class Observer>
 Hit Bvh::walk(const Ray& ray, Observer& obs) const {
     constexpr bool kNearestFirst = kOrder == ChildOrder::NearestFirst;
     constexpr bool kClosest = kStop == StopAt::ClosestHit;
     using Entry = StackEntry<kObserverWatches<Observer> || !kNearestFirst>;
     Hit best;
     if (nodes.empty()) return done(best, obs);
-    const BoxTestRay box_ray(ray);
+    const TriangleTester<kTest> tester(ray, triangles, corners);
+    const BoxTestRay& box_ray = tester.box_ray();
     Ray shrinking = ray;  // t_max follows the closest hit, for the triangle tests only
     Entry stack[kBvhStackSize];
     Entry* top = stack;  // one past the last entry
@@ -239,7 +247,7 @@ Hit Bvh::walk(const Ray& ray, Observer& obs) const {
         obs.on({.kind = EventKind::VisitNode, .node = current.node, .t_enter = current.t_enter,
                 .t_exit = current.t_exit});
         if (current.is_leaf()) {
-            if (intersect_leaf<kStop>(current, shrinking, box_ray, best, obs)) return done(best, obs);
+            if (intersect_leaf<kStop>(current, shrinking, tester, best, obs)) return done(best, obs);
         } else if constexpr (kNearestFirst) {
             // find_hit_order (lecture): test both children; keep those the ray enters
             // no later than the closest hit so far; go to the nearer, defer the other.
@@ -317,18 +325,24 @@ Hit Bvh::walk(const Ray& ray, Observer& obs) const {
 }
 
 // The traversals for the three observers every structure serves are compiled once, in
-// bvh.cpp: a file with little else in it, so the compiler inlines the box and triangle
-// tests into the loop (in a file holding many structures it may run out of its
-// inlining budget and call them, which costs a third of the speed).
-#define ACCELVIZ_BVH_WALKS(EXTERN, ORDER, STOP, OBSERVER)                                                      \
-    EXTERN template Hit Bvh::walk<ChildOrder::ORDER, StopAt::STOP, false>(const Ray&, OBSERVER&) const; \
-    EXTERN template Hit Bvh::walk<ChildOrder::ORDER, StopAt::STOP, true>(const Ray&, OBSERVER&) const;
-#define ACCELVIZ_BVH_TRAVERSALS(EXTERN, OBSERVER)                \
-    ACCELVIZ_BVH_WALKS(EXTERN, NearestFirst, ClosestHit, OBSERVER) \
-    ACCELVIZ_BVH_WALKS(EXTERN, LeftThenRight, ClosestHit, OBSERVER) \
-    ACCELVIZ_BVH_WALKS(EXTERN, NearestFirst, AnyHit, OBSERVER)
-ACCELVIZ_BVH_TRAVERSALS(extern, NoObserver)
-ACCELVIZ_BVH_TRAVERSALS(extern, CountingObserver)
-ACCELVIZ_BVH_TRAVERSALS(extern, RecordingObserver)
+// bvh.cpp (Möller–Trumbore) and bvh_watertight.cpp: files with little else in them, so
+// the compiler inlines the box and triangle tests into the loop (in a file holding
+// many structures, or both tests' walks, it may run out of its inlining budget and
+// call them, which costs a tenth to a third of the speed).
+#define ACCELVIZ_BVH_WALK(EXTERN, ORDER, STOP, BEHIND, TEST, OBSERVER) \
+    EXTERN template Hit Bvh::walk<ChildOrder::ORDER, StopAt::STOP, BEHIND, TriangleTestKind::TEST>(const Ray&, OBSERVER&) const;
+#define ACCELVIZ_BVH_WALKS(EXTERN, TEST, OBSERVER)                        \
+    ACCELVIZ_BVH_WALK(EXTERN, NearestFirst, ClosestHit, false, TEST, OBSERVER)  \
+    ACCELVIZ_BVH_WALK(EXTERN, NearestFirst, ClosestHit, true, TEST, OBSERVER)   \
+    ACCELVIZ_BVH_WALK(EXTERN, LeftThenRight, ClosestHit, false, TEST, OBSERVER) \
+    ACCELVIZ_BVH_WALK(EXTERN, LeftThenRight, ClosestHit, true, TEST, OBSERVER)  \
+    ACCELVIZ_BVH_WALK(EXTERN, NearestFirst, AnyHit, false, TEST, OBSERVER)      \
+    ACCELVIZ_BVH_WALK(EXTERN, NearestFirst, AnyHit, true, TEST, OBSERVER)
+#define ACCELVIZ_BVH_TRAVERSALS(EXTERN, TEST)          \
+    ACCELVIZ_BVH_WALKS(EXTERN, TEST, NoObserver)       \
+    ACCELVIZ_BVH_WALKS(EXTERN, TEST, CountingObserver) \
+    ACCELVIZ_BVH_WALKS(EXTERN, TEST, RecordingObserver)
+ACCELVIZ_BVH_TRAVERSALS(extern, MollerTrumbore)
+ACCELVIZ_BVH_TRAVERSALS(extern, Watertight)
 
 }  // namespace accelviz

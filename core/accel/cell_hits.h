@@ -81,15 +81,20 @@ private:
     std::vector<uint64_t> bits_;  ///< empty until the table holds kMaxInTable ids
 };
 
-/// The closest-hit bookkeeping of one ray's walk through cells.
+/// The closest-hit bookkeeping of one ray's walk through cells, testing triangles
+/// with test kTest (TriangleTester).
+template <TriangleTestKind kTest>
 class CellHits {
 public:
     /// `strict_cell` false is the naive rule (teaching switch): any hit found in a
     /// cell is accepted at once and ends the walk after that cell, which gives
     /// wrong answers when a triangle's hit lies beyond the cell it was tested in.
     /// `triangle_count`: ids are below it (the mailbox's bitset size).
-    CellHits(const Ray& ray, bool use_mailbox, bool strict_cell, uint32_t triangle_count)
-        : test_ray_(ray), box_ray_(ray), use_mailbox_(use_mailbox), strict_(strict_cell), mailbox_(triangle_count) {}
+    /// `triangles`, `corners`: the structure's arrays, as TriangleTester reads them.
+    CellHits(const Ray& ray, const TriangleArray& triangles, const CornerArray& corners, bool use_mailbox,
+             bool strict_cell, uint32_t triangle_count)
+        : test_ray_(ray), tester_(ray, triangles, corners), use_mailbox_(use_mailbox),
+          strict_(strict_cell), mailbox_(triangle_count) {}
 
     /// The walk enters a cell spanning [t_in, t_out] along the ray. A hit
     /// remembered from an earlier cell whose t lies in this cell is accepted now.
@@ -102,14 +107,15 @@ public:
         }
     }
 
-    /// Tests one triangle referenced by the current cell.
+    /// Tests one triangle referenced by the current cell: triangle k of the
+    /// structure's arrays, whose id is `id`.
     template <class Observer>
-    void test(const Triangle& triangle, uint32_t id, Observer& obs) {
+    void test(size_t k, uint32_t id, Observer& obs) {
         if (use_mailbox_ && mailbox_.seen(id)) {
             obs.on({.kind = EventKind::MailboxSkip, .tri = id});
             return;
         }
-        const TriangleTest test = intersect_triangle(triangle, test_ray_, box_ray_);
+        const TriangleTest test = tester_.test(k, test_ray_);
         obs.on({.kind = EventKind::TriangleTest, .hit = test.hit, .tri = id, .t = test.t, .u = test.u, .v = test.v});
         if (!test.hit || !is_closer(test.t, id, best_)) return;
         best_ = {id, test.t, test.u, test.v};
@@ -147,7 +153,7 @@ public:
 
 private:
     Ray test_ray_;  ///< the ray with t_max = closest hit so far
-    BoxTestRay box_ray_;  ///< for the triangle test's own-box rule
+    TriangleTester<kTest> tester_;
     Hit best_;
     float t_out_ = kInfinity;
     bool pending_ = false;  ///< best_ lies beyond the cells walked so far

@@ -56,20 +56,20 @@ struct CellWalk {
     /// `cur` is a leaf holding triangles[first, first + count): they are tested, a
     /// hit counting only inside [cur.t_min, cur.t_max]. True when no deferred part
     /// can hold a closer hit (the walk may stop).
-    template <class Observer>
-    static bool test_leaf(const Entry& cur, uint32_t first, uint32_t count, const TriangleArray& triangles,
-                          const std::vector<uint32_t>& prim_ids, CellHits& hits, Observer& obs) {
+    template <class Hits, class Observer>
+    static bool test_leaf(const Entry& cur, uint32_t first, uint32_t count, const std::vector<uint32_t>& prim_ids,
+                          Hits& hits, Observer& obs) {
         obs.on({.kind = EventKind::Leaf, .node = cur.node, .first = first, .count = count, .t_enter = cur.t_min,
                 .t_exit = cur.t_max});
         hits.enter(cur.t_max, obs);
-        for (uint32_t k = first; k < first + count; ++k) hits.test(triangles[k], prim_ids[k], obs);
+        for (uint32_t k = first; k < first + count; ++k) hits.test(k, prim_ids[k], obs);
         return hits.can_stop();
     }
 
     /// Sets `cur` to the nearest deferred part that begins no farther than the
     /// closest hit so far (the others are culled); false when none is left.
-    template <class Observer>
-    bool pop_next(const CellHits& hits, Entry& cur, Observer& obs) {
+    template <class Hits, class Observer>
+    bool pop_next(const Hits& hits, Entry& cur, Observer& obs) {
         while (stack_size > 0) {
             const Entry e = stack[--stack_size];
             obs.on({.kind = EventKind::Pop, .node = e.node, .t_enter = e.t_min, .t_exit = e.t_max});

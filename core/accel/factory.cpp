@@ -44,26 +44,35 @@ Expected<std::shared_ptr<const Accelerator>> build_accelerator(const Mesh& mesh,
     if (auto err = validate(config)) return *err;
     switch (config.type) {
         case AccelType::Naive:
-            return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<BruteForce>>(BruteForce(mesh)));
+            return std::shared_ptr<const Accelerator>(
+                std::make_shared<AcceleratorFor<BruteForce>>(BruteForce(mesh, config.triangle_test)));
         case AccelType::Bvh: {
             auto bvh = build_bvh(mesh, bvh_config_of(config));
             if (!bvh) return Error{bvh.error()};
             bvh->traversal = config.bvh_traversal;
+            bvh->triangle_test = config.triangle_test;
+            if (config.triangle_test == TriangleTestKind::Watertight) bvh->corners = make_corners(mesh, bvh->prim_ids);
             return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<Bvh>>(std::move(*bvh)));
         }
         case AccelType::Grid: {
             auto grid = build_uniform_grid(mesh, config.grid);
             if (!grid) return Error{grid.error()};
+            grid->triangle_test = config.triangle_test;
+            if (config.triangle_test == TriangleTestKind::Watertight) grid->corners = make_corners(mesh);
             return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<UniformGrid>>(std::move(*grid)));
         }
         case AccelType::Kd: {
             auto tree = build_kd_tree(mesh, kd_config_of(config));
             if (!tree) return Error{tree.error()};
+            tree->triangle_test = config.triangle_test;
+            if (config.triangle_test == TriangleTestKind::Watertight) tree->corners = make_corners(mesh, tree->prim_ids);
             return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<KdTree>>(std::move(*tree)));
         }
         case AccelType::Octree: {
             auto tree = build_octree(mesh, octree_config_of(config));
             if (!tree) return Error{tree.error()};
+            tree->triangle_test = config.triangle_test;
+            if (config.triangle_test == TriangleTestKind::Watertight) tree->corners = make_corners(mesh, tree->prim_ids);
             return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<Octree>>(std::move(*tree)));
         }
     }

@@ -30,6 +30,8 @@ struct AccelConfig {
     std::optional<float> cost_isect;  ///< --cost-isect (SAH C_isect)
     BvhConfig bvh;               ///< bvh: --bvh-build --bins --leaf-size --cost-trav --cost-isect
     BvhTraversal bvh_traversal = BvhTraversal::Ordered;  ///< bvh: --bvh-traversal
+    /// Every structure: --triangle-test (set after the build: the tree does not depend on it).
+    TriangleTestKind triangle_test = TriangleTestKind::MollerTrumbore;
 };
 
 /// Whether the structure `config.type` can be built with these parameters (the

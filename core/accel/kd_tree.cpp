@@ -304,7 +304,8 @@ nlohmann::json KdTree::config() const {
             {"empty_bonus", c.empty_bonus},
             {"clip", std::string(to_string(c.clip))},
             {"strict_cell", c.strict_cell},
-            {"mailbox", c.mailbox}};
+            {"mailbox", c.mailbox},
+            {"triangle_test", std::string(to_string(triangle_test))}};
 }
 
 nlohmann::json KdTree::stats() const {

@@ -112,8 +112,16 @@ struct KdTree : PartitionTree<KdNode, KdConfig, KdBuildStats> {
     /// SplitPlane, Push, Pop, Cull, Leaf (t_enter/t_exit = the leaf's t_min/t_max),
     /// TriangleTest, MailboxSkip, HitOutsideCell, NewClosest, Done.
     template <class Observer>
-    Hit intersect_closest(const Ray& ray, Observer& obs) const;
+    Hit intersect_closest(const Ray& ray, Observer& obs) const {
+        return triangle_test == TriangleTestKind::Watertight ? walk<TriangleTestKind::Watertight>(ray, obs)
+                                                             : walk<TriangleTestKind::MollerTrumbore>(ray, obs);
+    }
     bool intersect_any(const Ray& ray) const;
+
+private:
+    /// The walk, with the triangle test chosen at compile time (TriangleTester).
+    template <TriangleTestKind kTest, class Observer>
+    Hit walk(const Ray& ray, Observer& obs) const;
 };
 
 /// Builds the tree: an explicit work stack (no recursion), the top of the tree on
@@ -126,9 +134,9 @@ Expected<KdTree> build_kd_tree(const Mesh& mesh, const KdConfig& config);
 // Front-to-back traversal.
 // ---------------------------------------------------------------------------
 
-template <class Observer>
-Hit KdTree::intersect_closest(const Ray& ray, Observer& obs) const {
-    CellHits hits(ray, build_config.mailbox, build_config.strict_cell, build_stats.triangles);
+template <TriangleTestKind kTest, class Observer>
+Hit KdTree::walk(const Ray& ray, Observer& obs) const {
+    CellHits<kTest> hits(ray, triangles, corners, build_config.mailbox, build_config.strict_cell, build_stats.triangles);
     if (nodes.empty()) return hits.done(obs);
     const RayPrecomp pre(ray);
     CellWalk<kKdStackSize> walk;
@@ -174,7 +182,7 @@ Hit KdTree::intersect_closest(const Ray& ray, Observer& obs) const {
             n = &nodes[cur.node];
         }
         // A leaf: its triangles, with the in-cell rule; then the next deferred subtree.
-        if (walk.test_leaf(cur, n->first, n->count, triangles, prim_ids, hits, obs)) break;
+        if (walk.test_leaf(cur, n->first, n->count, prim_ids, hits, obs)) break;
     } while (walk.pop_next(hits, cur, obs));
     return hits.done(obs);
 }

@@ -201,7 +201,8 @@ nlohmann::json Octree::config() const {
     return {{"max_depth", c.max_depth},
             {"leaf_size", c.leaf_size},
             {"clip", std::string(to_string(c.clip))},
-            {"mailbox", c.mailbox}};
+            {"mailbox", c.mailbox},
+            {"triangle_test", std::string(to_string(triangle_test))}};
 }
 
 nlohmann::json Octree::stats() const { return partition_stats_json(build_stats); }

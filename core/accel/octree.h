@@ -71,8 +71,16 @@ struct Octree : PartitionTree<OctreeNode, OctreeConfig, OctreeBuildStats> {
     /// SplitPlane (three per interior node), Push, Pop, Cull, Leaf, TriangleTest,
     /// MailboxSkip, HitOutsideCell, NewClosest, Done.
     template <class Observer>
-    Hit intersect_closest(const Ray& ray, Observer& obs) const;
+    Hit intersect_closest(const Ray& ray, Observer& obs) const {
+        return triangle_test == TriangleTestKind::Watertight ? walk<TriangleTestKind::Watertight>(ray, obs)
+                                                             : walk<TriangleTestKind::MollerTrumbore>(ray, obs);
+    }
     bool intersect_any(const Ray& ray) const;
+
+private:
+    /// The walk, with the triangle test chosen at compile time (TriangleTester).
+    template <TriangleTestKind kTest, class Observer>
+    Hit walk(const Ray& ray, Observer& obs) const;
 };
 
 /// The box of octant `o` of `box` cut at `centre`.
@@ -91,9 +99,9 @@ Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config);
 // Front-to-back traversal.
 // ---------------------------------------------------------------------------
 
-template <class Observer>
-Hit Octree::intersect_closest(const Ray& ray, Observer& obs) const {
-    CellHits hits(ray, build_config.mailbox, /*strict_cell=*/true, build_stats.triangles);
+template <TriangleTestKind kTest, class Observer>
+Hit Octree::walk(const Ray& ray, Observer& obs) const {
+    CellHits<kTest> hits(ray, triangles, corners, build_config.mailbox, /*strict_cell=*/true, build_stats.triangles);
     if (nodes.empty()) return hits.done(obs);
     const RayPrecomp pre(ray);
     CellWalk<kOctreeStackSize> walk;
@@ -151,7 +159,7 @@ Hit Octree::intersect_closest(const Ray& ray, Observer& obs) const {
             walk.visit(cur, obs);
             n = &nodes[cur.node];
         }
-        if (n->is_leaf() && walk.test_leaf(cur, n->first, n->count, triangles, prim_ids, hits, obs)) break;
+        if (n->is_leaf() && walk.test_leaf(cur, n->first, n->count, prim_ids, hits, obs)) break;
     } while (walk.pop_next(hits, cur, obs));
     return hits.done(obs);
 }

@@ -133,8 +133,10 @@ struct PartitionTree {
     std::vector<Node> nodes;
     std::vector<uint32_t> prim_ids;
     TriangleArray triangles;
+    CornerArray corners;  ///< the same, as corners; only when triangle_test is watertight
     Config build_config;
     Stats build_stats;
+    TriangleTestKind triangle_test = TriangleTestKind::MollerTrumbore;  ///< which ray-triangle test the leaves run
 
     /// A build's first step: the config and the triangle count recorded, and the root's
     /// box (the scene's box grown by the references' padding, reference_padding).

@@ -283,7 +283,8 @@ nlohmann::json UniformGrid::config() const {
             {"insert", std::string(to_string(build_config.insert))},
             {"mailbox", build_config.mailbox},
             {"max_cells_per_axis", build_config.max_cells_per_axis},
-            {"max_cells", build_config.max_cells}};
+            {"max_cells", build_config.max_cells},
+            {"triangle_test", std::string(to_string(triangle_test))}};
 }
 
 nlohmann::json UniformGrid::stats() const {

@@ -83,8 +83,10 @@ struct UniformGrid {
     std::vector<uint32_t, LargeArrayAllocator<uint32_t>> cell_start;  ///< prefix sums, size cells + 1
     std::vector<uint32_t, LargeArrayAllocator<uint32_t>> tri_ids;     ///< references, cell by cell
     TriangleArray triangles;             ///< by triangle id (make_triangles)
+    CornerArray corners;                 ///< the same, as corners; only when triangle_test is watertight
     GridConfig build_config;
     GridBuildStats build_stats;
+    TriangleTestKind triangle_test = TriangleTestKind::MollerTrumbore;  ///< which ray-triangle test the cells run
 
     static constexpr AccelType kType = AccelType::Grid;
     std::string name() const { return std::string(to_string(kType)); }
@@ -99,10 +101,16 @@ struct UniformGrid {
     /// Closest hit in [ray.t_min, ray.t_max]: the 3D-DDA walk, events EnterCell,
     /// TriangleTest, MailboxSkip, HitOutsideCell, NewClosest, Done.
     template <class Observer>
-    Hit intersect_closest(const Ray& ray, Observer& obs) const;
+    Hit intersect_closest(const Ray& ray, Observer& obs) const {
+        return triangle_test == TriangleTestKind::Watertight ? walk<TriangleTestKind::Watertight>(ray, obs)
+                                                             : walk<TriangleTestKind::MollerTrumbore>(ray, obs);
+    }
     bool intersect_any(const Ray& ray) const;
 
 private:
+    /// The walk, with the triangle test chosen at compile time (TriangleTester).
+    template <TriangleTestKind kTest, class Observer>
+    Hit walk(const Ray& ray, Observer& obs) const;
     /// The cell along `axis` holding coordinate x; on a boundary, the one the ray
     /// moves into (by the sign of its direction component `d`).
     int locate(int axis, float x, float d) const;
@@ -115,9 +123,9 @@ Expected<UniformGrid> build_uniform_grid(const Mesh& mesh, const GridConfig& con
 // The 3D-DDA walk.
 // ---------------------------------------------------------------------------
 
-template <class Observer>
-Hit UniformGrid::intersect_closest(const Ray& ray, Observer& obs) const {
-    CellHits hits(ray, build_config.mailbox, /*strict_cell=*/true, uint32_t(triangles.size()));
+template <TriangleTestKind kTest, class Observer>
+Hit UniformGrid::walk(const Ray& ray, Observer& obs) const {
+    CellHits<kTest> hits(ray, triangles, corners, build_config.mailbox, /*strict_cell=*/true, uint32_t(triangles.size()));
     if (cell_start.empty()) return hits.done(obs);
     const RayPrecomp pre(ray);
     const SlabResult box = slab_test(bounds, pre, ray.t_min, ray.t_max);
@@ -165,7 +173,7 @@ Hit UniformGrid::intersect_closest(const Ray& ray, Observer& obs) const {
         hits.enter(t_out, obs);
         for (uint32_t r = cell_start[id]; r < cell_start[id + 1]; ++r) {
             const uint32_t tri = tri_ids[r];
-            hits.test(triangles[tri], tri, obs);
+            hits.test(tri, tri, obs);
         }
         if (hits.can_stop() || !(t_out < t_end)) break;
         cell[axis] += step[axis];

@@ -47,4 +47,12 @@ TriangleArray make_triangles(const Mesh& mesh) {
     return tris;
 }
 
+CornerArray make_corners(const Mesh& mesh, std::span<const uint32_t> order) {
+    CornerArray corners(order.empty() ? mesh.triangle_count() : order.size());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, corners.size(), 1 << 16), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t k = range.begin(); k < range.end(); ++k) corners[k] = mesh.corners(order.empty() ? k : order[k]);
+    });
+    return corners;
+}
+
 }  // namespace accelviz

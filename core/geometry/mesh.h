@@ -1,6 +1,7 @@
 #pragma once
 /// A triangle mesh: shared vertex positions and index triples.
 
+#include <span>
 #include <array>
 #include <cstdint>
 #include <string>
@@ -19,6 +20,9 @@ struct Mesh {
     Vec3 vertex(size_t tri, int corner) const { return positions[indices[tri][corner]]; }
     Triangle triangle(size_t tri) const {
         return Triangle::from_points(vertex(tri, 0), vertex(tri, 1), vertex(tri, 2));
+    }
+    TriangleCorners corners(size_t tri) const {
+        return TriangleCorners::from_points(vertex(tri, 0), vertex(tri, 1), vertex(tri, 2));
     }
     /// The box structures build around triangle `tri` (triangle_box).
     Aabb triangle_bounds(size_t tri) const { return triangle_box(vertex(tri, 0), vertex(tri, 1), vertex(tri, 2)); }
@@ -42,5 +46,10 @@ inline constexpr double kMinSceneSize = 1e-12;  ///< smallest longest side of th
 /// The triangles of a mesh in intersection form, indexed by triangle id.
 /// Built once per mesh; structures test against it.
 TriangleArray make_triangles(const Mesh& mesh);
+
+/// The same triangles as corners (the watertight test's form): corners[k] is
+/// triangle order[k], or triangle k when `order` is empty (a structure's leaf
+/// order, so that corners[k] and its triangles[k] are one triangle).
+CornerArray make_corners(const Mesh& mesh, std::span<const uint32_t> order = {});
 
 }  // namespace accelviz

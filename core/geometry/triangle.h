@@ -1,15 +1,43 @@
 #pragma once
-/// Ray–triangle intersection by barycentric solve (Möller & Trumbore 1997),
-/// as in the lecture: o + t d = (1-u-v) p0 + u p1 + v p2, solved by Cramer's rule.
+/// Ray–triangle intersection. Two tests, one chosen per structure (--triangle-test):
+/// - Möller–Trumbore (Möller & Trumbore 1997), the lecture's barycentric solve:
+///   o + t d = (1-u-v) p0 + u p1 + v p2, solved by Cramer's rule.
+/// - The watertight test (Woop, Benthin & Wald 2013, "Watertight Ray/Triangle
+///   Intersection", JCGT 2(1)): the triangle is moved into a space where the ray
+///   runs along +z from the origin, and three 2D edge functions decide inside.
+///   Two triangles sharing an edge compute that edge's function from the same
+///   floats, so their signs are exact opposites: a ray cannot slip between them.
+///   Möller–Trumbore computes u, v per triangle from different edges, and a ray
+///   aimed at a shared edge or vertex can fail every triangle around it.
 
+#include <cmath>
 #include <cstdint>
 
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 #include "core/math/box_test.h"
+#include "core/util/enum_names.h"
 #include "core/util/large_array.h"
 
 namespace accelviz {
+
+/// Which ray–triangle test the structures (and brute force) run.
+enum class TriangleTestKind : uint8_t { MollerTrumbore, Watertight };
+
+inline constexpr EnumNames<TriangleTestKind, 2> kTriangleTestNames{{{
+    {TriangleTestKind::MollerTrumbore, "mt"},
+    {TriangleTestKind::Watertight, "watertight"},
+}}};
+/// "mt", "watertight".
+constexpr std::string_view to_string(TriangleTestKind kind) { return kTriangleTestNames.name(kind); }
+constexpr std::optional<TriangleTestKind> parse_triangle_test(std::string_view name) {
+    return kTriangleTestNames.parse(name);
+}
+inline std::vector<std::string> triangle_test_names() { return kTriangleTestNames.names(); }
 
 /// True for a triangle of zero area: its corners coincide or lie on one line. The
 /// cross product of two edges is computed in double, where each product of two
@@ -20,7 +48,7 @@ inline bool has_zero_area(Vec3 p0, Vec3 p1, Vec3 p2) {
     return e1[1] * e2[2] == e1[2] * e2[1] && e1[2] * e2[0] == e1[0] * e2[2] && e1[0] * e2[1] == e1[1] * e2[0];
 }
 
-/// A triangle as the intersection test wants it: a corner and two edges.
+/// A triangle as Möller–Trumbore wants it: a corner and two edges.
 /// Every structure tests triangles through this one form, so every structure
 /// computes bit-identical t, u, v for the same ray and triangle.
 struct Triangle {
@@ -53,12 +81,37 @@ struct Triangle {
     }
 };
 
+/// A triangle as the watertight test wants it: its three corners, as loaded (two
+/// triangles sharing a corner must see the same floats). A separate form, kept
+/// only by structures built for that test: Möller–Trumbore's stored edges save
+/// it two subtractions per test on its critical path (measured: docs/performance.md).
+struct TriangleCorners {
+    Vec3 p0, p1, p2;
+
+    /// A zero-area triangle gets NaN corners p1, p2, for the same reason as
+    /// Triangle::from_points: the edge functions' sum is rounding noise there.
+    static TriangleCorners from_points(Vec3 p0, Vec3 p1, Vec3 p2) {
+        if (has_zero_area(p0, p1, p2)) {
+            const Vec3 nan{kNaN, kNaN, kNaN};
+            return {p0, nan, nan};
+        }
+        return {p0, p1, p2};
+    }
+
+    Aabb box() const {
+        Aabb b;
+        for (Vec3 p : {p0, p1, p2}) b.grow(p);
+        return b;
+    }
+};
+
 /// The structures' arrays of triangles (huge pages: see large_array.h).
 using TriangleArray = std::vector<Triangle, LargeArrayAllocator<Triangle>>;
+using CornerArray = std::vector<TriangleCorners, LargeArrayAllocator<TriangleCorners>>;
 
 /// The box every structure builds around a triangle: its corners and its corners
-/// as the intersection test sees them (Triangle::box), so that it holds the box
-/// the test's own-box rule uses (intersect_triangle), bit for bit.
+/// as Möller–Trumbore sees them (Triangle::box), so that it holds the boxes both
+/// tests' own-box rule uses (intersect_triangle), bit for bit.
 inline Aabb triangle_box(Vec3 p0, Vec3 p1, Vec3 p2) {
     Aabb b = Triangle{p0, p1 - p0, p2 - p0}.box();  // not from_points: a zero-area triangle still has a box
     for (Vec3 p : {p1, p2}) b.grow(p);
@@ -75,16 +128,34 @@ struct TriangleTest {
     bool off_own_box = false;
 };
 
-/// The own-box rule for a test whose u, v say inside (see intersect_triangle): sets
-/// r.hit, or r.off_own_box, and brings r.t into the box. Not inlined: it runs for a
-/// small share of the tests, and kept out of the structures' inner loops it leaves
-/// them their registers (the cost both ways: docs/performance.md).
-[[gnu::noinline]] inline void apply_own_box_rule(const Triangle& tri, const Ray& ray, const BoxTestRay& box_ray,
-                                                 TriangleTest& r) {
+/// What the watertight test needs of a ray, computed once per ray (Woop et al. 2013,
+/// section 3): kz is the axis the ray runs along most, kx and ky the other two
+/// (swapped when d[kz] < 0, so that the triangles keep their winding), and the
+/// shear that maps the direction to (0, 0, 1).
+struct WatertightRay {
+    int kx = 0, ky = 1, kz = 2;
+    float shear_x = 0, shear_y = 0, shear_z = 1;
+
+    WatertightRay() = default;
+    explicit WatertightRay(const Ray& ray) {
+        const Vec3 a{std::fabs(ray.dir.x), std::fabs(ray.dir.y), std::fabs(ray.dir.z)};
+        kz = a.x >= a.y ? (a.x >= a.z ? 0 : 2) : (a.y >= a.z ? 1 : 2);
+        kx = (kz + 1) % 3;
+        ky = (kx + 1) % 3;
+        if (ray.dir[kz] < 0.0f) std::swap(kx, ky);
+        shear_x = ray.dir[kx] / ray.dir[kz];
+        shear_y = ray.dir[ky] / ray.dir[kz];
+        shear_z = 1.0f / ray.dir[kz];
+    }
+};
+
+/// The own-box rule for a test that says inside (see intersect_triangle), with the
+/// box the test sees the triangle in: sets r.hit, or r.off_own_box, and brings r.t
+/// into the box.
+inline void apply_own_box_rule(const Aabb& box, const Ray& ray, const BoxTestRay& box_ray, TriangleTest& r) {
     // The variant of the widened test the BVH picks for this ray. The interval is not
     // clipped to [t_min, t_max]: t is clamped into the box first (a t just behind the
     // origin stays behind it), then checked.
-    const Aabb box = tri.box();
     const SlabResult own = ray.t_min < 0.0f ? widened_slab_test<true>(box, box_ray, -kInfinity, kInfinity)
                                             : widened_slab_test<false>(box, box_ray, -kInfinity, kInfinity);
     if (!(own.t_enter <= own.t_exit) || !(own.t_enter < kInfinity) || !(own.t_exit > -kInfinity)) {
@@ -93,6 +164,14 @@ struct TriangleTest {
     }
     r.t = r.t < own.t_enter ? own.t_enter : (r.t > own.t_exit ? own.t_exit : r.t);
     r.hit = r.t >= ray.t_min && r.t <= ray.t_max;
+}
+
+/// Möller–Trumbore's own-box rule. Not inlined: it runs for a small share of the
+/// tests, and kept out of the structures' inner loops it leaves them their
+/// registers (the cost both ways: docs/performance.md).
+[[gnu::noinline]] inline void apply_own_box_rule(const Triangle& tri, const Ray& ray, const BoxTestRay& box_ray,
+                                                 TriangleTest& r) {
+    apply_own_box_rule(tri.box(), ray, box_ray, r);
 }
 
 /// Möller–Trumbore. Hit iff det != 0, u >= 0, v >= 0, u + v <= 1, the ray meets
@@ -137,6 +216,53 @@ struct TriangleTest {
 inline TriangleTest intersect_triangle(const Triangle& tri, const Ray& ray) {
     return intersect_triangle(tri, ray, BoxTestRay(ray));
 }
+
+/// The watertight test (Woop, Benthin & Wald 2013, figure 10, without backface
+/// culling): hit iff the three edge functions have one sign (zero counts as inside:
+/// a closed triangle, as Möller–Trumbore's), their sum det != 0, the ray meets the
+/// corners' box (the own-box rule, as above) and t, brought into that box, is in
+/// [t_min, t_max]. u, v are the weights of p1, p2, as Möller–Trumbore's. Not
+/// inlined: it runs only when chosen, and stays out of Möller–Trumbore's loops.
+[[gnu::noinline]] TriangleTest intersect_triangle(const TriangleCorners& tri, const Ray& ray,
+                                                  const WatertightRay& sheared, const BoxTestRay& box_ray);
+
+/// The same, for a caller that tests one triangle against a ray.
+inline TriangleTest intersect_triangle(const TriangleCorners& tri, const Ray& ray) {
+    return intersect_triangle(tri, ray, WatertightRay(ray), BoxTestRay(ray));
+}
+
+/// One ray's triangle tests against one structure's triangles with test kTest: its
+/// per-ray constants, computed once, and the array it reads (`triangles` for
+/// Möller–Trumbore, `corners` for the watertight test: the same triangles in the
+/// same order; the other may be empty). Every structure tests triangle k of its
+/// arrays through test(k), so every structure runs the same test the same way.
+/// The kind is a template parameter, chosen once per ray by the structure, so that
+/// Möller–Trumbore's loops hold no call to the other test: such a call, even never
+/// taken, cost the BVH 8-10% (its registers saved around it; docs/performance.md).
+template <TriangleTestKind kTest>
+class TriangleTester {
+public:
+    [[gnu::always_inline]] TriangleTester(const Ray& ray, const TriangleArray& triangles, const CornerArray& corners)
+        : box_ray_(ray), triangles_(triangles.data()), corners_(corners.data()) {
+        if constexpr (kTest == TriangleTestKind::Watertight) watertight_ = WatertightRay(ray);
+    }
+
+    /// Triangle k of the arrays against `ray` (whose t_max may have shrunk since).
+    [[gnu::always_inline]] TriangleTest test(size_t k, const Ray& ray) const {
+        if constexpr (kTest == TriangleTestKind::Watertight)
+            return intersect_triangle(corners_[k], ray, watertight_, box_ray_);
+        else
+            return intersect_triangle(triangles_[k], ray, box_ray_);
+    }
+
+    const BoxTestRay& box_ray() const { return box_ray_; }
+
+private:
+    BoxTestRay box_ray_;
+    const Triangle* triangles_;
+    const TriangleCorners* corners_;
+    WatertightRay watertight_;
+};
 
 /// The closest hit of a ray: triangle id (kNoHit if none), distance t, barycentrics.
 struct Hit {

@@ -53,7 +53,7 @@ struct BoxTestRay {
     int near_plane[3];
     int far_plane[3];
 
-    explicit BoxTestRay(const Ray& ray)
+    [[gnu::always_inline]] explicit BoxTestRay(const Ray& ray)
         : origin(ray.origin), dir_inv(1.0f / ray.dir.x, 1.0f / ray.dir.y, 1.0f / ray.dir.z),
           near_dir_inv(dir_inv * (1.0f - kBoxTestMargin)), far_dir_inv(dir_inv * (1.0f + kBoxTestMargin)) {
         for (int axis = 0; axis < 3; ++axis) {

@@ -21,10 +21,22 @@ SteppedRay record_ray(const Accelerator& accel, const Ray& ray) {
     r.ray = ray;
     r.structure = accel.name();
     r.widened_box_test = accel.type() == AccelType::Bvh;
+    r.triangle_test = accel.triangle_test();
     RecordingObserver recorder;
     r.hit = accel.intersect_closest(ray, recorder);
     r.events = std::move(recorder.events);
     return r;
+}
+
+TriangleTestComparison compare_triangle_tests(const SteppedRay& r, const TriangleInspection& inspection,
+                                              const Mesh& mesh) {
+    TriangleTestComparison out;
+    if (inspection.tri >= mesh.triangle_count()) return out;
+    Ray ray = r.ray;
+    ray.t_max = inspection.t_max;
+    out.moller_trumbore = intersect_triangle(mesh.triangle(inspection.tri), ray);
+    out.watertight = intersect_triangle(mesh.corners(inspection.tri), ray);
+    return out;
 }
 
 // [SECTION] Node boxes

@@ -32,6 +32,7 @@ struct SteppedRay {
     Ray ray;
     std::string structure;         ///< Accelerator::name(): "naive", "bvh", ...
     bool widened_box_test = false;  ///< the BVH's box test (core/math/box_test.h) widens the slabs
+    TriangleTestKind triangle_test = TriangleTestKind::MollerTrumbore;  ///< the test the events come from
     std::vector<TraversalEvent> events;
     Hit hit;
 };
@@ -111,6 +112,17 @@ struct TriangleInspection {
 
 /// The inspection of events[index] (a TriangleTest).
 TriangleInspection inspect_triangle_test(const SteppedRay& r, size_t index);
+
+/// The inspected triangle under both tests, on the same ray and range (the
+/// inspection's t_max): where they disagree, the ray passes within rounding of an
+/// edge or a vertex, and Möller–Trumbore may let it slip between two triangles.
+struct TriangleTestComparison {
+    TriangleTest moller_trumbore;
+    TriangleTest watertight;
+    bool disagree() const { return moller_trumbore.hit != watertight.hit; }
+};
+TriangleTestComparison compare_triangle_tests(const SteppedRay& r, const TriangleInspection& inspection,
+                                              const Mesh& mesh);
 
 // [SECTION] Debug geometry
 

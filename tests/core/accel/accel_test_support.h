@@ -64,6 +64,14 @@ inline std::vector<std::pair<std::string, AccelConfig>> all_configurations() {
         c.octree.mailbox = clip == ClipMode::Box;
         out.push_back({"octree " + std::string(to_string(clip)) + (c.octree.mailbox ? "" : " no-mailbox"), c});
     }
+    // The watertight triangle test, once per structure (the test is the same code in
+    // every structure; what differs is how each walks to it).
+    for (AccelType type : {AccelType::Bvh, AccelType::Grid, AccelType::Kd, AccelType::Octree}) {
+        AccelConfig c;
+        c.type = type;
+        c.triangle_test = TriangleTestKind::Watertight;
+        out.push_back({std::string(to_string(type)) + " watertight", c});
+    }
     return out;
 }
 
@@ -161,6 +169,62 @@ inline std::vector<Ray> make_test_rays(const Mesh& mesh, size_t count, uint64_t 
     return rays;
 }
 
+/// The watertight test's brute force for every ray (see brute_force_answers): the
+/// same layout, each lane computing what intersect_triangle_watertight computes up
+/// to its inside test in float; a lane inside, or with an edge function of zero
+/// (which the test recomputes in double), is then tested by the test itself.
+inline std::vector<Hit> brute_force_answers_watertight(const Mesh& mesh, const std::vector<Ray>& rays) {
+    const CornerArray tris = make_corners(mesh);
+    const size_t n = tris.size();
+    std::vector<float> c[9];  // p0, p1, p2, x y z each
+    for (auto& v : c) v.resize(n);
+    for (size_t i = 0; i < n; ++i)
+        for (int k = 0; k < 3; ++k) {
+            const Vec3 p = k == 0 ? tris[i].p0 : k == 1 ? tris[i].p1 : tris[i].p2;
+            c[3 * k][i] = p.x; c[3 * k + 1][i] = p.y; c[3 * k + 2][i] = p.z;
+        }
+    std::vector<Hit> answers(rays.size());
+    tbb::parallel_for(size_t(0), rays.size(), [&](size_t r) {
+        const Ray& ray = rays[r];
+        const WatertightRay sheared(ray);
+        const BoxTestRay box_ray(ray);
+        const int kx = sheared.kx, ky = sheared.ky, kz = sheared.kz;
+        const float* x[3] = {c[kx].data(), c[3 + kx].data(), c[6 + kx].data()};
+        const float* y[3] = {c[ky].data(), c[3 + ky].data(), c[6 + ky].data()};
+        const float* z[3] = {c[kz].data(), c[3 + kz].data(), c[6 + kz].data()};
+        const float ox = ray.origin[kx], oy = ray.origin[ky], oz = ray.origin[kz];
+        constexpr size_t kBlock = 512;
+        unsigned char candidate[kBlock];
+        Hit best;
+        for (size_t begin = 0; begin < n; begin += kBlock) {
+            const size_t m = std::min(kBlock, n - begin);
+            for (size_t k = 0; k < m; ++k) {  // intersect_triangle_watertight, one lane per triangle
+                const size_t i = begin + k;
+                float sx[3], sy[3];
+                for (int j = 0; j < 3; ++j) {
+                    const float az = z[j][i] - oz;
+                    sx[j] = (x[j][i] - ox) - sheared.shear_x * az;
+                    sy[j] = (y[j][i] - oy) - sheared.shear_y * az;
+                }
+                const float e0 = sx[2] * sy[1] - sy[2] * sx[1];
+                const float e1 = sx[0] * sy[2] - sy[0] * sx[2];
+                const float e2 = sx[1] * sy[0] - sy[1] * sx[0];
+                const bool zero = (e0 == 0.0f) | (e1 == 0.0f) | (e2 == 0.0f);
+                const bool inside = ((e0 >= 0.0f) & (e1 >= 0.0f) & (e2 >= 0.0f)) | ((e0 <= 0.0f) & (e1 <= 0.0f) & (e2 <= 0.0f));
+                candidate[k] = zero | inside;
+            }
+            for (size_t k = 0; k < m; ++k) {
+                if (!candidate[k]) continue;
+                const uint32_t id = uint32_t(begin + k);
+                const TriangleTest test = intersect_triangle(tris[id], ray, sheared, box_ray);
+                if (test.hit && is_closer(test.t, id, best)) best = {id, test.t, test.u, test.v};
+            }
+        }
+        answers[r] = best;
+    });
+    return answers;
+}
+
 /// The brute-force answer for every ray, computed in parallel. Semantically
 /// BruteForce::intersect_closest: the smallest (t, id) among the triangles that
 /// intersect_triangle() accepts on [t_min, t_max]; u, v of that triangle. The
@@ -169,7 +233,9 @@ inline std::vector<Ray> make_test_rays(const Mesh& mesh, size_t count, uint64_t 
 /// intersect_triangle computes (same operations, same order, no contraction) up
 /// to its inside test; a lane inside is then tested by intersect_triangle itself,
 /// which adds the own-box rule. check_oracle() confirms that against BruteForce.
-inline std::vector<Hit> brute_force_answers(const Mesh& mesh, const std::vector<Ray>& rays) {
+inline std::vector<Hit> brute_force_answers(const Mesh& mesh, const std::vector<Ray>& rays,
+                                            TriangleTestKind kind = TriangleTestKind::MollerTrumbore) {
+    if (kind == TriangleTestKind::Watertight) return brute_force_answers_watertight(mesh, rays);
     const TriangleArray tris = make_triangles(mesh);
     const size_t n = tris.size();
     std::vector<float> p0x(n), p0y(n), p0z(n), e1x(n), e1y(n), e1z(n), e2x(n), e2y(n), e2z(n);
@@ -246,15 +312,18 @@ inline std::vector<Ray> fuzz_rays(const Mesh& mesh, size_t input_size) { return 
 /// the closest hit, or another answer to "any hit?". nullopt when all agree.
 /// (What the OBJ fuzzer checks on every input, and its corpus's test replays.)
 inline std::optional<std::string> first_disagreement(const Mesh& mesh, const std::vector<Ray>& rays) {
-    const BruteForce brute(mesh);
-    std::vector<Hit> want;
-    for (const Ray& ray : rays) {
-        NoObserver none;
-        want.push_back(brute.intersect_closest(ray, none));
+    std::vector<Hit> answers[2];  // by TriangleTestKind
+    for (TriangleTestKind kind : {TriangleTestKind::MollerTrumbore, TriangleTestKind::Watertight}) {
+        const BruteForce brute(mesh, kind);
+        for (const Ray& ray : rays) {
+            NoObserver none;
+            answers[int(kind)].push_back(brute.intersect_closest(ray, none));
+        }
     }
     for (const auto& [label, config] : all_configurations()) {
         auto built = build_accelerator(mesh, config);
         if (!built) return label + " does not build: " + built.error();
+        const std::vector<Hit>& want = answers[int(config.triangle_test)];
         for (size_t i = 0; i < rays.size(); ++i) {
             const Hit got = (*built)->intersect_closest(rays[i]);
             const bool same = got.tri == want[i].tri && std::bit_cast<uint32_t>(got.t) == std::bit_cast<uint32_t>(want[i].t);

@@ -20,16 +20,16 @@ TEST(Mailbox, RemembersEveryIdAcrossTheSwitchToTheBitset) {
 
 TEST(CellHits, HitBeyondTheCellIsDeferredUntilItsCell) {
     // One triangle in the plane z = 5; the ray runs along +z.
-    const Triangle tri = Triangle::from_points({-1, -1, 5}, {1, -1, 5}, {0, 1, 5});
+    const TriangleArray tris{Triangle::from_points({-1, -1, 5}, {1, -1, 5}, {0, 1, 5})};
     const Ray ray{{0, 0, 0}, {0, 0, 1}};
     RecordingObserver rec;
-    CellHits hits(ray, /*use_mailbox=*/true, /*strict_cell=*/true, 1);
+    CellHits<TriangleTestKind::MollerTrumbore> hits(ray, tris, {}, /*use_mailbox=*/true, /*strict_cell=*/true, 1);
     hits.enter(2.0f, rec);  // first cell: t in [0, 2]
-    hits.test(tri, 0, rec);
+    hits.test(0, 0, rec);
     EXPECT_FALSE(hits.can_stop());
     EXPECT_EQ(rec.events.back().kind, EventKind::HitOutsideCell);
     hits.enter(4.0f, rec);  // second cell [2, 4]: still before the hit
-    hits.test(tri, 0, rec);  // mailbox: not tested again
+    hits.test(0, 0, rec);  // mailbox: not tested again
     EXPECT_EQ(rec.events.back().kind, EventKind::MailboxSkip);
     EXPECT_FALSE(hits.can_stop());
     hits.enter(6.0f, rec);  // third cell [4, 6] holds t = 5: accepted on entry
@@ -41,25 +41,25 @@ TEST(CellHits, HitBeyondTheCellIsDeferredUntilItsCell) {
 TEST(CellHits, HitExactlyAtTheCellEndKeepsTheWalkGoing) {
     // t == t_out counts in this cell, but the next cell (starting at the same t)
     // may hold a triangle with the same t and a smaller id: do not stop yet.
-    const Triangle tri = Triangle::from_points({-1, -1, 2}, {1, -1, 2}, {0, 1, 2});
+    const TriangleArray tris{Triangle::from_points({-1, -1, 2}, {1, -1, 2}, {0, 1, 2})};
     const Ray ray{{0, 0, 0}, {0, 0, 1}};
     NoObserver none;
-    CellHits hits(ray, true, true, 8);
+    CellHits<TriangleTestKind::MollerTrumbore> hits(ray, tris, {}, true, true, 8);
     hits.enter(2.0f, none);
-    hits.test(tri, 7, none);
+    hits.test(0, 7, none);
     EXPECT_FALSE(hits.can_stop());
     hits.enter(3.0f, none);
-    hits.test(tri, 3, none);  // same t, smaller id
+    hits.test(0, 3, none);  // the same triangle as id 3: same t, smaller id
     EXPECT_TRUE(hits.can_stop());
     EXPECT_EQ(hits.best().tri, 3u);
 }
 
 TEST(CellHits, NaiveRuleStopsAtTheFirstCellWithAHit) {
-    const Triangle far = Triangle::from_points({-1, -1, 5}, {1, -1, 5}, {0, 1, 5});
+    const TriangleArray far{Triangle::from_points({-1, -1, 5}, {1, -1, 5}, {0, 1, 5})};
     const Ray ray{{0, 0, 0}, {0, 0, 1}};
     NoObserver none;
-    CellHits hits(ray, true, /*strict_cell=*/false, 1);
+    CellHits<TriangleTestKind::MollerTrumbore> hits(ray, far, {}, true, /*strict_cell=*/false, 1);
     hits.enter(2.0f, none);
-    hits.test(far, 0, none);
+    hits.test(0, 0, none);
     EXPECT_TRUE(hits.can_stop());  // the lecture's pitfall: it never looks at the cells in between
 }

@@ -216,3 +216,31 @@ TEST(Stepper, CompareTableOnTheBunnyCentreRay) {
                     (unsigned long long)row.counters.triangle_tests, (unsigned long long)row.counters.mailbox_skips,
                     row.hit.tri, row.hit.t);
 }
+
+TEST(Stepper, TriangleInspectorComparesBothTestsWhereARaySlipsThrough) {
+    // From inside an icosphere, aimed exactly at a vertex: Möller–Trumbore misses every
+    // triangle around it (the ray leaves the closed mesh); the watertight test hits one.
+    const auto sphere = load_scene("builtin:sphere?subdiv=2");
+    ASSERT_TRUE(sphere) << sphere.error();
+    const Ray ray{{0, 0.05f, 0}, Vec3{-0.525731087f, 0, -0.850650787f} - Vec3{0, 0.05f, 0}};
+    for (TriangleTestKind kind : {TriangleTestKind::MollerTrumbore, TriangleTestKind::Watertight}) {
+        AccelConfig config;
+        config.type = AccelType::Bvh;
+        config.triangle_test = kind;
+        const auto accel = build_accelerator(*sphere, config);
+        ASSERT_TRUE(accel) << accel.error();
+        const SteppedRay r = record_ray(**accel, ray);
+        EXPECT_EQ(r.triangle_test, kind);
+        EXPECT_EQ(r.hit.found(), kind == TriangleTestKind::Watertight);
+        size_t disagreements = 0;
+        for (size_t i = 0; i < r.events.size(); ++i) {
+            if (r.events[i].kind != EventKind::TriangleTest) continue;
+            const TriangleInspection t = inspect_triangle_test(r, i);
+            const TriangleTestComparison both = compare_triangle_tests(r, t, *sphere);
+            // The test that ran is the one the event reports.
+            EXPECT_EQ(kind == TriangleTestKind::Watertight ? both.watertight.hit : both.moller_trumbore.hit, t.hit);
+            disagreements += both.disagree();
+        }
+        EXPECT_GE(disagreements, 1u);
+    }
+}

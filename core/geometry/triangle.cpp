@@ -1,0 +1,59 @@
+#include "core/geometry/triangle.h"
+
+namespace accelviz {
+
+namespace {
+
+/// A corner relative to the ray's origin, sheared so that the ray runs along +z:
+/// x, y in the plane the ray pierces at (0, 0), z along the ray (still unscaled).
+struct ShearedCorner {
+    float x, y, z;
+};
+
+ShearedCorner shear(Vec3 p, const Ray& ray, const WatertightRay& r) {
+    const Vec3 a = p - ray.origin;
+    return {a[r.kx] - r.shear_x * a[r.kz], a[r.ky] - r.shear_y * a[r.kz], a[r.kz]};
+}
+
+}  // namespace
+
+TriangleTest intersect_triangle(const TriangleCorners& tri, const Ray& ray, const WatertightRay& sheared,
+                                const BoxTestRay& box_ray) {
+    TriangleTest r;
+    const ShearedCorner a = shear(tri.p0, ray, sheared);
+    const ShearedCorner b = shear(tri.p1, ray, sheared);
+    const ShearedCorner c = shear(tri.p2, ray, sheared);
+
+    // The edge functions: twice the signed areas of the triangles the origin (the
+    // ray) makes with each edge. e0 belongs to the edge b-c (the weight of p0), e1
+    // to c-a (p1), e2 to a-b (p2). A neighbour computes its shared edge's function
+    // from the same two sheared corners, with the products swapped: the exact
+    // negative, as IEEE rounding is symmetric.
+    float e0 = c.x * b.y - c.y * b.x;
+    float e1 = a.x * c.y - a.y * c.x;
+    float e2 = b.x * a.y - b.y * a.x;
+    // Rounding is monotone, so a nonzero float edge function has the exact sign; a
+    // zero may be rounding. Then all three again in double, where each product of
+    // two floats is exact and the difference keeps the exact sign.
+    if (e0 == 0.0f || e1 == 0.0f || e2 == 0.0f) {
+        e0 = float(double(c.x) * double(b.y) - double(c.y) * double(b.x));
+        e1 = float(double(a.x) * double(c.y) - double(a.y) * double(c.x));
+        e2 = float(double(b.x) * double(a.y) - double(b.y) * double(a.x));
+    }
+    // Inside: all three of one sign (zero counts as inside: a closed triangle). NaN
+    // corners (a zero-area triangle) fail both.
+    const bool inside = (e0 >= 0.0f && e1 >= 0.0f && e2 >= 0.0f) || (e0 <= 0.0f && e1 <= 0.0f && e2 <= 0.0f);
+    const float det = e0 + e1 + e2;
+    if (det == 0.0f) return r;  // the ray lies in the triangle's plane
+    const float inv_det = 1.0f / det;
+    r.u = e1 * inv_det;
+    r.v = e2 * inv_det;
+    // t from the corners' distances along the ray, scaled by 1/d[kz].
+    const float t_scaled = e0 * (sheared.shear_z * a.z) + e1 * (sheared.shear_z * b.z) + e2 * (sheared.shear_z * c.z);
+    r.t = t_scaled * inv_det;
+    if (!inside) return r;
+    apply_own_box_rule(tri.box(), ray, box_ray, r);
+    return r;
+}
+
+}  // namespace accelviz
