@@ -156,7 +156,15 @@ public:
             const auto w = find(s, label, window, occurrence);
             if (!w) return {};
             const double bottom = s["view"][1].get<double>() + s["view"][3].get<double>();
-            if (w->y0 >= 0 && w->y1 <= bottom) return *w;
+            if (w->y0 >= 0 && w->y1 <= bottom) {
+                // Only where it stays: a layout that just got shorter (another structure's
+                // rows) clamps the sidebar's scroll a frame or two later, moving it.
+                std::this_thread::sleep_for(std::chrono::milliseconds(150));
+                const json later = snapshot();
+                const auto again = later.is_null() ? std::nullopt : find(later, label, window, occurrence);
+                if (again && again->y0 == w->y0 && again->x0 == w->x0) return *w;
+                continue;
+            }
             // Scroll the sidebar towards it: wheel down (button 5) or up (button 4).
             move_to(8, bottom / 2);
             run("xdotool click " + std::string(w->y1 > bottom ? "5" : "4"));
