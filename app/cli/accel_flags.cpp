@@ -39,6 +39,12 @@ void add_accel_flags(CLI::App& command, AccelConfig& config) {
                "1 = left then right, no pruning (ordered|unordered, default ordered)")
         ->check(CLI::IsMember(bvh_traversal_names()));
 
+    command.add_option_function<std::string>(
+               "--triangle-test", [&config](const std::string& v) { config.triangle_test = *parse_triangle_test(v); },
+               "Ray-triangle test of every structure: Moller-Trumbore (the lecture's) or watertight (Woop, Benthin "
+               "and Wald 2013: no ray slips between triangles sharing an edge) (mt|watertight, default mt)")
+        ->check(CLI::IsMember(triangle_test_names()));
+
     // Space partitioning: grid, kd, octree.
     auto on_off = [](bool& a) { return [&a](const std::string& v) { a = v == "on"; }; };
     command.add_option_function<std::string>(

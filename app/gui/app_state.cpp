@@ -156,6 +156,7 @@ nlohmann::json accel_config_json(const AccelConfig& a) {
                    {"leaf_size", a.octree.leaf_size},
                    {"clip", std::string(to_string(a.octree.clip))},
                    {"mailbox", a.octree.mailbox}};
+    j["triangle_test"] = std::string(to_string(a.triangle_test));
     // The CLI's shared overrides, only when set.
     if (a.leaf_size) j["leaf_size"] = *a.leaf_size;
     if (a.cost_trav) j["cost_trav"] = *a.cost_trav;
@@ -202,6 +203,8 @@ void read_accel(const nlohmann::json& j, AccelConfig& a) {
         if (o.contains("clip")) a.octree.clip = read_enum(o["clip"], "structure.octree.clip", parse_clip_mode);
         a.octree.mailbox = read(o, "mailbox", a.octree.mailbox, "structure.octree");
     }
+    if (j.contains("triangle_test"))
+        a.triangle_test = read_enum(j["triangle_test"], "structure.triangle_test", parse_triangle_test);
     a.leaf_size = read(j, "leaf_size", a.leaf_size, "structure");
     a.cost_trav = read(j, "cost_trav", a.cost_trav, "structure");
     a.cost_isect = read(j, "cost_isect", a.cost_isect, "structure");

@@ -165,6 +165,11 @@ void StructurePanel::draw(AppState& state, Session& session) {
         rebuild |= leaf_size_slider("Leaf size", a.octree.leaf_size);
         rebuild |= ImGui::Checkbox("Mailbox", &a.octree.mailbox);
     }
+    // Every structure: Möller–Trumbore (the lecture's) or the watertight test.
+    rebuild |= enum_combo("Triangle test", a.triangle_test, triangle_test_names(), parse_triangle_test);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("mt: Moller-Trumbore, the lecture's barycentric solve.\n"
+                          "watertight: Woop, Benthin & Wald 2013; no ray slips between two triangles.");
     ImGui::PopItemWidth();
     if (rebuild) session.rebuild_structure(state);
 

@@ -478,6 +478,20 @@ void StepperPanel::draw_inspectors(const TraversalEvent* current) {
                               t.hit ? im_vec4(kStepColours.triangle_hit) : im_vec4(kStepColours.tested_miss));
         ImGui::TextWrapped("%s", t.verdict.c_str());
         ImGui::PopStyleColor();
+        // Both tests on this triangle: the one that ran, and the other.
+        if (!traced_scene) return;
+        const TriangleTestComparison both = compare_triangle_tests(trace, t, *traced_scene->mesh);
+        auto line = [&](const char* name, TriangleTestKind kind, const TriangleTest& r) {
+            const bool ran = trace.triangle_test == kind;
+            ImGui::TextColored(r.hit ? im_vec4(kStepColours.triangle_hit) : im_vec4(kStepColours.tested_miss),
+                               "%s%s: %s  (u %s, v %s)", name, ran ? " (ran)" : "", r.hit ? "hit" : "miss",
+                               number(r.u).c_str(), number(r.v).c_str());
+        };
+        line("Moller-Trumbore", TriangleTestKind::MollerTrumbore, both.moller_trumbore);
+        line("watertight", TriangleTestKind::Watertight, both.watertight);
+        if (both.disagree())
+            ImGui::TextWrapped("The two tests disagree: the ray passes within rounding of an edge or a vertex. "
+                               "Structure > Triangle test picks the one that runs.");
     };
     auto split = [&] {
         if (!step_state.last_split || !ImGui::CollapsingHeader("Split plane", ImGuiTreeNodeFlags_DefaultOpen)) return;
