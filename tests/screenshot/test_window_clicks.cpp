@@ -469,9 +469,16 @@ TEST(WindowSurvives, ALectureOfAbuse) {
     const json view = w.snapshot()["view"];
     w.move_to(view[0].get<double>() + 0.5 * view[2].get<double>(), view[1].get<double>() + 0.5 * view[3].get<double>());
     w.press_and_release();
-    w.wait_for("a ray to step", [](const json& s) { return s["state"]["stepper"]["ray"].is_object(); });
+    // The clicked pixel's ray (preset 12 left a typed ray in the stepper: wait for the pick).
+    w.wait_for("the clicked pixel's ray", [](const json& s) {
+        return s["state"]["stepper"].contains("pixel") && s.contains("stepped_ray");
+    });
+    // One key at a time, each waited for: on a loaded machine two quick presses can
+    // arrive in one frame.
     w.key("Home");
+    w.wait_for("Home: step 0", [](const json& s) { return s["state"]["stepper"]["step"].get<int>() == 0; });
     w.key("Right");
+    w.wait_for("one step", [](const json& s) { return s["state"]["stepper"]["step"].get<int>() == 1; });
     w.key("Right");
     w.wait_for("two steps", [](const json& s) { return s["state"]["stepper"]["step"].get<int>() == 2; });
     screenshot();
@@ -507,9 +514,12 @@ TEST(WindowSurvives, ALectureOfAbuse) {
     w.wait_for("the KD tree", [](const json& s) { return structure_shown(s, "kd"); });
     w.type_into("##source", "builtin:soup?n=200000");
     w.wait_for("the 200k build under way", [](const json& s) { return s["busy"].get<bool>(); });
-    w.key("Prior");
-    w.key("Prior");
-    w.key("Next");
+    // One key at a time, each waited for (quick presses can arrive in one frame).
+    for (const auto& [key, preset] : {std::pair{"Prior", count - 1}, {"Prior", count - 2}, {"Next", count - 1}}) {
+        w.key(key);
+        const std::string caption = "Preset " + std::to_string(preset) + "/";
+        w.wait_for(caption, [&](const json& s) { return s["status"].get<std::string>().find(caption) != std::string::npos; });
+    }
     const std::string last = "Preset " + std::to_string(count - 1) + "/";
     const json switched = w.wait_for(last + " settled", [&](const json& s) {
         return s["status"].get<std::string>().find(last) != std::string::npos && !s["busy"].get<bool>() &&
