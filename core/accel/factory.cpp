@@ -17,6 +17,14 @@ Config with_shared_flags(Config own, const AccelConfig& config, int Config::*lea
     if (cost_isect && config.cost_isect) own.*cost_isect = *config.cost_isect;
     return own;
 }
+/// The triangle test a built structure runs; the watertight test also needs the
+/// corners, in the structure's order (`order`: leaf order, or empty for by id).
+template <class Structure>
+void use_triangle_test(Structure& s, TriangleTestKind test, const Mesh& mesh, std::span<const uint32_t> order) {
+    s.triangle_test = test;
+    if (test == TriangleTestKind::Watertight) s.corners = make_corners(mesh, order);
+}
+
 BvhConfig bvh_config_of(const AccelConfig& config) {
     return with_shared_flags(config.bvh, config, &BvhConfig::max_leaf_size, &BvhConfig::cost_trav, &BvhConfig::cost_isect);
 }
@@ -50,29 +58,25 @@ Expected<std::shared_ptr<const Accelerator>> build_accelerator(const Mesh& mesh,
             auto bvh = build_bvh(mesh, bvh_config_of(config));
             if (!bvh) return Error{bvh.error()};
             bvh->traversal = config.bvh_traversal;
-            bvh->triangle_test = config.triangle_test;
-            if (config.triangle_test == TriangleTestKind::Watertight) bvh->corners = make_corners(mesh, bvh->prim_ids);
+            use_triangle_test(*bvh, config.triangle_test, mesh, bvh->prim_ids);
             return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<Bvh>>(std::move(*bvh)));
         }
         case AccelType::Grid: {
             auto grid = build_uniform_grid(mesh, config.grid);
             if (!grid) return Error{grid.error()};
-            grid->triangle_test = config.triangle_test;
-            if (config.triangle_test == TriangleTestKind::Watertight) grid->corners = make_corners(mesh);
+            use_triangle_test(*grid, config.triangle_test, mesh, {});
             return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<UniformGrid>>(std::move(*grid)));
         }
         case AccelType::Kd: {
             auto tree = build_kd_tree(mesh, kd_config_of(config));
             if (!tree) return Error{tree.error()};
-            tree->triangle_test = config.triangle_test;
-            if (config.triangle_test == TriangleTestKind::Watertight) tree->corners = make_corners(mesh, tree->prim_ids);
+            use_triangle_test(*tree, config.triangle_test, mesh, tree->prim_ids);
             return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<KdTree>>(std::move(*tree)));
         }
         case AccelType::Octree: {
             auto tree = build_octree(mesh, octree_config_of(config));
             if (!tree) return Error{tree.error()};
-            tree->triangle_test = config.triangle_test;
-            if (config.triangle_test == TriangleTestKind::Watertight) tree->corners = make_corners(mesh, tree->prim_ids);
+            use_triangle_test(*tree, config.triangle_test, mesh, tree->prim_ids);
             return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<Octree>>(std::move(*tree)));
         }
     }

@@ -113,15 +113,15 @@ struct KdTree : PartitionTree<KdNode, KdConfig, KdBuildStats> {
     /// TriangleTest, MailboxSkip, HitOutsideCell, NewClosest, Done.
     template <class Observer>
     Hit intersect_closest(const Ray& ray, Observer& obs) const {
-        return triangle_test == TriangleTestKind::Watertight ? walk<TriangleTestKind::Watertight>(ray, obs)
-                                                             : walk<TriangleTestKind::MollerTrumbore>(ray, obs);
+        return triangle_test == TriangleTestKind::Watertight ? front_to_back<TriangleTestKind::Watertight>(ray, obs)
+                                                             : front_to_back<TriangleTestKind::MollerTrumbore>(ray, obs);
     }
     bool intersect_any(const Ray& ray) const;
 
 private:
     /// The walk, with the triangle test chosen at compile time (TriangleTester).
     template <TriangleTestKind kTest, class Observer>
-    Hit walk(const Ray& ray, Observer& obs) const;
+    Hit front_to_back(const Ray& ray, Observer& obs) const;
 };
 
 /// Builds the tree: an explicit work stack (no recursion), the top of the tree on
@@ -135,7 +135,7 @@ Expected<KdTree> build_kd_tree(const Mesh& mesh, const KdConfig& config);
 // ---------------------------------------------------------------------------
 
 template <TriangleTestKind kTest, class Observer>
-Hit KdTree::walk(const Ray& ray, Observer& obs) const {
+Hit KdTree::front_to_back(const Ray& ray, Observer& obs) const {
     CellHits<kTest> hits(ray, triangles, corners, build_config.mailbox, build_config.strict_cell, build_stats.triangles);
     if (nodes.empty()) return hits.done(obs);
     const RayPrecomp pre(ray);

@@ -72,15 +72,15 @@ struct Octree : PartitionTree<OctreeNode, OctreeConfig, OctreeBuildStats> {
     /// MailboxSkip, HitOutsideCell, NewClosest, Done.
     template <class Observer>
     Hit intersect_closest(const Ray& ray, Observer& obs) const {
-        return triangle_test == TriangleTestKind::Watertight ? walk<TriangleTestKind::Watertight>(ray, obs)
-                                                             : walk<TriangleTestKind::MollerTrumbore>(ray, obs);
+        return triangle_test == TriangleTestKind::Watertight ? front_to_back<TriangleTestKind::Watertight>(ray, obs)
+                                                             : front_to_back<TriangleTestKind::MollerTrumbore>(ray, obs);
     }
     bool intersect_any(const Ray& ray) const;
 
 private:
     /// The walk, with the triangle test chosen at compile time (TriangleTester).
     template <TriangleTestKind kTest, class Observer>
-    Hit walk(const Ray& ray, Observer& obs) const;
+    Hit front_to_back(const Ray& ray, Observer& obs) const;
 };
 
 /// The box of octant `o` of `box` cut at `centre`.
@@ -100,7 +100,7 @@ Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config);
 // ---------------------------------------------------------------------------
 
 template <TriangleTestKind kTest, class Observer>
-Hit Octree::walk(const Ray& ray, Observer& obs) const {
+Hit Octree::front_to_back(const Ray& ray, Observer& obs) const {
     CellHits<kTest> hits(ray, triangles, corners, build_config.mailbox, /*strict_cell=*/true, build_stats.triangles);
     if (nodes.empty()) return hits.done(obs);
     const RayPrecomp pre(ray);

@@ -102,15 +102,15 @@ struct UniformGrid {
     /// TriangleTest, MailboxSkip, HitOutsideCell, NewClosest, Done.
     template <class Observer>
     Hit intersect_closest(const Ray& ray, Observer& obs) const {
-        return triangle_test == TriangleTestKind::Watertight ? walk<TriangleTestKind::Watertight>(ray, obs)
-                                                             : walk<TriangleTestKind::MollerTrumbore>(ray, obs);
+        return triangle_test == TriangleTestKind::Watertight ? front_to_back<TriangleTestKind::Watertight>(ray, obs)
+                                                             : front_to_back<TriangleTestKind::MollerTrumbore>(ray, obs);
     }
     bool intersect_any(const Ray& ray) const;
 
 private:
     /// The walk, with the triangle test chosen at compile time (TriangleTester).
     template <TriangleTestKind kTest, class Observer>
-    Hit walk(const Ray& ray, Observer& obs) const;
+    Hit front_to_back(const Ray& ray, Observer& obs) const;
     /// The cell along `axis` holding coordinate x; on a boundary, the one the ray
     /// moves into (by the sign of its direction component `d`).
     int locate(int axis, float x, float d) const;
@@ -124,7 +124,7 @@ Expected<UniformGrid> build_uniform_grid(const Mesh& mesh, const GridConfig& con
 // ---------------------------------------------------------------------------
 
 template <TriangleTestKind kTest, class Observer>
-Hit UniformGrid::walk(const Ray& ray, Observer& obs) const {
+Hit UniformGrid::front_to_back(const Ray& ray, Observer& obs) const {
     CellHits<kTest> hits(ray, triangles, corners, build_config.mailbox, /*strict_cell=*/true, uint32_t(triangles.size()));
     if (cell_start.empty()) return hits.done(obs);
     const RayPrecomp pre(ray);
