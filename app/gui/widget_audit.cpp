@@ -47,6 +47,14 @@ void begin_frame() {
 const std::vector<Widget>& widgets() { return recorder().widgets; }
 const std::vector<Duplicate>& duplicates() { return recorder().duplicates; }
 
+std::string active_text_field() {
+    const ImGuiContext& g = *ImGui::GetCurrentContext();
+    if (!ImGui::GetIO().WantTextInput || g.ActiveId == 0) return "";
+    for (const Widget& w : recorder().widgets)
+        if (w.id == g.ActiveId) return w.label;
+    return "";
+}
+
 std::string visible_text(const std::string& label) {
     const size_t hashes = label.find("##");
     return hashes == std::string::npos ? label : label.substr(0, hashes);

@@ -46,6 +46,10 @@ const std::vector<Widget>& widgets();
 /// IDs used twice or more in that frame.
 const std::vector<Duplicate>& duplicates();
 
+/// The label of the text field being typed into this frame ("" if none), for a
+/// scripted test to know its keys will reach the field it clicked.
+std::string active_text_field();
+
 /// The text a user reads for a label: what stands before "##" ("Structure" for
 /// "Structure###structure_type").
 std::string visible_text(const std::string& label);

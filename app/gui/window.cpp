@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <deque>
 #include <fstream>
 #include <iostream>
 #include <optional>
@@ -38,45 +39,99 @@ bool any_input_held() {
     return false;
 }
 
-/// ImGui 1.86 sees a key only as "down at the start of a frame" (io.KeysDown; the
-/// input queue came in 1.87), so a key pressed and released between two frames
-/// was never seen: a quick tap of S, or a presentation clicker's PageDown, which
-/// sends both at once. This sits in front of the GLFW backend's key callback and
-/// holds such a release back until a frame has been drawn with the key down.
-class KeyTapKeeper {
+/// ImGui 1.86 reads the keyboard once a frame: which keys are down (io.KeysDown)
+/// and the characters typed since the last frame, characters first (the input
+/// queue that keeps events in order came in 1.87). When several key events fall
+/// between two frames, which happens all the time when a frame is slow (a big
+/// scene on a software renderer) and always for a presentation clicker, their
+/// order is lost: a tap (press and release) is never seen, two PageDowns count as
+/// one, and "Ctrl+A, Backspace, new text, Return" in a text field comes out garbled.
+///
+/// This sits in front of the GLFW backend's key and character callbacks. It queues
+/// the events and, before each frame, hands ImGui the longest run of them whose
+/// order ImGui cannot get wrong; the rest wait for the next frames, which the main
+/// loop draws at once. A run ends before
+///  - an event of a key that already changed in this frame (a tap spans two frames;
+///    while a text field has the keyboard, only for modifiers and the keys below);
+///  - the press of a key ImGui edits text or navigates with (io.KeyMap: arrows,
+///    Backspace, Return, Ctrl+A ...) once characters or another such press went in;
+///  - a character once such a press went in;
+///  - a modifier (Shift, Ctrl, Alt, Super) going up or down once a key it may
+///    modify was pressed (ImGui reads the modifiers once a frame: Ctrl let go
+///    just after A must not turn Ctrl+A into A).
+/// Ordinary typing (letter keys and their characters) still goes in many per frame.
+class KeyboardTrickle {
 public:
     /// Call after ImGui_ImplGlfw_InitForOpenGL installed its callbacks.
-    static void install(GLFWwindow* window) { backend_ = glfwSetKeyCallback(window, &on_key); }
-
-    /// Call after each drawn frame: the held releases go to ImGui now.
-    static void frame_drawn() {
-        pressed_since_frame_.clear();
-        for (const Release& r : std::exchange(held_, {}))
-            if (backend_) backend_(r.window, r.key, r.scancode, GLFW_RELEASE, r.mods);
+    static void install(GLFWwindow* window) {
+        key_backend_ = glfwSetKeyCallback(window, &on_key);
+        char_backend_ = glfwSetCharCallback(window, &on_char);
     }
+
+    /// Call before each frame: ImGui gets the events this frame can take.
+    static void deliver() {
+        std::set<int> changed;
+        bool characters = false, editing_press = false, shortcut_press = false;
+        // In a text field a letter's key state is read by nobody (shortcuts are
+        // off): its taps need not span frames, only its characters' order counts.
+        // A modifier's do (Ctrl+A: Ctrl may be let go before A).
+        const bool typing = ImGui::GetIO().WantTextInput;
+        while (!queue_.empty()) {
+            const Event& e = queue_.front();
+            if (e.is_char) {
+                if (editing_press) break;
+                characters = true;
+                if (char_backend_) char_backend_(e.window, e.codepoint);
+            } else {
+                const bool press = e.action == GLFW_PRESS;
+                if (e.action != GLFW_REPEAT && e.key != GLFW_KEY_UNKNOWN) {
+                    const bool editing = is_editing_key(e.key);
+                    const bool modifier = e.key >= GLFW_KEY_LEFT_SHIFT && e.key <= GLFW_KEY_RIGHT_SUPER;
+                    if (changed.count(e.key) && (editing || modifier || !typing)) break;
+                    if (modifier && shortcut_press) break;
+                    if (press && editing) {
+                        if (characters || editing_press) break;
+                        editing_press = true;
+                    }
+                    if (press && !modifier && (editing || !typing)) shortcut_press = true;
+                    changed.insert(e.key);
+                }
+                if (key_backend_) key_backend_(e.window, e.key, e.scancode, e.action, e.mods);
+            }
+            queue_.pop_front();
+        }
+    }
+
+    /// Events still waiting for a frame.
+    static bool pending() { return !queue_.empty(); }
 
 private:
-    struct Release {
+    struct Event {
         GLFWwindow* window;
-        int key, scancode, mods;
+        bool is_char;
+        int key, scancode, action, mods;
+        unsigned int codepoint;
     };
     static void on_key(GLFWwindow* window, int key, int scancode, int action, int mods) {
-        if (action == GLFW_PRESS) pressed_since_frame_.insert(key);
-        if (action == GLFW_RELEASE && pressed_since_frame_.count(key)) {
-            held_.push_back({window, key, scancode, mods});
-            return;
-        }
-        if (backend_) backend_(window, key, scancode, action, mods);
+        queue_.push_back({window, false, key, scancode, action, mods, 0});
     }
-    static inline GLFWkeyfun backend_ = nullptr;
-    static inline std::set<int> pressed_since_frame_;
-    static inline std::vector<Release> held_;
+    static void on_char(GLFWwindow* window, unsigned int codepoint) {
+        queue_.push_back({window, true, 0, 0, 0, 0, codepoint});
+    }
+    static bool is_editing_key(int key) {
+        for (int mapped : ImGui::GetIO().KeyMap)
+            if (mapped == key) return true;
+        return false;
+    }
+    static inline GLFWkeyfun key_backend_ = nullptr;
+    static inline GLFWcharfun char_backend_ = nullptr;
+    static inline std::deque<Event> queue_;
 };
 
 /// ACCELVIZ_UI_SNAPSHOT=FILE: after each frame that changed anything, FILE holds
 /// what a scripted test of the real window needs to act and to check: the app
 /// state (as a saved state), the status line, the message shown, whether work is
-/// under way, the mouse, and every widget's label and rectangle. It is written to
+/// under way, the text field being typed into, the mouse, and every widget's label and rectangle. It is written to
 /// FILE.tmp and renamed, so a reader never sees half a file.
 class UiSnapshotWriter {
 public:
@@ -102,6 +157,7 @@ public:
         j["status"] = session.stats_bar.last_line;
         j["message"] = session.message;
         j["busy"] = session.has_pending_work();
+        j["typing_into"] = widget_audit::active_text_field();
         j["mouse"] = {{"x", io.MousePos.x}, {"y", io.MousePos.y},
                       {"down", {io.MouseDown[0], io.MouseDown[1], io.MouseDown[2]}}};
         nlohmann::json widgets = nlohmann::json::array();
@@ -163,7 +219,7 @@ int run_window(AppState state) {
     ImGui::CreateContext();
     ImGui::GetIO().IniFilename = nullptr;  // the layout is fixed; nothing to save
     ImGui_ImplGlfw_InitForOpenGL((*window)->handle(), /*install_callbacks=*/true);
-    KeyTapKeeper::install((*window)->handle());
+    KeyboardTrickle::install((*window)->handle());
 
     std::optional<UiSnapshotWriter> snapshot;
     if (const char* path = std::getenv("ACCELVIZ_UI_SNAPSHOT"); path && *path) snapshot.emplace(path);
@@ -202,7 +258,7 @@ int run_window(AppState state) {
             uint64_t events_seen = 0;
             bool was_working = false;
             while (!(*window)->should_close()) {
-                const bool input_held = any_input_held();
+                const bool input_held = any_input_held() || KeyboardTrickle::pending();
                 const bool working = session.has_pending_work();
                 (*window)->process_events(frames_to_draw > 0 || input_held ? 0.0 : working ? 0.1 : 0.5);
                 // Events, and work finishing, are followed by a few frames: ImGui
@@ -217,6 +273,7 @@ int run_window(AppState state) {
                 --frames_to_draw;
 
                 const auto start = clock::now();
+                KeyboardTrickle::deliver();
                 ImGui_ImplGlfw_NewFrame();
                 FrameInput input;
                 input.width = (*window)->framebuffer_width();
@@ -229,7 +286,6 @@ int run_window(AppState state) {
                 }
                 const FrameLayout layout = draw_frame(state, **renderer, session, input);
                 (*window)->swap_buffers();
-                KeyTapKeeper::frame_drawn();
                 if (check_ids) report_duplicate_ids(reported_duplicates);
                 if (snapshot) snapshot->write(state, session, layout);
                 frame_ms = std::chrono::duration<double, std::milli>(clock::now() - start).count();
