@@ -108,6 +108,7 @@ void PresetList::load(int index, AppState& state, Session& session) {
     session.apply_state(state, next);
     current_ = index;
     loaded_at_ = now_seconds();
+    awaiting_scene_ = session.loader.busy();
 }
 
 void PresetList::step(int delta, AppState& state, Session& session) {
@@ -128,6 +129,14 @@ std::string PresetList::caption() const {
            entries_[size_t(current_)].title;
 }
 
-bool PresetList::caption_fresh() const { return current_ >= 0 && now_seconds() - loaded_at_ < kCaptionSeconds; }
+bool PresetList::caption_fresh() const {
+    return current_ >= 0 && (awaiting_scene_ || now_seconds() - loaded_at_ < kCaptionSeconds);
+}
+
+void PresetList::scene_arrived() {
+    if (!awaiting_scene_) return;
+    awaiting_scene_ = false;
+    loaded_at_ = now_seconds();
+}
 
 }  // namespace accelviz

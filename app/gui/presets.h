@@ -50,8 +50,13 @@ public:
     int current() const { return current_; }
     /// "Preset 3/11: title" (empty when none is loaded).
     std::string caption() const;
-    /// True for a few seconds after a preset loaded: its caption is shown over the view.
+    /// True while a preset's scene or structure is still coming and for a few seconds
+    /// after it is on screen: its caption is shown over the view. (Counting from the
+    /// key press instead, a big scene's caption was gone before the scene appeared.)
     bool caption_fresh() const;
+    /// The window has taken the worker's result (a scene, a structure or an error):
+    /// the caption's few seconds start now.
+    void scene_arrived();
 
 private:
     bool scanned_ = false;
@@ -59,7 +64,8 @@ private:
     std::string dir_;
     std::vector<PresetInfo> entries_;
     int current_ = -1;
-    double loaded_at_ = -1e9;  ///< steady clock, seconds
+    double loaded_at_ = -1e9;  ///< steady clock, seconds: when the preset's scene arrived
+    bool awaiting_scene_ = false;  ///< the preset's load or build is still on the worker
 };
 
 }  // namespace accelviz

@@ -16,6 +16,7 @@ void Session::rebuild_structure(const AppState& state) {
 void Session::take_finished_load(AppState& state) {
     std::optional<LoadResult> result = loader.take_result();
     if (!result) return;
+    if (!loader.busy()) presets.scene_arrived();  // (a newer request is still coming otherwise)
     if (!*result) {
         // A failed load is shown and the previous scene kept (docs/architecture.md, "Errors").
         message_is_error = true;

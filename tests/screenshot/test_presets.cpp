@@ -78,6 +78,25 @@ TEST(Presets, PageDownAndPageUpStepThroughTheListAndStopAtItsEnds) {
     while (session.loader.busy()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
 }
 
+TEST(Presets, TheCaptionStaysUntilThePresetsSceneIsOnScreen) {
+    // A scene that takes longer to load than the caption's few seconds: the caption
+    // must still be up when it arrives (it counts from then, not from the key press).
+    const fs::path dir = fs::path(ACCELVIZ_SCREENSHOT_OUT) / "preset_caption";
+    fs::create_directories(dir);
+    std::ofstream(dir / "01-slow.json") << R"({"title": "Slow", "scene": "builtin:soup?n=2000", "structure": {"type": "bvh"}})";
+    Session session;
+    session.presets.set_dir(dir.string());
+    AppState state;
+    session.presets.step(+1, state, session);
+    ASSERT_TRUE(session.loader.busy());
+    std::this_thread::sleep_for(std::chrono::milliseconds(4500));  // longer than the caption lasts
+    while (session.loader.busy()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    EXPECT_TRUE(session.presets.caption_fresh()) << "the caption went before the scene came";
+    session.take_finished_load(state);
+    ASSERT_TRUE(session.scene);
+    EXPECT_TRUE(session.presets.caption_fresh()) << "the caption went as the scene came";
+}
+
 TEST(Presets, ABadPresetFileIsAMessageAndChangesNothing) {
     const fs::path dir = fs::path(ACCELVIZ_SCREENSHOT_OUT) / "preset_list_bad";
     fs::create_directories(dir);
