@@ -1,5 +1,6 @@
 #include "app/cli/accel_flags.h"
 #include "app/cli/flag_checks.h"
+#include "core/accel/memory_budget.h"
 
 namespace accelviz::cli {
 
@@ -44,6 +45,19 @@ void add_accel_flags(CLI::App& command, AccelConfig& config) {
                "Ray-triangle test of every structure: Moller-Trumbore (the lecture's) or watertight (Woop, Benthin "
                "and Wald 2013: no ray slips between triangles sharing an edge) (mt|watertight, default mt)")
         ->check(CLI::IsMember(triangle_test_names()));
+
+    command.add_option_function<std::string>(
+               "--memory-budget",
+               [&config](const std::string& v) { config.memory_budget = *parse_memory_size(v); },
+               "Most memory a structure's build may take, e.g. 4G or 512M (default: half the physical memory, " +
+                   format_bytes(default_memory_budget()) +
+                   " here). A build that cannot fit is refused; the grid's, KD tree's and octree's references are "
+                   "capped to fit (the Stats notes say so)")
+        ->check(CLI::Validator(
+            [](std::string& v) -> std::string {
+                return parse_memory_size(v) ? "" : "must be a size such as 4G, 512M or 65536 (got " + v + ")";
+            },
+            "SIZE"));
 
     // Space partitioning: grid, kd, octree.
     auto on_off = [](bool& a) { return [&a](const std::string& v) { a = v == "on"; }; };

@@ -224,6 +224,7 @@ int run_bench(const BenchOptions& opt) {
         timed(ours.build_ms, ours.build_cpu_ms, [&] { built = build_accelerator(*mesh, opt.accel); });
         if (!built) return fail(built.error());
         accel = *built;
+        if (run == 0) print_memory_budget_note(*accel, "bench");
         if (!reference) continue;
         progress("bench: building %s (%d/%d)\n", "embree", run + 1, opt.repeat);
         std::vector<double> unused_wall;  // Embree times its own build (without the scene set-up)

@@ -200,6 +200,7 @@ int run_render(const RenderOptions& opt) {
         }();
         if (!accel) return fail(accel.error());
         const double build_ms = ms_since(start);
+        print_memory_budget_note(**accel, "render");
         start = clock::now();
         ray_frame = ray_cast(**accel, make_triangles(*mesh), camera, {.threads = opt.threads, .count_work = count_work});
         std::fprintf(stderr, "ray cast (%s): build %.1f ms, frame %.1f ms\n", accel_name(state).c_str(), build_ms,

@@ -11,6 +11,7 @@
 #include "app/cli/camera_flags.h"
 #include "app/cli/commands.h"
 #include "app/cli/progress.h"
+#include "app/cli/scene_input.h"
 #include "app/cli/flag_checks.h"
 #include "core/geometry/scene.h"
 #include "core/traversal/event_json.h"
@@ -41,6 +42,7 @@ int run_trace(const TraceOptions& opt) {
         return build_accelerator(*mesh, opt.accel);
     }();
     if (!accel) return fail(accel.error());
+    print_memory_budget_note(**accel, "trace");
 
     const Ray ray = picked->ray;
     RecordingObserver recorder;

@@ -20,4 +20,12 @@ Expected<Mesh> load_scene_noting(const std::string& source, const char* command)
     return mesh;
 }
 
+void print_memory_budget_note(const Accelerator& accel, const char* command) {
+    const nlohmann::json stats = accel.stats();
+    if (!stats.contains("notes")) return;
+    for (const auto& note : stats["notes"])
+        if (note.is_string() && note.get<std::string>().rfind("memory budget", 0) == 0)
+            std::cerr << "accelviz " << command << ": " << note.get<std::string>() << "\n";
+}
+
 }  // namespace accelviz::cli

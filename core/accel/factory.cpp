@@ -2,6 +2,7 @@
 
 #include "core/accel/brute_force.h"
 #include "core/accel/bvh_build.h"
+#include "core/accel/memory_budget.h"
 
 namespace accelviz {
 
@@ -48,8 +49,16 @@ std::optional<Error> validate(const AccelConfig& config) {
     return Error{"unknown structure"};
 }
 
-Expected<std::shared_ptr<const Accelerator>> build_accelerator(const Mesh& mesh, const AccelConfig& config) {
-    if (auto err = validate(config)) return *err;
+Expected<std::shared_ptr<const Accelerator>> build_accelerator(const Mesh& mesh, const AccelConfig& requested) {
+    if (auto err = validate(requested)) return *err;
+    std::string budget_note;  // what the memory budget lowered, if anything
+    const Expected<AccelConfig> fitted =
+        fit_memory_budget(requested, mesh.triangle_count(), requested.memory_budget, &budget_note);
+    if (!fitted) return Error{fitted.error()};
+    const AccelConfig& config = *fitted;
+    auto with_note = [&](auto& stats) {
+        if (!budget_note.empty()) stats.notes.push_back(budget_note);
+    };
     switch (config.type) {
         case AccelType::Naive:
             return std::shared_ptr<const Accelerator>(
@@ -63,19 +72,22 @@ Expected<std::shared_ptr<const Accelerator>> build_accelerator(const Mesh& mesh,
         }
         case AccelType::Grid: {
             auto grid = build_uniform_grid(mesh, config.grid);
-            if (!grid) return Error{grid.error()};
+            if (!grid) return Error{budget_note.empty() ? grid.error() : grid.error() + " (" + budget_note + ")"};
+            with_note(grid->build_stats);
             use_triangle_test(*grid, config.triangle_test, mesh, {});
             return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<UniformGrid>>(std::move(*grid)));
         }
         case AccelType::Kd: {
             auto tree = build_kd_tree(mesh, kd_config_of(config));
             if (!tree) return Error{tree.error()};
+            with_note(tree->build_stats);
             use_triangle_test(*tree, config.triangle_test, mesh, tree->prim_ids);
             return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<KdTree>>(std::move(*tree)));
         }
         case AccelType::Octree: {
             auto tree = build_octree(mesh, octree_config_of(config));
             if (!tree) return Error{tree.error()};
+            with_note(tree->build_stats);
             use_triangle_test(*tree, config.triangle_test, mesh, tree->prim_ids);
             return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<Octree>>(std::move(*tree)));
         }

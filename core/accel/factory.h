@@ -32,6 +32,9 @@ struct AccelConfig {
     BvhTraversal bvh_traversal = BvhTraversal::Ordered;  ///< bvh: --bvh-traversal
     /// Every structure: --triangle-test (set after the build: the tree does not depend on it).
     TriangleTestKind triangle_test = TriangleTestKind::MollerTrumbore;
+    /// Every structure: the bytes its build may take (--memory-budget; 0 = half the
+    /// physical memory). Not part of what a preset or the panels describe.
+    uint64_t memory_budget = 0;
 };
 
 /// Whether the structure `config.type` can be built with these parameters (the
@@ -39,7 +42,8 @@ struct AccelConfig {
 /// its command-line flag. build_accelerator() checks the same.
 std::optional<Error> validate(const AccelConfig& config);
 
-/// Builds the structure over `mesh`. Errors are one-line messages (bad parameter).
+/// Builds the structure over `mesh`. Errors are one-line messages (bad parameter,
+/// or a build that would not fit the memory budget: core/accel/memory_budget.h).
 Expected<std::shared_ptr<const Accelerator>> build_accelerator(const Mesh& mesh, const AccelConfig& config);
 
 }  // namespace accelviz
