@@ -157,6 +157,15 @@ public:
         j["status"] = session.stats_bar.last_line;
         j["message"] = session.message;
         j["busy"] = session.has_pending_work();
+        j["loading"] = session.loader.busy() || session.loader.has_result();  // a scene or structure still coming
+        // What keeps the window busy, by name (for a test that waits in vain).
+        nlohmann::json pending = nlohmann::json::array();
+        if (session.loader.busy() || session.loader.has_result()) pending.push_back("loader");
+        if (session.presets.caption_fresh()) pending.push_back("caption");
+        if (session.ray_cast.busy() || session.ray_cast.has_result()) pending.push_back("ray_cast");
+        if (session.build_stepper.busy() || session.build_stepper.has_result()) pending.push_back("build_stepper");
+        if (session.stepper.has_pending_work()) pending.push_back("stepper");
+        j["pending"] = pending;
         j["typing_into"] = widget_audit::active_text_field();
         j["mouse"] = {{"x", io.MousePos.x}, {"y", io.MousePos.y},
                       {"down", {io.MouseDown[0], io.MouseDown[1], io.MouseDown[2]}}};
