@@ -1,7 +1,8 @@
 // accelviz: see how ray tracers find what a ray hits, fast.
 //
-// With no subcommand, `accelviz [SCENE]` opens the window. Subcommands: render
-// (images, headless), trace (one ray's events as JSON), bench (speed figures as JSON).
+// With no subcommand, `accelviz [SCENE] [--preset FILE] [structure and camera flags]`
+// opens the window (on what `render` would draw with the same flags). Subcommands:
+// render (images, headless), trace (one ray's events as JSON), bench (speed figures).
 #include <iostream>
 #include <vector>
 
@@ -9,6 +10,7 @@
 
 #include "app/cli/commands.h"
 #include "app/cli/progress.h"
+#include "app/cli/window_flags.h"
 #include "app/gui/window.h"
 #include "core/geometry/scene.h"
 
@@ -27,8 +29,8 @@ int main(int argc, char** argv) {
     using namespace accelviz::cli;
     CLI::App app{"accelviz: see how ray tracers find what a ray hits, fast."};
     app.require_subcommand(0, 1);
-    std::string scene = default_window_scene();
-    app.add_option("SCENE", scene, "Scene for the window: an OBJ path or builtin:NAME (default: " + scene + ")");
+    const std::string default_scene = default_window_scene();
+    const auto window = add_window_flags(app, default_scene);
     const std::vector<Command> commands = {register_render(app), register_trace(app), register_bench(app)};
     // The mesh cache (core/geometry/mesh_cache.h), for the window and every command.
     bool no_cache = false;
@@ -64,9 +66,12 @@ int main(int argc, char** argv) {
         for (const Command& command : commands)
             if (command.sub && command.sub->parsed()) return command.run();
         // No subcommand: the window.
-        accelviz::AppState state;
-        state.scene = scene;
-        return accelviz::run_window(state);
+        auto state = window_state(*window, default_scene);
+        if (!state) {
+            std::cerr << "accelviz: " << state.error() << "\n";
+            return 1;
+        }
+        return accelviz::run_window(std::move(*state), window->preset ? window->preset_path : "");
     } catch (const std::exception& e) {
         std::cerr << "accelviz: " << e.what() << "\n";
         return 1;

@@ -111,6 +111,18 @@ void PresetList::load(int index, AppState& state, Session& session) {
     awaiting_scene_ = session.loader.busy();
 }
 
+void PresetList::opened_with(const std::string& path, const Session& session) {
+    const std::vector<PresetInfo>& list = entries();
+    for (size_t i = 0; i < list.size(); ++i) {
+        std::error_code ec;
+        if (!std::filesystem::equivalent(list[i].path, path, ec) || ec) continue;
+        current_ = int(i);
+        loaded_at_ = now_seconds();
+        awaiting_scene_ = session.loader.busy();
+        return;
+    }
+}
+
 void PresetList::step(int delta, AppState& state, Session& session) {
     const int count = int(entries().size());
     if (count == 0) {

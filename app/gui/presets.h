@@ -46,6 +46,10 @@ public:
     void load(int index, AppState& state, Session& session);
     /// The next (+1, PageDown) or previous (-1, PageUp) preset; from none, the first / last.
     void step(int delta, AppState& state, Session& session);
+    /// The window was opened on the preset in file `path` (`accelviz --preset`): if it is
+    /// one of the list, it becomes the current one (its caption shows, PageDown goes
+    /// on from it). `session` tells whether its scene is still coming.
+    void opened_with(const std::string& path, const Session& session);
     /// The preset last loaded (-1: none).
     int current() const { return current_; }
     /// "Preset 3/11: title" (empty when none is loaded).

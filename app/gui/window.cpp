@@ -212,7 +212,7 @@ void report_duplicate_ids(std::set<std::string>& reported) {
 
 }  // namespace
 
-int run_window(AppState state) {
+int run_window(AppState state, const std::string& preset_path) {
     // 1. The window and its GL context.
     auto window = GlfwWindow::create("accelviz", 1600, 900);
     if (!window) {
@@ -253,6 +253,7 @@ int run_window(AppState state) {
             session.ray_cast.set_on_finished([] { GlfwWindow::wake_up(); });
             session.build_stepper.set_on_finished([] { GlfwWindow::wake_up(); });
             session.open_scene(state, state.scene, /*keep_camera=*/state.camera.has_value());
+            if (!preset_path.empty()) session.presets.opened_with(preset_path, session);
 
             // 4. The loop. It sleeps until something happens: an input or window
             //    event, a load finishing (the loader wakes it), or a held key or

@@ -1,5 +1,7 @@
 #pragma once
-/// The interactive window: `accelviz [SCENE]` with no subcommand.
+/// The interactive window: `accelviz [SCENE] [flags]` with no subcommand.
+
+#include <string>
 
 #include "app/gui/app_state.h"
 
@@ -8,6 +10,8 @@ namespace accelviz {
 /// Opens the window on `state` (its scene loads on a worker thread while the
 /// window is already up) and runs until it is closed. Returns the process exit
 /// code; without a display it prints why, suggests `accelviz render`, returns 1.
-int run_window(AppState state);
+/// `preset_path`: the preset file `state` came from, if any (one of the shipped
+/// presets becomes the current one: its caption shows, PageDown goes on from it).
+int run_window(AppState state, const std::string& preset_path = "");
 
 }  // namespace accelviz

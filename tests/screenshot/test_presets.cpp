@@ -97,6 +97,29 @@ TEST(Presets, TheCaptionStaysUntilThePresetsSceneIsOnScreen) {
     EXPECT_TRUE(session.presets.caption_fresh()) << "the caption went as the scene came";
 }
 
+TEST(Presets, TheWindowOpenedOnAPresetGoesOnFromIt) {
+    const fs::path dir = fs::path(ACCELVIZ_SCREENSHOT_OUT) / "preset_opened_with";
+    fs::create_directories(dir);
+    std::ofstream(dir / "01-first.json") << R"({"title": "First", "scene": "builtin:cube", "structure": {"type": "bvh"}})";
+    std::ofstream(dir / "02-second.json") << R"({"title": "Second", "scene": "builtin:cube", "structure": {"type": "grid"}})";
+    std::ofstream(dir / "elsewhere.json.txt") << "{}";
+    Session session;
+    PresetList& list = session.presets;
+    list.set_dir(dir.string());
+    list.opened_with((dir / "elsewhere.json.txt").string(), session);  // not one of the list
+    EXPECT_EQ(list.current(), -1);
+    // Spelled another way than the list spells it: the same file.
+    list.opened_with((dir / ".." / dir.filename() / "02-second.json").string(), session);
+    EXPECT_EQ(list.current(), 1);
+    EXPECT_EQ(list.caption(), "Preset 2/2: Second");
+    EXPECT_TRUE(list.caption_fresh());
+    AppState state;
+    list.step(-1, state, session);  // PageUp goes on from it
+    EXPECT_EQ(list.current(), 0);
+    EXPECT_EQ(state.accel.type, AccelType::Bvh);
+    while (session.loader.busy()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+}
+
 TEST(Presets, ABadPresetFileIsAMessageAndChangesNothing) {
     const fs::path dir = fs::path(ACCELVIZ_SCREENSHOT_OUT) / "preset_list_bad";
     fs::create_directories(dir);

@@ -62,8 +62,9 @@ struct Widget {
 
 class Window {
 public:
-    /// Starts `accelviz scene` and waits until the scene is on screen with nothing pending.
-    void start(const std::string& scene) {
+    /// Starts `accelviz scene [args...]` (no `scene` argument when `scene_arg` is false,
+    /// for a preset's scene) and waits until `scene` is on screen with nothing pending.
+    void start(const std::string& scene, const std::vector<std::string>& args = {}, bool scene_arg = true) {
         dir_ = std::filesystem::temp_directory_path() /
                ("accelviz-clicks-" + std::to_string(getpid()) + "-" + std::to_string(counter_++));
         std::filesystem::create_directories(dir_);
@@ -75,7 +76,10 @@ public:
         posix_spawn_file_actions_addopen(&actions, 2, log_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
         posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
         std::string binary = ACCELVIZ_BINARY;
-        std::vector<char*> argv = {binary.data(), const_cast<char*>(scene.c_str()), nullptr};
+        std::vector<char*> argv = {binary.data()};
+        if (scene_arg) argv.push_back(const_cast<char*>(scene.c_str()));
+        for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+        argv.push_back(nullptr);
         ASSERT_EQ(posix_spawn(&pid_, binary.c_str(), &actions, nullptr, argv.data(), environ), 0);
         posix_spawn_file_actions_destroy(&actions);
         unsetenv("ACCELVIZ_UI_SNAPSHOT");
@@ -405,6 +409,46 @@ TEST(WindowClicks, DraggingTheLeafSizeSliderRebuildsOnRelease) {
         return !snap["busy"].get<bool>() && snap["state"]["structure"]["bvh"]["max_leaf_size"].get<int>() > before + 10;
     });
     EXPECT_GE(s["state"]["structure"]["bvh"]["max_leaf_size"].get<int>(), 30);
+}
+
+TEST(WindowFlags, TheWindowOpensOnWhatTheFlagsSay) {
+    // The structure and camera flags, over the defaults.
+    {
+        Window w;
+        w.start("builtin:cube", {"--accel", "kd", "--kd-build", "median", "--eye", "3,2,1", "--target", "0,0.5,0"});
+        const json state = w.settled_state();
+        EXPECT_EQ(state["structure"]["type"], "kd");
+        EXPECT_EQ(state["structure"]["kd"]["builder"], "median");
+        EXPECT_EQ(state["camera"]["eye"], json::parse("[3.0, 2.0, 1.0]"));
+        EXPECT_EQ(state["camera"]["target"], json::parse("[0.0, 0.5, 0.0]"));
+        EXPECT_NE(w.snapshot()["status"].get<std::string>().find("structure: kd"), std::string::npos);
+    }
+    // A preset, with a flag of each kind over it.
+    const std::filesystem::path preset = std::filesystem::temp_directory_path() /
+                                         ("accelviz-window-flags-" + std::to_string(getpid()) + ".json");
+    std::ofstream(preset) << R"({"scene": "builtin:stadium", "structure": {"type": "grid"},
+        "camera": {"eye": [4, 3, 2], "target": [0, 0, 0], "up": [0, 1, 0], "fov": 50}})";
+    {
+        Window w;
+        w.start("builtin:stadium", {"--preset", preset.string(), "--accel", "octree", "--fov", "30"}, false);
+        const json state = w.settled_state();
+        EXPECT_EQ(state["scene"], "builtin:stadium");
+        EXPECT_EQ(state["structure"]["type"], "octree");
+        EXPECT_EQ(state["camera"]["eye"], json::parse("[4.0, 3.0, 2.0]"));
+        EXPECT_EQ(state["camera"]["fov"], 30.0);
+    }
+    std::filesystem::remove(preset);
+    // A shipped preset by name: its caption, and PageDown goes on to the next one.
+    {
+        Window w;
+        w.start("builtin:teapot", {"--preset", "04-bvh-sah"}, false);
+        EXPECT_NE(w.snapshot()["status"].get<std::string>().find("Preset 4/"), std::string::npos)
+            << w.snapshot()["status"];
+        w.key("Next");
+        w.wait_for("Preset 5 on screen", [](const json& s) {
+            return s["status"].get<std::string>().find("Preset 5/") != std::string::npos;
+        });
+    }
 }
 
 TEST(WindowClicks, StepperPicksTheRayOfTheClickedPixel) {

@@ -1,0 +1,36 @@
+#pragma once
+/// The window's flags, on the top-level command: `accelviz [SCENE] [--preset FILE]
+/// [structure flags] [camera flags]` opens the window on the state `accelviz render`
+/// draws with the same flags: the preset's (or the defaults), with SCENE, the
+/// structure flags and the camera flags given laid over it.
+
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "app/cli/camera_flags.h"
+#include "app/gui/app_state.h"
+
+namespace accelviz::cli {
+
+struct WindowOptions {
+    std::string scene;               ///< SCENE as given (empty: the preset's, or the default)
+    std::optional<AppState> preset;  ///< --preset, read while parsing (before the structure flags apply)
+    std::string preset_error;        ///< why --preset could not be read
+    std::string preset_path;
+    AccelConfig accel = AppState{}.accel;  ///< the preset's structure with the flags given over it
+    CameraFlags camera;
+};
+
+/// Adds SCENE, --preset, the structure flags and the camera flags to the top-level
+/// command (before its subcommands parse theirs).
+std::shared_ptr<WindowOptions> add_window_flags(CLI::App& app, const std::string& default_scene);
+
+/// The state to open the window on, or a one-line error naming the flag or the file.
+/// Camera flags over no preset camera need the scene's box: the scene is loaded
+/// for it (the window then loads it again, from the mesh cache for an OBJ).
+Expected<AppState> window_state(const WindowOptions& opt, const std::string& default_scene);
+
+}  // namespace accelviz::cli
