@@ -1,7 +1,5 @@
 #include "app/cli/window_flags.h"
 
-#include <iostream>
-
 #include "app/cli/accel_flags.h"
 #include "app/cli/progress.h"
 #include "app/gui/presets.h"
@@ -33,7 +31,7 @@ std::shared_ptr<WindowOptions> add_window_flags(CLI::App& app, const std::string
         "as `accelviz render --preset` draws it; SCENE, the structure flags and the camera flags given replace "
         "its values");
     add_accel_flags(app, opt->accel);
-    opt->accel.type = AppState{}.accel.type;  // add_accel_flags set the command line's default: the same, kept explicit
+    opt->accel.type = AppState{}.accel.type;  // the window's default structure (add_accel_flags sets the commands')
     opt->camera.add_to(app);
     return opt;
 }

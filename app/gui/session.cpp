@@ -66,9 +66,14 @@ void Session::notify(std::string text, bool is_error) {
     message_is_error = is_error;
 }
 
-bool Session::has_pending_work() const {
-    return loader.busy() || loader.has_result() || presets.caption_fresh() || ray_cast.busy() || ray_cast.has_result() ||
-           build_stepper.busy() || build_stepper.has_result() || stepper.has_pending_work();
+std::vector<const char*> Session::pending_work() const {
+    std::vector<const char*> names;
+    if (loader.busy() || loader.has_result()) names.push_back("loader");
+    if (presets.caption_fresh()) names.push_back("caption");
+    if (ray_cast.busy() || ray_cast.has_result()) names.push_back("ray_cast");
+    if (build_stepper.busy() || build_stepper.has_result()) names.push_back("build_stepper");
+    if (stepper.has_pending_work()) names.push_back("stepper");
+    return names;
 }
 
 void Session::upload_to_gpu(const OverlaySettings& settings) {

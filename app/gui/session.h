@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "app/gl/renderer.h"
 #include "app/gui/app_state.h"
@@ -94,9 +95,12 @@ struct Session {
     void apply_state(AppState& state, const AppState& loaded);
     /// Shows a notice or an error in the view.
     void notify(std::string text, bool is_error);
-    /// True while a worker runs or has a result to hand over (the window keeps
-    /// drawing frames until it is taken).
-    bool has_pending_work() const;
+    /// True while a worker runs or has a result to hand over, or a preset's caption
+    /// is up (the window keeps drawing frames until then).
+    bool has_pending_work() const { return !pending_work().empty(); }
+    /// What has_pending_work() waits for, by name ("loader", "caption", "ray_cast",
+    /// "build_stepper", "stepper"): the UI snapshot lists them.
+    std::vector<const char*> pending_work() const;
     /// Makes the GPU copies match `scene` and the overlay match `settings`
     /// (call on the GL thread).
     void upload_to_gpu(const OverlaySettings& settings);

@@ -158,14 +158,8 @@ public:
         j["message"] = session.message;
         j["busy"] = session.has_pending_work();
         j["loading"] = session.loader.busy() || session.loader.has_result();  // a scene or structure still coming
-        // What keeps the window busy, by name (for a test that waits in vain).
-        nlohmann::json pending = nlohmann::json::array();
-        if (session.loader.busy() || session.loader.has_result()) pending.push_back("loader");
-        if (session.presets.caption_fresh()) pending.push_back("caption");
-        if (session.ray_cast.busy() || session.ray_cast.has_result()) pending.push_back("ray_cast");
-        if (session.build_stepper.busy() || session.build_stepper.has_result()) pending.push_back("build_stepper");
-        if (session.stepper.has_pending_work()) pending.push_back("stepper");
-        j["pending"] = pending;
+        j["pending"] = nlohmann::json::array();  // what keeps it busy, by name (for a test that waits in vain)
+        for (const char* name : session.pending_work()) j["pending"].push_back(name);
         j["typing_into"] = widget_audit::active_text_field();
         j["mouse"] = {{"x", io.MousePos.x}, {"y", io.MousePos.y},
                       {"down", {io.MouseDown[0], io.MouseDown[1], io.MouseDown[2]}}};
