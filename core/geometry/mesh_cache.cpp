@@ -55,7 +55,7 @@ public:
             mix(word);
         }
         uint64_t tail = 0;
-        std::memcpy(&tail, p + i, bytes - i);
+        if (bytes > i) std::memcpy(&tail, p + i, bytes - i);  // (an empty array's data() may be null)
         mix(tail ^ (uint64_t(bytes - i) << 56));
     }
     uint64_t value() const { return h_; }
