@@ -71,7 +71,7 @@ int main(int argc, char** argv) {
             std::cerr << "accelviz: " << state.error() << "\n";
             return 1;
         }
-        return accelviz::run_window(std::move(*state), window->preset ? window->preset_path : "");
+        return accelviz::run_window(std::move(*state), window->preset.state ? window->preset.path : "");
     } catch (const std::exception& e) {
         std::cerr << "accelviz: " << e.what() << "\n";
         return 1;

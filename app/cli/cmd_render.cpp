@@ -16,6 +16,7 @@
 #include "app/cli/commands.h"
 #include "app/cli/progress.h"
 #include "app/cli/flag_checks.h"
+#include "app/cli/preset_flag.h"
 #include "app/cli/scene_input.h"
 #include "app/gui/app_state.h"
 #include "app/gui/headless.h"
@@ -36,9 +37,7 @@ std::string accel_name(const AppState& state) { return std::string(to_string(sta
 
 struct RenderOptions {
     std::string scene;
-    std::optional<AppState> preset;  ///< --preset, read while parsing (before the structure flags apply)
-    std::string preset_error;        ///< why --preset could not be read
-    std::string preset_path;         ///< --preset's file, for messages
+    PresetFlag preset;               ///< --preset, read while parsing (before the structure flags apply)
     std::string out;
     std::string view = "split";  ///< --view as given; parsed once, in run_render
     std::string depth_out;
@@ -102,7 +101,7 @@ int run_window_view(const RenderOptions& opt, WindowView view, AppState state) {
 /// stepper at decision K of the BVH build.
 int run_build_step(const RenderOptions& opt, AppState state) {
     if (opt.step < 0) return fail("--view build-step needs --step K (the build decision to show, 0 = the root)");
-    if (!opt.preset && !opt.accel_given) state.accel.type = AccelType::Bvh;
+    if (!opt.preset.state && !opt.accel_given) state.accel.type = AccelType::Bvh;
     if (state.accel.type != AccelType::Bvh)
         return fail("--view build-step steps a BVH build (--accel bvh, not " + accel_name(state) + ")");
     // The shared flags (--leaf-size, --cost-*) as the tree and the chart take them.
@@ -152,14 +151,14 @@ std::string missing_directory(const std::string& path) {
 std::string structure_problem(const RenderOptions& opt) {
     const auto err = validate(opt.accel);
     if (!err) return {};
-    if (opt.preset && validate(opt.preset->accel)) return "--preset: " + opt.preset_path + ": structure: " + err->message;
+    if (opt.preset.state && validate(opt.preset.state->accel)) return "--preset: " + opt.preset.path + ": structure: " + err->message;
     return err->message;
 }
 
 int run_render(const RenderOptions& opt) {
     for (const std::string& path : {opt.out, opt.depth_out})
         if (const std::string problem = path.empty() ? "" : missing_directory(path); !problem.empty()) return fail(problem);
-    if (opt.preset_error.empty())
+    if (opt.preset.error.empty())
         if (const std::string problem = structure_problem(opt); !problem.empty()) return fail(problem);
     const std::optional<WindowView> window_view = kWindowViewNames.parse(opt.view);
     const CpuView cpu_view = kCpuViewNames.parse(opt.view).value_or(CpuView::Split);  // CLI11 checked the name
@@ -167,11 +166,11 @@ int run_render(const RenderOptions& opt) {
     if ((opt.step >= 0 && window_view != WindowView::BuildStep) || !opt.pixel.empty())
         return fail("--step is for --view build-step or step, --pixel for --view step");
     using clock = std::chrono::steady_clock;
-    if (!opt.preset_error.empty()) return fail("--preset: " + opt.preset_error);
+    if (!opt.preset.error.empty()) return fail("--preset: " + opt.preset.error);
     // The state: the preset's, then what the command line gave.
-    AppState state = opt.preset.value_or(AppState{});
+    AppState state = opt.preset.state.value_or(AppState{});
     if (!opt.scene.empty()) state.scene = opt.scene;
-    else if (!opt.preset) return fail("no scene: give SCENE (an OBJ file or builtin:NAME) or --preset FILE");
+    else if (!opt.preset.state) return fail("no scene: give SCENE (an OBJ file or builtin:NAME) or --preset FILE");
     state.accel = opt.accel;  // already the preset's structure with the flags given applied on top
     if (window_view == WindowView::BuildStep) return run_build_step(opt, std::move(state));
     if (window_view) {
@@ -255,24 +254,13 @@ Command register_render(CLI::App& app) {
                     "optional with --preset, and replaces the preset's scene when given");
     // Before the structure flags: CLI11 runs option callbacks in the order the
     // options were added, so the flags given apply on top of the preset's structure.
-    sub->add_option_function<std::string>(
-        "--preset",
-        [opt](const std::string& name_or_path) {
-            const std::string path = resolve_preset(name_or_path);
-            if (path != name_or_path) std::cerr << "accelviz render: preset " << name_or_path << ": " << path << "\n";
-            opt->preset_path = path;
-            auto state = load_app_state_file(path);
-            if (!state) {
-                opt->preset_error = state.error();
-                return;
-            }
-            opt->accel = state->accel;
-            opt->preset = std::move(*state);
-        },
+    add_preset_flag(
+        *sub, opt->preset, opt->accel,
         "Start from this saved window state (a JSON file, or a shipped preset's name, e.g. 08-grid-stadium): "
         "scene, structure, camera, "
         "overlay and view settings. SCENE, the structure flags and the camera flags given replace its values. "
-        "A relative OBJ path in it is relative to the preset's directory if the file is there");
+        "A relative OBJ path in it is relative to the preset's directory if the file is there",
+        "render");
     sub->add_option("--out,-o", opt->out, "Output PNG file")->required();
     sub->add_option("--view", opt->view,
                     "raycast | raster | split (raster left, ray cast right, each --width wide) | depth-diff | "

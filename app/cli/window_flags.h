@@ -11,15 +11,14 @@
 #include <CLI/CLI.hpp>
 
 #include "app/cli/camera_flags.h"
+#include "app/cli/preset_flag.h"
 #include "app/gui/app_state.h"
 
 namespace accelviz::cli {
 
 struct WindowOptions {
     std::string scene;               ///< SCENE as given (empty: the preset's, or the default)
-    std::optional<AppState> preset;  ///< --preset, read while parsing (before the structure flags apply)
-    std::string preset_error;        ///< why --preset could not be read
-    std::string preset_path;
+    PresetFlag preset;               ///< --preset, read while parsing (before the structure flags apply)
     AccelConfig accel = AppState{}.accel;  ///< the preset's structure with the flags given over it
     CameraFlags camera;
 };
