@@ -84,7 +84,11 @@ void handle_view_input(AppState& state, Session& session, const Layout& layout) 
     if (!io.WantCaptureKeyboard) {
         if (ImGui::IsKeyPressed(GLFW_KEY_F1, false)) state.view.show_help = !state.view.show_help;
         if (ImGui::IsKeyPressed(GLFW_KEY_TAB, false)) state.view.show_ui = !state.view.show_ui;
-        if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE, false)) state.view.show_help = false;
+        if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE, false)) {
+            // Esc closes the help first; with no help open it cancels a load or build.
+            if (state.view.show_help) state.view.show_help = false;
+            else if (session.loader.busy()) session.loader.cancel();
+        }
         if (ImGui::IsKeyPressed(GLFW_KEY_S, false)) state.view.mode = state.view.mode == ViewMode::Split ? ViewMode::View3D : ViewMode::Split;
         // Presets in lecture order (a presentation clicker sends these keys).
         if (ImGui::IsKeyPressed(GLFW_KEY_PAGE_DOWN, false)) session.presets.step(+1, state, session);

@@ -484,6 +484,7 @@ void HelpWindow::draw(AppState& state) {
             {"Right / Left, Home / End (a stepper open)", "next / previous, first / last step"},
             {"Space (ray stepper open)", "play / pause"},
             {"F1", "this help"},
+            {"Esc", "close this help; cancel a load or build"},
             {"Drop an .obj file", "open it"},
         };
         if (ImGui::BeginTable("shortcuts", 2, ImGuiTableFlags_RowBg | ImGuiTableFlags_SizingFixedFit)) {

@@ -19,7 +19,7 @@ std::string short_name(const std::string& source) {
 }  // namespace
 
 LoadResult load_and_build(const std::string& source, const AccelConfig& config,
-                          const std::function<void(const std::string&)>& on_stage) {
+                          const std::function<void(const std::string&)>& on_stage, WorkProgress* progress) {
     auto stage = [&](const std::string& what) {
         if (on_stage) on_stage(what);
     };
@@ -29,17 +29,18 @@ LoadResult load_and_build(const std::string& source, const AccelConfig& config,
 
     stage("Loading " + short_name(source));
     auto start = std::chrono::steady_clock::now();
-    auto mesh = load_scene(source);
+    auto mesh = load_scene(source, default_mesh_cache(), progress);
     if (!mesh) return Error{mesh.error()};
+    if (cancelled(progress)) return WorkProgress::cancelled_error();
     scene->mesh = std::make_shared<const Mesh>(std::move(*mesh));
     scene->bounds = scene->mesh->bounds();
     scene->degenerate_note = degenerate_note(*scene->mesh);
     scene->load_seconds = seconds_since(start);
-    return rebuild(*scene, config, on_stage);
+    return rebuild(*scene, config, on_stage, progress);
 }
 
 LoadResult rebuild(const LoadedScene& from, const AccelConfig& config,
-                   const std::function<void(const std::string&)>& on_stage) {
+                   const std::function<void(const std::string&)>& on_stage, WorkProgress* progress) {
     auto scene = std::make_shared<LoadedScene>();
     scene->source = from.source;
     scene->mesh = from.mesh;
@@ -47,13 +48,18 @@ LoadResult rebuild(const LoadedScene& from, const AccelConfig& config,
     scene->degenerate_note = from.degenerate_note;
     scene->load_seconds = from.load_seconds;
     scene->accel_config = config;
+    start_stage(progress, 0);
     if (on_stage) on_stage("Building " + std::string(to_string(config.type)));
     const auto start = std::chrono::steady_clock::now();
-    auto accel = build_accelerator(*scene->mesh, config);
+    auto accel = build_accelerator(*scene->mesh, config, progress);
     if (!accel) return Error{accel.error()};
     scene->accel = std::move(*accel);
     scene->build_seconds = seconds_since(start);
     return std::shared_ptr<const LoadedScene>(std::move(scene));
+}
+
+bool was_cancelled(const LoadResult& result) {
+    return !result && result.error() == WorkProgress::cancelled_error().message;
 }
 
 SceneLoader::SceneLoader() : worker_([this] { run(); }) {}
@@ -63,18 +69,25 @@ SceneLoader::~SceneLoader() {
         std::lock_guard lock(mutex_);
         quit_ = true;
         pending_.reset();
+        if (running_progress_) running_progress_->cancel();
     }
     wake_.notify_all();
     worker_.join();
 }
 
+void SceneLoader::replace_request(Request request) {
+    pending_ = std::move(request);
+    finished_.reset();  // an older result is no longer wanted
+    if (running_progress_) running_progress_->cancel();
+    cancelled_by_user_ = false;
+    requested_at_ = std::chrono::steady_clock::now();
+    activity_ = "Waiting";
+}
+
 void SceneLoader::request(const std::string& source, const AccelConfig& config) {
     {
         std::lock_guard lock(mutex_);
-        pending_ = Request{++newest_id_, source, config, nullptr};
-        finished_.reset();  // an older result is no longer wanted
-        requested_at_ = std::chrono::steady_clock::now();
-        activity_ = "Waiting";
+        replace_request(Request{++newest_id_, source, config, nullptr});
     }
     wake_.notify_all();
 }
@@ -83,12 +96,24 @@ void SceneLoader::request_rebuild(std::shared_ptr<const LoadedScene> scene, cons
     {
         std::lock_guard lock(mutex_);
         const std::string source = scene->source;
-        pending_ = Request{++newest_id_, source, config, std::move(scene)};
-        finished_.reset();
-        requested_at_ = std::chrono::steady_clock::now();
-        activity_ = "Waiting";
+        replace_request(Request{++newest_id_, source, config, std::move(scene)});
     }
     wake_.notify_all();
+}
+
+void SceneLoader::cancel() {
+    std::lock_guard lock(mutex_);
+    const bool was_waiting = pending_.has_value();
+    pending_.reset();
+    if (running_) {
+        // The worker hands over the "cancelled" error when the work stops.
+        if (running_progress_) running_progress_->cancel();
+        cancelled_by_user_ = true;
+    } else if (was_waiting) {
+        finished_ = LoadResult(WorkProgress::cancelled_error());
+        activity_.clear();
+        if (on_finished) on_finished();
+    }
 }
 
 std::optional<LoadResult> SceneLoader::take_result() {
@@ -113,6 +138,11 @@ std::string SceneLoader::activity() const {
     return activity_;
 }
 
+double SceneLoader::stage_fraction() const {
+    std::lock_guard lock(mutex_);
+    return running_progress_ ? running_progress_->fraction() : 0.0;
+}
+
 double SceneLoader::busy_seconds() const {
     std::lock_guard lock(mutex_);
     return pending_ || running_ ? seconds_since(requested_at_) : 0.0;
@@ -126,19 +156,27 @@ void SceneLoader::run() {
         Request request = std::move(*pending_);
         pending_.reset();
         running_ = true;
+        cancelled_by_user_ = false;
+        auto progress = std::make_shared<WorkProgress>();
+        running_progress_ = progress;
         lock.unlock();
 
         auto on_stage = [this](const std::string& what) {
             std::lock_guard stage_lock(mutex_);
             activity_ = what;
         };
-        LoadResult result = request.rebuild_of ? rebuild(*request.rebuild_of, request.config, on_stage)
-                                               : load_and_build(request.source, request.config, on_stage);
+        LoadResult result = request.rebuild_of
+                                ? rebuild(*request.rebuild_of, request.config, on_stage, progress.get())
+                                : load_and_build(request.source, request.config, on_stage, progress.get());
         request.rebuild_of.reset();  // the old scene may go now
 
         lock.lock();
         running_ = false;
-        if (request.id == newest_id_) {  // otherwise a newer request superseded it
+        running_progress_.reset();
+        // The newest request's result, or the error of one the user cancelled (the
+        // view says so); the result of a superseded request is dropped.
+        const bool wanted = cancelled_by_user_ ? !pending_.has_value() : request.id == newest_id_;
+        if (wanted) {
             finished_ = std::move(result);
             activity_.clear();
             if (on_finished) on_finished();

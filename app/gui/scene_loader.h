@@ -4,8 +4,9 @@
 /// The UI thread never loads or builds (docs/architecture.md, "Threads"): it hands
 /// a request to the worker, keeps drawing (with a "loading..." indicator), and
 /// swaps in the immutable result when it is ready. A newer request supersedes an
-/// older one: the older one finishes (a file read cannot be interrupted) but its
-/// result is dropped.
+/// older one: the older one is cancelled (it stops at its next check; a file read
+/// in progress finishes first) and its result dropped. cancel() (the Cancel button)
+/// stops the work and gives the error "cancelled".
 
 #include <chrono>
 #include <condition_variable>
@@ -19,6 +20,7 @@
 #include "core/accel/factory.h"
 #include "core/geometry/mesh.h"
 #include "core/util/expected.h"
+#include "core/util/work_progress.h"
 
 namespace accelviz {
 
@@ -38,14 +40,20 @@ struct LoadedScene {
 using LoadResult = Expected<std::shared_ptr<const LoadedScene>>;
 
 /// Loads `source` (load_scene) and builds `config` over it, on the calling
-/// thread. `on_stage` (if set) hears "Loading ..." / "Building ..." as work starts.
+/// thread. `on_stage` (if set) hears "Loading ..." / "Building ..." as work starts;
+/// `progress` (if set) counts each stage and may cancel it.
 LoadResult load_and_build(const std::string& source, const AccelConfig& config,
-                          const std::function<void(const std::string&)>& on_stage = {});
+                          const std::function<void(const std::string&)>& on_stage = {},
+                          WorkProgress* progress = nullptr);
 
 /// Builds `config` over the mesh of `scene` (no reloading): the new scene shares
 /// the mesh and keeps its source and load time.
 LoadResult rebuild(const LoadedScene& scene, const AccelConfig& config,
-                   const std::function<void(const std::string&)>& on_stage = {});
+                   const std::function<void(const std::string&)>& on_stage = {},
+                   WorkProgress* progress = nullptr);
+
+/// Whether `result` is the error of work that was cancelled.
+bool was_cancelled(const LoadResult& result);
 
 class SceneLoader {
 public:
@@ -59,6 +67,9 @@ public:
     void request(const std::string& source, const AccelConfig& config);
     /// Asks for a new structure over the mesh of `scene` (a parameter changed).
     void request_rebuild(std::shared_ptr<const LoadedScene> scene, const AccelConfig& config);
+    /// Stops the running request and drops a waiting one; the running one's result
+    /// is then the error "cancelled" (was_cancelled), unless it had finished.
+    void cancel();
     /// The result of the newest request, once, when it has finished.
     std::optional<LoadResult> take_result();
     /// True when a result waits for take_result().
@@ -69,6 +80,8 @@ public:
     std::string activity() const;
     /// Seconds since the newest request was made (0 when idle).
     double busy_seconds() const;
+    /// How far the running stage (activity()) has got, in [0, 1] (0 when idle).
+    double stage_fraction() const;
     /// Called on the worker thread when a result is ready (e.g. to wake up a
     /// window waiting for events). Set before the first request.
     std::function<void()> on_finished;
@@ -80,6 +93,8 @@ private:
         AccelConfig config;
         std::shared_ptr<const LoadedScene> rebuild_of;  ///< set: rebuild over this scene's mesh
     };
+    /// Queues `request`, cancelling the running one (call with mutex_ held).
+    void replace_request(Request request);
     void run();
 
     mutable std::mutex mutex_;
@@ -90,6 +105,9 @@ private:
     bool running_ = false;
     bool quit_ = false;
     std::string activity_;
+    /// The running request's progress (null when idle): the UI reads it, cancel() sets it.
+    std::shared_ptr<WorkProgress> running_progress_;
+    bool cancelled_by_user_ = false;  ///< cancel() stopped the running request
     std::chrono::steady_clock::time_point requested_at_;
     std::thread worker_;  ///< last member: starts after the others exist
 };

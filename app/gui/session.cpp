@@ -18,9 +18,10 @@ void Session::take_finished_load(AppState& state) {
     if (!result) return;
     if (!loader.busy()) presets.scene_arrived();  // (a newer request is still coming otherwise)
     if (!*result) {
-        // A failed load is shown and the previous scene kept (docs/architecture.md, "Errors").
-        message_is_error = true;
-        message = result->error();
+        // A failed load is shown and the previous scene kept (docs/architecture.md, "Errors");
+        // a cancelled one is a notice.
+        message_is_error = !was_cancelled(*result);
+        message = message_is_error ? result->error() : "Cancelled";
         if (scene) {
             message += "  (keeping " + scene->source + " with " + std::string(to_string(scene->accel_config.type)) + ")";
             state.accel = scene->accel_config;  // the panels show what is built

@@ -166,9 +166,10 @@ void titled_label(LabelStack& stack, const char* id, LabelStack::Edge edge, cons
 
 // [SECTION] The labels
 
-/// "Loading bunny.obj ... 1.2 s" at the top of the view while the worker runs,
-/// and the last error message (with a close button). Drawn over the labels: they
-/// must be read, and they go away (the load ends, OK is clicked).
+/// "Loading bunny.obj ... 1.2 s" at the top of the view while the worker runs, with
+/// the stage's progress bar and Cancel (or Esc), and the last error message (with a
+/// close button). Drawn over the labels: they must be read, and they go away (the
+/// load ends, OK is clicked).
 void draw_view_messages(Session& session, const ViewRect& rect, bool deterministic) {
     const float margin = ImGui::GetFontSize();
     float y = float(rect.y) + margin;
@@ -177,15 +178,20 @@ void draw_view_messages(Session& session, const ViewRect& rect, bool determinist
         ImGui::SetNextWindowPos(centre_top, ImGuiCond_Always, ImVec2(0.5f, 0.0f));
         ImGui::SetNextWindowBgAlpha(0.85f);
         if (ImGui::Begin("##loading", nullptr, kViewOverlay)) {
+            const float bar_width = 16.0f * ImGui::GetFontSize();
             if (deterministic) {
                 ImGui::Text("%s ...", session.loader.activity().c_str());
+                ImGui::ProgressBar(0.0f, ImVec2(bar_width, 0.0f), "");
             } else {
                 // A spinner: three dots, one lit, moving with time.
                 static constexpr const char* kFrames[] = {"   ", ".  ", ".. ", "..."};
                 const int phase = int(ImGui::GetTime() * 4.0) % 4;
                 ImGui::Text("%s%s  %.1f s", session.loader.activity().c_str(), kFrames[phase],
                             session.loader.busy_seconds());
+                ImGui::ProgressBar(float(session.loader.stage_fraction()), ImVec2(bar_width, 0.0f));
             }
+            ImGui::SameLine();
+            if (ImGui::Button("Cancel")) session.loader.cancel();
         }
         y += ImGui::GetWindowHeight() + 0.5f * margin;
         ImGui::End();

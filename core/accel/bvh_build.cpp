@@ -214,12 +214,13 @@ private:
 /// child's descendants, then the right child's (the left child goes straight on as
 /// the next task, the right one waits on the stack).
 void build_depth_first(Splitter& splitter, Task root, const BvhConfig& config, std::vector<BvhNode>& nodes,
-                       DecisionCounts& counts, BuildRecorder* recorder) {
+                       DecisionCounts& counts, BuildRecorder* recorder, const WorkProgress* progress) {
     root.node = 0;
     nodes.assign(1, BvhNode{});
     std::vector<Task> work;
     std::optional<Task> left_next = root;
     while (left_next || !work.empty()) {
+        if (cancelled(progress)) return;  // the caller drops the unfinished tree
         Task task;
         if (left_next) {
             task = *left_next;
@@ -253,27 +254,32 @@ struct Subtree {
     DecisionCounts counts{};
 };
 
+/// Counts the subtree's triangles as placed in leaves once it is built (`progress`:
+/// units are triangles); stops early, leaving it unfinished, once `progress` is cancelled.
 std::unique_ptr<Subtree> build_subtree(Splitter& splitter, const Task& task, const BvhConfig& config,
-                                       NodeStore& store) {
+                                       NodeStore& store, WorkProgress* progress) {
     auto subtree = std::make_unique<Subtree>();
+    if (cancelled(progress)) return subtree;
     if (task.end - task.begin < kParallelSubtree) {
         thread_local std::vector<BvhNode> nodes;  // reused: it stays in the cache
-        build_depth_first(splitter, task, config, nodes, subtree->counts, nullptr);
+        build_depth_first(splitter, task, config, nodes, subtree->counts, nullptr, progress);
         subtree->nodes = store.keep(nodes);
         subtree->node_count = uint32_t(nodes.size());
+        advance(progress, task.end - task.begin);
         return subtree;
     }
     const Decided decided = decide_node(splitter, task, config, subtree->root, subtree->counts, nullptr);
     if (decided.leaf) {
         subtree->nodes = &subtree->root;
         subtree->node_count = 1;
+        advance(progress, task.end - task.begin);
         return subtree;
     }
     // The two children work on disjoint ranges of the records: one keeps this splitter,
     // the other gets a fork.
     const std::unique_ptr<Splitter> fork = splitter.fork();
-    tbb::parallel_invoke([&] { subtree->left = build_subtree(splitter, decided.left, config, store); },
-                         [&] { subtree->right = build_subtree(*fork, decided.right, config, store); });
+    tbb::parallel_invoke([&] { subtree->left = build_subtree(splitter, decided.left, config, store, progress); },
+                         [&] { subtree->right = build_subtree(*fork, decided.right, config, store, progress); });
     return subtree;
 }
 
@@ -420,7 +426,8 @@ void write_notes(const BvhConfig& config, BvhBuildStats& stats) {
 
 }  // namespace
 
-Expected<Bvh> build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecorder* recorder) {
+Expected<Bvh> build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecorder* recorder,
+                        WorkProgress* progress) {
     if (auto err = validate(requested)) return *err;
     const auto start = std::chrono::steady_clock::now();
     Bvh bvh;
@@ -429,6 +436,7 @@ Expected<Bvh> build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecor
     BvhBuildStats& stats = bvh.build_stats;
     const auto n = uint32_t(mesh.triangle_count());
     stats.triangles = n;
+    start_stage(progress, n);
 
     if (n > 0) {
         PrimRefs refs(n);
@@ -445,13 +453,14 @@ Expected<Bvh> build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecor
         std::optional<NodeStore> store;
         if (recorder) {
             tree = std::make_unique<Subtree>();
-            build_depth_first(*splitter, root, config, depth_first, tree->counts, recorder);
+            build_depth_first(*splitter, root, config, depth_first, tree->counts, recorder, progress);
             tree->nodes = depth_first.data();
             tree->node_count = uint32_t(depth_first.size());
         } else {
             store.emplace(n);
-            tree = build_subtree(*splitter, root, config, *store);
+            tree = build_subtree(*splitter, root, config, *store, progress);
         }
+        if (cancelled(progress)) return WorkProgress::cancelled_error();
         bvh.nodes.resize(node_count(*tree));
         std::vector<Placement> parts;
         place(*tree, 0, 1, bvh.nodes, parts, stats.decisions);

@@ -16,6 +16,7 @@
 
 #include "core/accel/bvh.h"
 #include "core/geometry/mesh.h"
+#include "core/util/work_progress.h"
 
 namespace accelviz {
 
@@ -53,7 +54,10 @@ struct BuildRecorder {
 
 /// Builds a BVH over `mesh`; a config that validate() refuses is an error (its
 /// message). With a recorder, every node's decision is appended to recorder->steps (the
-/// build then runs on one thread, so the steps come in depth-first order).
-Expected<Bvh> build_bvh(const Mesh& mesh, const BvhConfig& config, BuildRecorder* recorder = nullptr);
+/// build then runs on one thread, so the steps come in depth-first order). `progress`
+/// counts triangles placed in leaves; cancelling it makes the build stop and return
+/// WorkProgress::cancelled_error().
+Expected<Bvh> build_bvh(const Mesh& mesh, const BvhConfig& config, BuildRecorder* recorder = nullptr,
+                        WorkProgress* progress = nullptr);
 
 }  // namespace accelviz

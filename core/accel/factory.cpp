@@ -49,7 +49,8 @@ std::optional<Error> validate(const AccelConfig& config) {
     return Error{"unknown structure"};
 }
 
-Expected<std::shared_ptr<const Accelerator>> build_accelerator(const Mesh& mesh, const AccelConfig& requested) {
+Expected<std::shared_ptr<const Accelerator>> build_accelerator(const Mesh& mesh, const AccelConfig& requested,
+                                                               WorkProgress* progress) {
     if (auto err = validate(requested)) return *err;
     std::string budget_note;  // what the memory budget lowered, if anything
     const Expected<AccelConfig> fitted =
@@ -61,31 +62,32 @@ Expected<std::shared_ptr<const Accelerator>> build_accelerator(const Mesh& mesh,
     };
     switch (config.type) {
         case AccelType::Naive:
+            start_stage(progress, 0);
             return std::shared_ptr<const Accelerator>(
                 std::make_shared<AcceleratorFor<BruteForce>>(BruteForce(mesh, config.triangle_test)));
         case AccelType::Bvh: {
-            auto bvh = build_bvh(mesh, bvh_config_of(config));
+            auto bvh = build_bvh(mesh, bvh_config_of(config), nullptr, progress);
             if (!bvh) return Error{bvh.error()};
             bvh->traversal = config.bvh_traversal;
             use_triangle_test(*bvh, config.triangle_test, mesh, bvh->prim_ids);
             return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<Bvh>>(std::move(*bvh)));
         }
         case AccelType::Grid: {
-            auto grid = build_uniform_grid(mesh, config.grid);
+            auto grid = build_uniform_grid(mesh, config.grid, progress);
             if (!grid) return Error{budget_note.empty() ? grid.error() : grid.error() + " (" + budget_note + ")"};
             with_note(grid->build_stats);
             use_triangle_test(*grid, config.triangle_test, mesh, {});
             return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<UniformGrid>>(std::move(*grid)));
         }
         case AccelType::Kd: {
-            auto tree = build_kd_tree(mesh, kd_config_of(config));
+            auto tree = build_kd_tree(mesh, kd_config_of(config), progress);
             if (!tree) return Error{tree.error()};
             with_note(tree->build_stats);
             use_triangle_test(*tree, config.triangle_test, mesh, tree->prim_ids);
             return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<KdTree>>(std::move(*tree)));
         }
         case AccelType::Octree: {
-            auto tree = build_octree(mesh, octree_config_of(config));
+            auto tree = build_octree(mesh, octree_config_of(config), progress);
             if (!tree) return Error{tree.error()};
             with_note(tree->build_stats);
             use_triangle_test(*tree, config.triangle_test, mesh, tree->prim_ids);

@@ -11,6 +11,7 @@
 #include "core/accel/uniform_grid.h"
 #include "core/accel/bvh_config.h"
 #include "core/util/expected.h"
+#include "core/util/work_progress.h"
 
 namespace accelviz {
 
@@ -44,6 +45,9 @@ std::optional<Error> validate(const AccelConfig& config);
 
 /// Builds the structure over `mesh`. Errors are one-line messages (bad parameter,
 /// or a build that would not fit the memory budget: core/accel/memory_budget.h).
-Expected<std::shared_ptr<const Accelerator>> build_accelerator(const Mesh& mesh, const AccelConfig& config);
+/// `progress` hears how far the build has got (a stage of its own units) and may
+/// cancel it: the build then returns WorkProgress::cancelled_error().
+Expected<std::shared_ptr<const Accelerator>> build_accelerator(const Mesh& mesh, const AccelConfig& config,
+                                                               WorkProgress* progress = nullptr);
 
 }  // namespace accelviz

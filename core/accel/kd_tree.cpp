@@ -111,6 +111,7 @@ struct WorkItem {
     uint32_t depth;
     Aabb box;
     std::vector<SpatialRef> refs;
+    uint64_t progress_units;  ///< its part of PartitionProgress::kTotal
 };
 
 /// What building one subtree gives: local nodes (its root at 0), leaf references,
@@ -137,7 +138,7 @@ struct BuildContext {
 /// they can be built separately and spliced in. `budget`: the most references
 /// this subtree may hold.
 Subtree build_subtree(const BuildContext& ctx, WorkItem root, double budget, size_t defer_below,
-                      std::vector<WorkItem>* deferred) {
+                      std::vector<WorkItem>* deferred, PartitionProgress& progress) {
     const KdConfig& config = ctx.config;
     Subtree out;
     uint64_t live_refs = root.refs.size();  // references in leaves + in pending work
@@ -150,6 +151,7 @@ Subtree build_subtree(const BuildContext& ctx, WorkItem root, double budget, siz
     std::vector<SpatialRef> below, above;
     bool is_root = true;
     while (!work.empty()) {
+        if (progress.cancelled()) return out;  // the caller drops the unfinished tree
         WorkItem item = std::move(work.back());
         work.pop_back();
         const size_t n = item.refs.size();
@@ -209,6 +211,7 @@ Subtree build_subtree(const BuildContext& ctx, WorkItem root, double budget, siz
             for (const SpatialRef& r : item.refs) out.prim_ids.push_back(r.tri);
             out.counts.add_leaf(n, item.depth, ctx.depth_limit, config.leaf_size);
             out.sah_cost += p * double(n) * config.cost_isect;
+            progress.leaf_done(item.progress_units);
             continue;
         }
         live_refs = uint64_t(int64_t(live_refs) + int64_t(below.size() + above.size()) - int64_t(n));
@@ -220,9 +223,11 @@ Subtree build_subtree(const BuildContext& ctx, WorkItem root, double budget, siz
         Aabb lower = item.box, upper = item.box;
         lower.hi[plane.axis] = plane.position;
         upper.lo[plane.axis] = plane.position;
+        const uint64_t below_units =
+            PartitionProgress::share_of(item.progress_units, below.size(), below.size() + above.size());
         // Upper pushed first so the lower child is built first: depth-first order.
-        work.push_back({first + 1, item.depth + 1, upper, std::move(above)});
-        work.push_back({first, item.depth + 1, lower, std::move(below)});
+        work.push_back({first + 1, item.depth + 1, upper, std::move(above), item.progress_units - below_units});
+        work.push_back({first, item.depth + 1, lower, std::move(below), below_units});
         above = {};
         below = {};
         item.refs = {};
@@ -233,7 +238,7 @@ Subtree build_subtree(const BuildContext& ctx, WorkItem root, double budget, siz
 
 }  // namespace
 
-Expected<KdTree> build_kd_tree(const Mesh& mesh, const KdConfig& config) {
+Expected<KdTree> build_kd_tree(const Mesh& mesh, const KdConfig& config, WorkProgress* shared_progress) {
     const auto start = std::chrono::steady_clock::now();
     if (auto err = validate(config)) return *err;
     KdTree tree;
@@ -252,8 +257,12 @@ Expected<KdTree> build_kd_tree(const Mesh& mesh, const KdConfig& config) {
     // The reference budget is shared out in proportion to their sizes.
     std::vector<WorkItem> deferred;
     const size_t defer_below = std::max<size_t>(4096, st.triangles / 64);
-    const Subtree top = build_subtree(ctx, WorkItem{0, 0, tree.bounds, root_references(mesh, pad)}, budget,
-                                      defer_below, &deferred);
+    start_stage(shared_progress, PartitionProgress::kTotal);
+    PartitionProgress top_progress(shared_progress);
+    const Subtree top =
+        build_subtree(ctx, WorkItem{0, 0, tree.bounds, root_references(mesh, pad), PartitionProgress::kTotal},
+                      budget, defer_below, &deferred, top_progress);
+    top_progress.flush();
     tree.nodes = top.nodes;
     tree.prim_ids = top.prim_ids;
     counts.add(top.counts);
@@ -266,8 +275,10 @@ Expected<KdTree> build_kd_tree(const Mesh& mesh, const KdConfig& config) {
     std::vector<Subtree> subtrees(deferred.size());
     tbb::parallel_for(size_t(0), deferred.size(), [&](size_t k) {
         const double share = budget_left * double(deferred[k].refs.size()) / std::max(deferred_refs, 1.0);
-        subtrees[k] = build_subtree(ctx, std::move(deferred[k]), std::max(share, 1.0), 0, nullptr);
+        PartitionProgress progress(shared_progress);
+        subtrees[k] = build_subtree(ctx, std::move(deferred[k]), std::max(share, 1.0), 0, nullptr, progress);
     });
+    if (cancelled(shared_progress)) return WorkProgress::cancelled_error();
     for (size_t k = 0; k < deferred.size(); ++k) {
         tree.splice(placeholders[k], subtrees[k].nodes, subtrees[k].prim_ids);
         counts.add(subtrees[k].counts);

@@ -25,6 +25,7 @@ struct WorkItem {
     uint32_t depth;
     Aabb box;
     std::vector<SpatialRef> refs;
+    uint64_t progress_units;  ///< its part of PartitionProgress::kTotal
 };
 
 /// What building one subtree gives: local nodes (its root at 0), leaf references,
@@ -41,7 +42,7 @@ struct Subtree {
 /// can be built separately and spliced in. `budget`: the most references this
 /// subtree may hold.
 Subtree build_subtree(const Mesh& mesh, const OctreeConfig& config, float pad, WorkItem root, double budget,
-                      size_t defer_below, std::vector<WorkItem>* deferred) {
+                      size_t defer_below, std::vector<WorkItem>* deferred, PartitionProgress& progress) {
     Subtree out;
     uint64_t live_refs = root.refs.size();  // references in leaves + in pending work
     std::vector<WorkItem> work;
@@ -51,6 +52,7 @@ Subtree build_subtree(const Mesh& mesh, const OctreeConfig& config, float pad, W
     std::array<std::vector<SpatialRef>, 8> children;
     bool is_root = true;
     while (!work.empty()) {
+        if (progress.cancelled()) return out;  // the caller drops the unfinished tree
         WorkItem item = std::move(work.back());
         work.pop_back();
         const size_t n = item.refs.size();
@@ -107,6 +109,7 @@ Subtree build_subtree(const Mesh& mesh, const OctreeConfig& config, float pad, W
             leaf = OctreeNode{centre, uint32_t(out.prim_ids.size()), uint32_t(n), true};
             for (const SpatialRef& r : item.refs) out.prim_ids.push_back(r.tri);
             out.counts.add_leaf(n, item.depth, config.max_depth, config.leaf_size);
+            progress.leaf_done(item.progress_units);
             continue;
         }
         const uint32_t first = uint32_t(out.nodes.size());
@@ -114,10 +117,19 @@ Subtree build_subtree(const Mesh& mesh, const OctreeConfig& config, float pad, W
         out.nodes.resize(out.nodes.size() + 8);
         // Octant 7 pushed first, so octant 0 is built first: depth-first order. Each
         // octant's references are copied out at their size: the eight scratch lists
-        // keep their capacity for the next cell.
-        for (int o = 7; o >= 0; --o)
+        // keep their capacity for the next cell. Octant 7 gets the progress units
+        // the others leave.
+        size_t all_refs = 0;
+        for (const auto& c : children) all_refs += c.size();
+        uint64_t units_left = item.progress_units;
+        for (int o = 7; o >= 0; --o) {
+            const std::vector<SpatialRef>& refs = children[size_t(o)];
+            const uint64_t units = o == 7 ? 0 : PartitionProgress::share_of(item.progress_units, refs.size(), all_refs);
+            units_left -= units;
             work.push_back({first + uint32_t(o), item.depth + 1, octant_box(item.box, centre, o),
-                            std::vector<SpatialRef>(children[size_t(o)].begin(), children[size_t(o)].end())});
+                            std::vector<SpatialRef>(refs.begin(), refs.end()), units});
+        }
+        work[work.size() - 8].progress_units = units_left;
         item.refs = {};
     }
     return out;
@@ -126,7 +138,7 @@ Subtree build_subtree(const Mesh& mesh, const OctreeConfig& config, float pad, W
 
 }  // namespace
 
-Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config) {
+Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config, WorkProgress* shared_progress) {
     const auto start = std::chrono::steady_clock::now();
     if (auto err = validate(config)) return *err;
     Octree tree;
@@ -145,33 +157,40 @@ Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config) {
     // stays within does not stop one part of it.
     std::vector<WorkItem> deferred;
     const size_t defer_below = std::max<size_t>(4096, st.triangles / 64);
-    const Subtree top = build_subtree(mesh, config, pad, WorkItem{0, 0, tree.bounds, root_references(mesh, pad)},
-                                      budget, defer_below, &deferred);
+    start_stage(shared_progress, PartitionProgress::kTotal);
+    PartitionProgress top_progress(shared_progress);
+    const Subtree top = build_subtree(mesh, config, pad,
+                                      WorkItem{0, 0, tree.bounds, root_references(mesh, pad), PartitionProgress::kTotal},
+                                      budget, defer_below, &deferred, top_progress);
+    top_progress.flush();
     tree.nodes = top.nodes;
     tree.prim_ids = top.prim_ids;
     counts.add(top.counts);
     std::vector<uint32_t> placeholders;
     for (const WorkItem& w : deferred) placeholders.push_back(w.node);
     std::vector<Subtree> subtrees(deferred.size());
-    auto build_shares = [&](const std::vector<size_t>& which, double budget_left) {
+    // A subtree built again was counted already: its second build only checks for a cancel.
+    auto build_shares = [&](const std::vector<size_t>& which, double budget_left, bool count_progress) {
         double refs = 0;
         for (size_t k : which) refs += double(deferred[k].refs.size());
         tbb::parallel_for(size_t(0), which.size(), [&](size_t i) {
             const WorkItem& item = deferred[which[i]];
             const double share = budget_left * double(item.refs.size()) / std::max(refs, 1.0);
-            subtrees[which[i]] = build_subtree(mesh, config, pad, item, std::max(share, 1.0), 0, nullptr);
+            PartitionProgress progress(shared_progress, count_progress);
+            subtrees[which[i]] = build_subtree(mesh, config, pad, item, std::max(share, 1.0), 0, nullptr, progress);
         });
     };
     std::vector<size_t> all(deferred.size());
     for (size_t k = 0; k < all.size(); ++k) all[k] = k;
-    build_shares(all, std::max(0.0, budget - double(top.prim_ids.size())));
+    build_shares(all, std::max(0.0, budget - double(top.prim_ids.size())), true);
     std::vector<size_t> again;
     double used = double(top.prim_ids.size());
     for (size_t k = 0; k < subtrees.size(); ++k) {
         if (subtrees[k].counts.budget_hit) again.push_back(k);
         else used += double(subtrees[k].prim_ids.size());
     }
-    if (!again.empty()) build_shares(again, std::max(0.0, budget - used));
+    if (!again.empty() && !cancelled(shared_progress)) build_shares(again, std::max(0.0, budget - used), false);
+    if (cancelled(shared_progress)) return WorkProgress::cancelled_error();
     for (size_t k = 0; k < deferred.size(); ++k) {
         tree.splice(placeholders[k], subtrees[k].nodes, subtrees[k].prim_ids);
         counts.add(subtrees[k].counts);

@@ -93,7 +93,10 @@ inline Aabb octant_box(const Aabb& box, Vec3 centre, int o) {
     return b;
 }
 
-Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config);
+/// Builds the octree (its top on one thread, subtrees in parallel, as the KD tree).
+/// `progress` (PartitionProgress's units) may cancel the build: it then returns
+/// WorkProgress::cancelled_error().
+Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config, WorkProgress* progress = nullptr);
 
 // ---------------------------------------------------------------------------
 // Front-to-back traversal.

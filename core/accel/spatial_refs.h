@@ -17,6 +17,7 @@
 #include "core/geometry/mesh.h"
 #include "core/geometry/triangle.h"
 #include "core/geometry/triangle_box.h"
+#include "core/util/work_progress.h"
 
 namespace accelviz {
 
@@ -47,6 +48,42 @@ std::vector<SpatialRef> root_references(const Mesh& mesh, float pad);
 /// Exact: the box reaches the child, the triangle does not).
 std::optional<SpatialRef> clip_reference(const SpatialRef& ref, const Mesh& mesh, const Aabb& child, float pad,
                                          ClipMode mode);
+
+/// A space-partitioning build's progress, counted so that it adds up whatever the
+/// references' duplication: the root holds kTotal units, a split hands a node's
+/// units to its children in proportion to their references, and a leaf's units are
+/// done. One per thread of the build: leaves are tallied here and reach the shared
+/// WorkProgress in steps of 1/1024 of the total (an atomic add per step, not per leaf).
+class PartitionProgress {
+public:
+    static constexpr uint64_t kTotal = uint64_t(1) << 40;
+    /// `counts` false: only cancellation is checked (work counted already, redone).
+    explicit PartitionProgress(WorkProgress* shared, bool counts = true) : shared_(shared), counts_(counts) {}
+    ~PartitionProgress() { flush(); }
+    PartitionProgress(const PartitionProgress&) = delete;
+    PartitionProgress& operator=(const PartitionProgress&) = delete;
+
+    bool cancelled() const { return accelviz::cancelled(shared_); }
+    void leaf_done(uint64_t units) {
+        if (!counts_) return;
+        tally_ += units;
+        if (tally_ >= kTotal / 1024) flush();
+    }
+    void flush() {
+        advance(shared_, tally_);
+        tally_ = 0;
+    }
+    /// The units of a child holding `child_refs` of the `all_refs` references its
+    /// parent's children hold (give the last child what the others leave).
+    static uint64_t share_of(uint64_t units, size_t child_refs, size_t all_refs) {
+        return all_refs == 0 ? 0 : uint64_t(double(units) * (double(child_refs) / double(all_refs)));
+    }
+
+private:
+    WorkProgress* shared_;
+    bool counts_;
+    uint64_t tally_ = 0;
+};
 
 /// What the builds of both space-partitioning trees report (KD tree, octree).
 struct PartitionStats {

@@ -159,7 +159,7 @@ struct ChunkReferences {
 
 }  // namespace
 
-Expected<UniformGrid> build_uniform_grid(const Mesh& mesh, const GridConfig& config) {
+Expected<UniformGrid> build_uniform_grid(const Mesh& mesh, const GridConfig& config, WorkProgress* progress) {
     const auto start = std::chrono::steady_clock::now();
     if (auto err = validate(config)) return *err;
     UniformGrid g;
@@ -203,7 +203,9 @@ Expected<UniformGrid> build_uniform_grid(const Mesh& mesh, const GridConfig& con
     const std::array<AxisCells, 3> axis_cells = {AxisCells(g, 0), AxisCells(g, 1), AxisCells(g, 2)};
     std::atomic<uint64_t> references{0};
     std::atomic<bool> too_many{false};
+    start_stage(progress, 2 * uint64_t(chunk_count));  // each chunk once per pass
     tbb::parallel_for(uint32_t(0), chunk_count, [&](uint32_t c) {
+        if (cancelled(progress)) return;
         ChunkReferences& chunk = chunks[c];
         const uint32_t first = c * kTrianglesPerChunk, end = std::min(st.triangles, first + kTrianglesPerChunk);
         chunk.first_of.reserve(end - first + 1);
@@ -234,7 +236,9 @@ Expected<UniformGrid> build_uniform_grid(const Mesh& mesh, const GridConfig& con
         }
         chunk.first_of.push_back(uint32_t(chunk.cells.size()));
         references += chunk.cells.size();
+        advance(progress, 1);
     });
+    if (cancelled(progress)) return WorkProgress::cancelled_error();
     if (too_many || references > config.max_references) {
         std::ostringstream s;
         s << "grid needs more than " << config.max_references << " references (" << cells
@@ -250,6 +254,8 @@ Expected<UniformGrid> build_uniform_grid(const Mesh& mesh, const GridConfig& con
     g.cell_start[cells] = uint32_t(references.load());
     g.tri_ids.resize(references.load());
     for (uint32_t c = chunk_count; c-- > 0;) {
+        if (cancelled(progress)) return WorkProgress::cancelled_error();
+        advance(progress, 1);
         const ChunkReferences& chunk = chunks[c];
         for (uint32_t t = uint32_t(chunk.first_of.size()) - 1; t-- > 0;)
             for (uint32_t r = chunk.first_of[t + 1]; r-- > chunk.first_of[t];)

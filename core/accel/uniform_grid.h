@@ -22,6 +22,7 @@
 #include "core/accel/accel_type.h"
 #include "core/accel/cell_hits.h"
 #include "core/geometry/mesh.h"
+#include "core/util/work_progress.h"
 #include "core/util/expected.h"
 #include "core/util/large_array.h"
 
@@ -116,8 +117,11 @@ private:
     int locate(int axis, float x, float d) const;
 };
 
-/// Builds the grid. Errors: the reference budget (config.max_references) exceeded.
-Expected<UniformGrid> build_uniform_grid(const Mesh& mesh, const GridConfig& config);
+/// Builds the grid. Errors: the reference budget (config.max_references) exceeded;
+/// WorkProgress::cancelled_error() once `progress` (units: chunks of triangles per
+/// pass) is cancelled.
+Expected<UniformGrid> build_uniform_grid(const Mesh& mesh, const GridConfig& config,
+                                         WorkProgress* progress = nullptr);
 
 // ---------------------------------------------------------------------------
 // The 3D-DDA walk.

@@ -327,12 +327,14 @@ struct ObjScan {
 /// The validation pass over `v` and `f` lines, piece by piece in parallel. It stops
 /// at the file's first problem, "PATH:LINE: reason", exactly as one pass from the
 /// top would.
-Expected<ObjScan> scan_obj(std::string& text, const std::string& path) {
+Expected<ObjScan> scan_obj(std::string& text, const std::string& path, WorkProgress* progress) {
     ObjScan scan;
     scan.pieces = split_into_pieces(text);
     std::vector<ObjPiece>& pieces = scan.pieces;
     tbb::parallel_for(size_t(0), pieces.size(), [&](size_t k) {
         ObjPiece& piece = pieces[k];
+        if (cancelled(progress)) return;
+        advance(progress, piece.end - piece.begin);
         for_each_line(text, piece.begin, piece.end, [&](std::string_view line) {
             ++piece.lines;
             if (classify(line) == ObjLine::Vertex) ++piece.vertices;
@@ -342,7 +344,12 @@ Expected<ObjScan> scan_obj(std::string& text, const std::string& path) {
         pieces[k].lines_before = pieces[k - 1].lines_before + pieces[k - 1].lines;
         pieces[k].vertices_before = pieces[k - 1].vertices_before + pieces[k - 1].vertices;
     }
-    tbb::parallel_for(size_t(0), pieces.size(), [&](size_t k) { scan_piece(text, pieces[k]); });
+    tbb::parallel_for(size_t(0), pieces.size(), [&](size_t k) {
+        if (cancelled(progress)) return;
+        advance(progress, pieces[k].end - pieces[k].begin);
+        scan_piece(text, pieces[k]);
+    });
+    if (cancelled(progress)) return WorkProgress::cancelled_error();
 
     size_t error_line = 0;
     std::string error_reason;
@@ -440,11 +447,13 @@ std::string parse_piece(const std::string& text, const ObjPiece& piece, size_t v
     return {};
 }
 
-Expected<Mesh> parse_obj_unguarded(std::string bytes, const std::string& path) {
+/// `progress`: three passes over the bytes (count, check, parse), a piece at a time.
+Expected<Mesh> parse_obj_unguarded(std::string bytes, const std::string& path, WorkProgress* progress) {
     // A UTF-8 byte-order mark (Windows tools write one) is not part of the first line.
     if (bytes.starts_with("\xEF\xBB\xBF")) bytes.erase(0, 3);
 
-    auto scan = scan_obj(bytes, path);
+    start_stage(progress, 3 * uint64_t(bytes.size()));
+    auto scan = scan_obj(bytes, path, progress);
     if (!scan) return Error{scan.error()};
     if (scan->triangle_count == 0) {
         if (bytes.find_first_not_of(" \t\r\n") == std::string::npos) return located_error(path, 0, "empty file (no triangles)");
@@ -466,8 +475,12 @@ Expected<Mesh> parse_obj_unguarded(std::string bytes, const std::string& path) {
     mesh.positions.resize(scan->vertex_count);
     mesh.indices.resize(scan->triangle_count);
     std::vector<std::string> problems(pieces.size());
-    tbb::parallel_for(size_t(0), pieces.size(),
-                      [&](size_t k) { problems[k] = parse_piece(bytes, pieces[k], scan->vertex_count, mesh); });
+    tbb::parallel_for(size_t(0), pieces.size(), [&](size_t k) {
+        if (cancelled(progress)) return;
+        problems[k] = parse_piece(bytes, pieces[k], scan->vertex_count, mesh);
+        advance(progress, pieces[k].end - pieces[k].begin);
+    });
+    if (cancelled(progress)) return WorkProgress::cancelled_error();
     for (const std::string& problem : problems)
         if (!problem.empty()) return located_error(path, 0, problem);
     return mesh;
@@ -487,16 +500,17 @@ Expected<Mesh> guarded(const std::string& path, Load&& load) {
     }
 }
 
-Expected<Mesh> load_obj(const std::string& path) {
+Expected<Mesh> load_obj(const std::string& path, WorkProgress* progress) {
     return guarded(path, [&]() -> Expected<Mesh> {
         auto bytes = read_whole_file(path);
         if (!bytes) return Error{bytes.error()};
-        return parse_obj_unguarded(std::move(*bytes), path);
+        if (cancelled(progress)) return WorkProgress::cancelled_error();
+        return parse_obj_unguarded(std::move(*bytes), path, progress);
     });
 }
 
 Expected<Mesh> parse_obj(std::string text, const std::string& name) {
-    return guarded(name, [&]() -> Expected<Mesh> { return parse_obj_unguarded(std::move(text), name); });
+    return guarded(name, [&]() -> Expected<Mesh> { return parse_obj_unguarded(std::move(text), name, nullptr); });
 }
 
 }  // namespace accelviz

@@ -53,28 +53,29 @@ MeshCache default_mesh_cache() { return process_mesh_cache; }
 
 Expected<Mesh> load_scene(const std::string& source) { return load_scene(source, default_mesh_cache()); }
 
-Expected<Mesh> load_obj_cached(const std::string& path, const std::filesystem::path& cache_dir, bool* from_cache) {
+Expected<Mesh> load_obj_cached(const std::string& path, const std::filesystem::path& cache_dir, bool* from_cache,
+                               WorkProgress* progress) {
     if (from_cache) *from_cache = false;
     const std::optional<ObjKey> key = obj_key(path);
-    if (!key) return load_obj(path);  // its message says what is wrong with the file
+    if (!key) return load_obj(path, progress);  // its message says what is wrong with the file
     const std::filesystem::path file = mesh_cache_file(cache_dir, *key);
     if (std::optional<Mesh> cached = read_mesh_cache(file, *key, path)) {
         if (from_cache) *from_cache = true;
         return std::move(*cached);
     }
-    Expected<Mesh> mesh = load_obj(path);
+    Expected<Mesh> mesh = load_obj(path, progress);
     if (mesh) write_mesh_cache(file, *key, *mesh);
     return mesh;
 }
 
-Expected<Mesh> load_scene(const std::string& source, MeshCache cache) {
+Expected<Mesh> load_scene(const std::string& source, MeshCache cache, WorkProgress* progress) {
     constexpr std::string_view kBuiltinPrefix = "builtin:";
     if (source.empty()) return Error{"no scene given (want an OBJ file or builtin:NAME)"};
     const std::optional<std::filesystem::path> cache_dir =
         cache == MeshCache::Use ? default_mesh_cache_dir() : std::nullopt;
     Expected<Mesh> mesh = source.starts_with(kBuiltinPrefix) ? make_builtin(source.substr(kBuiltinPrefix.size()))
-                          : cache_dir                        ? load_obj_cached(source, *cache_dir)
-                                                             : load_obj(source);
+                          : cache_dir                        ? load_obj_cached(source, *cache_dir, nullptr, progress)
+                                                             : load_obj(source, progress);
     if (!mesh) return mesh;
     if (auto err = check_drawable(*mesh, source)) return *err;
     return mesh;

@@ -12,6 +12,7 @@
 
 #include "core/geometry/mesh.h"
 #include "core/util/expected.h"
+#include "core/util/work_progress.h"
 
 namespace accelviz {
 
@@ -24,8 +25,9 @@ namespace accelviz {
 /// "PATH:LINE: reason": missing, unreadable (e.g. a directory), empty (no
 /// triangles), malformed (a bad or missing number or a non-finite coordinate in a
 /// `v` line; a face index that is zero, not an integer or out of range; a face
-/// with fewer than 3 vertices). Never throws.
-Expected<Mesh> load_obj(const std::string& path);
+/// with fewer than 3 vertices). Never throws. `progress` counts three passes over
+/// the file's bytes and may cancel the load (WorkProgress::cancelled_error()).
+Expected<Mesh> load_obj(const std::string& path, WorkProgress* progress = nullptr);
 
 /// load_obj of OBJ text held in memory; `name` stands for the path in messages.
 Expected<Mesh> parse_obj(std::string text, const std::string& name);
@@ -56,7 +58,9 @@ MeshCache default_mesh_cache();
 /// load_obj_cached). Errors: an empty source, what those report, and a mesh the
 /// program cannot show faithfully: every triangle of zero area (nothing to draw), a
 /// coordinate beyond ±kMaxCoordinate or a scene less than kMinSceneSize across (mesh.h).
-Expected<Mesh> load_scene(const std::string& source, MeshCache cache);
+/// `progress` follows (and may cancel) an OBJ's parse; a cached copy or a built-in
+/// scene is made without a check.
+Expected<Mesh> load_scene(const std::string& source, MeshCache cache, WorkProgress* progress = nullptr);
 /// load_scene with default_mesh_cache().
 Expected<Mesh> load_scene(const std::string& source);
 
@@ -64,7 +68,7 @@ Expected<Mesh> load_scene(const std::string& source);
 /// the file if there is one (`*from_cache` says so), else the parsed file, whose
 /// copy is then written.
 Expected<Mesh> load_obj_cached(const std::string& path, const std::filesystem::path& cache_dir,
-                               bool* from_cache = nullptr);
+                               bool* from_cache = nullptr, WorkProgress* progress = nullptr);
 
 /// "k of N triangles have zero area ...", for stderr and the Stats panel (none: nullopt).
 std::optional<std::string> degenerate_note(const Mesh& mesh);

@@ -478,6 +478,36 @@ TEST(WindowClicks, StepperPicksTheRayOfTheClickedPixel) {
     });
 }
 
+/// A long build shows its progress with a Cancel button; Cancel (or Esc) stops it and
+/// the scene on screen stays with the structure it had, which the panels show again.
+TEST(WindowClicks, CancelStopsALongBuildAndKeepsTheScene) {
+    // 400,000 random triangles: a KD tree or octree takes seconds, a BVH a fraction.
+    const std::string scene = "builtin:soup?n=400000";
+    Window w;
+    w.start(scene);
+    ASSERT_EQ(w.settled_state()["structure"]["type"], "bvh");
+    // Without the overlay's 100,000s of boxes a software-rendered frame is quick, so
+    // the clicks land while the build runs.
+    w.toggle("Show structure", "/overlay/show_structure");
+    for (const std::string& structure : {"kd", "octree"}) {
+        w.pick("Structure", structure, kCombo);
+        const Widget cancel = w.visible("Cancel", "##loading");
+        const json during = w.snapshot();
+        EXPECT_TRUE(during["loading"].get<bool>());
+        EXPECT_EQ(during["state"]["structure"]["type"], structure);
+        if (structure == "kd") w.click(cancel);
+        else w.key("Escape");
+        const json after = w.wait_for("the build cancelled", [](const json& s) {
+            return !s["loading"].get<bool>() && !s["message"].get<std::string>().empty();
+        });
+        EXPECT_EQ(after["message"].get<std::string>().rfind("Cancelled", 0), 0u) << after["message"];
+        EXPECT_EQ(after["shown"]["scene"], scene);
+        EXPECT_EQ(after["shown"]["structure"], "bvh") << "cancelling " << structure;
+        EXPECT_EQ(after["state"]["structure"]["type"], "bvh") << "the panels show what is on screen";
+        w.click("OK", "##message");
+    }
+}
+
 /// Keys sent in one burst, all between two frames, as a presentation clicker or a
 /// fast typist on a slow frame sends them: ImGui 1.86 reads the keyboard once a
 /// frame, and without the window's keyboard queue two PageDowns counted as one and

@@ -1,0 +1,54 @@
+#pragma once
+/// How far a long load or build has got, and whether anyone still wants it.
+///
+/// Shared by the thread doing the work and the one watching it (the window's
+/// progress bar and Cancel button). The work counts units done out of a total it
+/// sets (bytes of a file, triangles placed in leaves, ...); the watcher reads the
+/// fraction and may ask the work to stop. Work that sees cancelled() stops at its
+/// next check, gives up what it made and returns a WorkProgress::cancelled_error().
+/// Every function that takes one accepts a null pointer: no one is watching.
+
+#include <algorithm>
+#include <atomic>
+#include <cstdint>
+
+#include "core/util/expected.h"
+
+namespace accelviz {
+
+class WorkProgress {
+public:
+    /// Starts counting a new stage of `total` units (loading, then building).
+    void start_stage(uint64_t total) {
+        done_.store(0, std::memory_order_relaxed);
+        total_.store(total, std::memory_order_relaxed);
+    }
+    void advance(uint64_t units) { done_.fetch_add(units, std::memory_order_relaxed); }
+    /// Done / total of the current stage, in [0, 1]; 0 before a stage has a total.
+    double fraction() const {
+        const uint64_t total = total_.load(std::memory_order_relaxed);
+        if (total == 0) return 0.0;
+        return std::min(1.0, double(done_.load(std::memory_order_relaxed)) / double(total));
+    }
+    void cancel() { cancelled_.store(true, std::memory_order_relaxed); }
+    bool cancelled() const { return cancelled_.load(std::memory_order_relaxed); }
+
+    /// What cancelled work returns.
+    static Error cancelled_error() { return Error{"cancelled"}; }
+
+private:
+    std::atomic<uint64_t> done_{0};
+    std::atomic<uint64_t> total_{0};
+    std::atomic<bool> cancelled_{false};
+};
+
+/// The null-tolerant forms the builders call.
+inline bool cancelled(const WorkProgress* progress) { return progress && progress->cancelled(); }
+inline void advance(WorkProgress* progress, uint64_t units) {
+    if (progress) progress->advance(units);
+}
+inline void start_stage(WorkProgress* progress, uint64_t total) {
+    if (progress) progress->start_stage(total);
+}
+
+}  // namespace accelviz

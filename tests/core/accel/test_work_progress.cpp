@@ -1,0 +1,113 @@
+// Progress and cancel of loads and builds (what the window's progress bar and
+// Cancel button use): every build counts its stage to the end, a cancelled build
+// or load stops and says "cancelled", and watching a build does not change it.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "accel/accel_test_support.h"
+#include "core/accel/factory.h"
+#include "core/geometry/scene.h"
+#include "core/util/work_progress.h"
+
+using namespace accelviz;
+
+namespace {
+
+const std::vector<AccelType> kBuiltTypes = {AccelType::Bvh, AccelType::Grid, AccelType::Kd, AccelType::Octree};
+
+Mesh soup(int n) {
+    auto mesh = load_scene("builtin:soup?n=" + std::to_string(n) + "&seed=3");
+    if (!mesh) throw std::runtime_error(mesh.error());
+    return std::move(*mesh);
+}
+
+AccelConfig config_of(AccelType type) {
+    AccelConfig config;
+    config.type = type;
+    return config;
+}
+
+bool is_cancelled(const Expected<std::shared_ptr<const Accelerator>>& built) {
+    return !built && built.error() == WorkProgress::cancelled_error().message;
+}
+
+TEST(WorkProgress, EveryBuildCountsItsStageToTheEnd) {
+    const Mesh mesh = soup(30000);  // big enough for the parallel parts of every build
+    for (AccelType type : kBuiltTypes) {
+        WorkProgress progress;
+        const auto built = build_accelerator(mesh, config_of(type), &progress);
+        ASSERT_TRUE(built) << built.error();
+        // The units add up to the total whatever the duplication (KD tree, octree).
+        EXPECT_NEAR(progress.fraction(), 1.0, 1e-6) << to_string(type);
+        EXPECT_FALSE(progress.cancelled());
+    }
+}
+
+TEST(WorkProgress, ACancelledBuildStopsAndSaysSo) {
+    const Mesh mesh = soup(20000);
+    for (AccelType type : kBuiltTypes) {
+        WorkProgress progress;
+        progress.cancel();
+        const auto built = build_accelerator(mesh, config_of(type), &progress);
+        EXPECT_TRUE(is_cancelled(built)) << to_string(type) << ": " << (built ? "built" : built.error());
+    }
+}
+
+TEST(WorkProgress, ABuildCancelledWhileRunningStops) {
+    // The KD tree over 200k triangles takes about a second here: cancelled once a
+    // tenth is done, it must give up rather than finish.
+    const Mesh mesh = soup(200000);
+    WorkProgress progress;
+    Expected<std::shared_ptr<const Accelerator>> built = Error{"not run"};
+    std::thread worker([&] { built = build_accelerator(mesh, config_of(AccelType::Kd), &progress); });
+    while (progress.fraction() < 0.1) std::this_thread::yield();
+    progress.cancel();
+    worker.join();
+    EXPECT_TRUE(is_cancelled(built)) << (built ? "built" : built.error());
+}
+
+TEST(WorkProgress, WatchingABuildDoesNotChangeIt) {
+    const Mesh mesh = soup(20000);
+    const std::vector<Ray> rays = test::make_test_rays(mesh, 2000, 17);
+    for (AccelType type : kBuiltTypes) {
+        WorkProgress progress;
+        const auto watched = build_accelerator(mesh, config_of(type), &progress);
+        const auto plain = build_accelerator(mesh, config_of(type));
+        ASSERT_TRUE(watched && plain);
+        nlohmann::json a = (*watched)->stats(), b = (*plain)->stats();
+        a.erase("build_ms");
+        b.erase("build_ms");
+        EXPECT_EQ(a, b) << to_string(type);
+        for (const Ray& ray : rays) {
+            const Hit x = (*watched)->intersect_closest(ray), y = (*plain)->intersect_closest(ray);
+            ASSERT_TRUE(test::same_hit(x, y)) << to_string(type);
+        }
+    }
+}
+
+TEST(WorkProgress, AnObjLoadCountsItsBytesAndCanBeCancelled) {
+    const auto path = std::filesystem::temp_directory_path() / "accelviz_progress_test.obj";
+    {
+        std::ofstream out(path);
+        for (int i = 0; i < 3000; ++i)
+            out << "v " << i << " 0 0\nv " << i << " 1 0\nv " << i << " 0 1\nf " << 3 * i + 1 << ' ' << 3 * i + 2
+                << ' ' << 3 * i + 3 << '\n';
+    }
+    WorkProgress progress;
+    const auto mesh = load_obj(path.string(), &progress);
+    ASSERT_TRUE(mesh) << mesh.error();
+    EXPECT_EQ(mesh->triangle_count(), 3000u);
+    EXPECT_NEAR(progress.fraction(), 1.0, 1e-9);
+
+    WorkProgress cancelled;
+    cancelled.cancel();
+    const auto stopped = load_obj(path.string(), &cancelled);
+    ASSERT_FALSE(stopped);
+    EXPECT_EQ(stopped.error(), WorkProgress::cancelled_error().message);
+    std::filesystem::remove(path);
+}
+
+}  // namespace
