@@ -18,5 +18,6 @@ struct Command {
 Command register_render(CLI::App& app);
 Command register_trace(CLI::App& app);
 Command register_bench(CLI::App& app);
+Command register_bench_view(CLI::App& app);
 
 }  // namespace accelviz::cli

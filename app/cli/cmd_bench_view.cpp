@@ -1,0 +1,191 @@
+// `accelviz bench-view SCENE [--frames N] [structure, overlay and camera flags] [--json]`:
+// how fast the window draws. The window's own frame code (draw_frame, through
+// OSMesa, as `render --view gui|structure` uses it) draws N frames while the camera
+// orbits the scene once around its target, as a lecturer turning it would; each
+// frame is timed to glFinish. Prints the median, 90th percentile and worst frame,
+// the first frame (mesh and overlay uploads) apart, and the process's peak memory.
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <numbers>
+
+#include <nlohmann/json.hpp>
+
+#include "app/cli/accel_flags.h"
+#include "app/cli/camera_flags.h"
+#include "app/cli/commands.h"
+#include "app/cli/flag_checks.h"
+#include "app/cli/preset_flag.h"
+#include "app/cli/progress.h"
+#include "app/cli/scene_input.h"
+#include "app/gui/camera_control.h"
+#include "app/gui/headless.h"
+#include "app/gui/scene_loader.h"
+#include "app/gui/session.h"
+#include "core/accel/memory_budget.h"
+
+namespace accelviz::cli {
+namespace {
+
+struct BenchViewOptions {
+    std::string scene;
+    PresetFlag preset;
+    int frames = 60;
+    int width = 1280, height = 720;
+    std::string view = "gui";
+    std::string overlay;  ///< "on" | "off" | "" (the preset's or the window's default)
+    int max_boxes = -1;   ///< -1: the preset's or the window's default
+    bool json = false;
+    CameraFlags camera;
+    AccelConfig accel;
+};
+
+int fail(const std::string& message) {
+    std::cerr << "accelviz bench-view: " << message << "\n";
+    return 1;
+}
+
+double ms_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// The q-quantile (0..1) of `values` by the nearest rank.
+double quantile(std::vector<double> values, double q) {
+    std::sort(values.begin(), values.end());
+    const size_t rank = size_t(std::ceil(q * double(values.size())));
+    return values[std::clamp<size_t>(rank, 1, values.size()) - 1];
+}
+
+/// Peak resident memory of the process so far, in bytes.
+uint64_t peak_memory_bytes() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return uint64_t(usage.ru_maxrss) * 1024;  // Linux reports KiB
+}
+
+int run_bench_view(const BenchViewOptions& opt) {
+    if (!opt.preset.error.empty()) return fail("--preset: " + opt.preset.error);
+    if (auto err = validate(opt.accel)) return fail(err->message);
+    AppState state = opt.preset.state.value_or(AppState{});
+    if (!opt.scene.empty()) state.scene = opt.scene;
+    else if (!opt.preset.state) return fail("no scene: give SCENE (an OBJ file or builtin:NAME) or --preset FILE");
+    state.accel = opt.accel;
+    if (!opt.overlay.empty()) state.overlay.show_structure = opt.overlay == "on";
+    if (opt.max_boxes >= 0) state.overlay.max_boxes = size_t(opt.max_boxes);
+    const WindowView view = *kWindowViewNames.parse(opt.view);  // CLI11 checked the name
+
+    const auto start = std::chrono::steady_clock::now();
+    LoadResult loaded = [&] {
+        const StepProgress progress("bench-view", "loading and building");
+        return load_and_build(state.scene, state.accel);
+    }();
+    if (!loaded) return fail(loaded.error());
+    const double load_and_build_ms = ms_since(start);
+    print_scene_note((*loaded)->degenerate_note, state.scene, "bench-view");
+    print_memory_budget_note(*(*loaded)->accel, "bench-view");
+    auto params = state.camera ? opt.camera.resolve(*state.camera) : opt.camera.resolve((*loaded)->bounds);
+    if (!params) return fail(params.error());
+    state.camera = *params;
+    const bool framed_by_window = !opt.camera.any() && !opt.preset.state;  // as the window frames a new scene
+
+    auto app = HeadlessApp::create(opt.width, opt.height);
+    if (!app) return fail(app.error());
+    Session& session = (*app)->session();
+    const size_t triangles = (*loaded)->mesh->triangle_count();
+    session.set_scene(state, std::move(*loaded), !framed_by_window);
+    FrameInput input;
+    input.draw_ui = view != WindowView::Structure;
+
+    // The first frame uploads the mesh and the overlay; later ones only draw. The
+    // orbit: one turn about the target in `frames` steps (yaw only: the camera never rolls).
+    auto timed_frame = [&] {
+        const auto frame_start = std::chrono::steady_clock::now();
+        (*app)->draw(state, input);
+        return ms_since(frame_start);
+    };
+    const double first_ms = timed_frame();
+    std::vector<double> frame_ms;
+    frame_ms.reserve(size_t(opt.frames));
+    for (int i = 0; i < opt.frames; ++i) {
+        orbit(*state.camera, 2.0 * std::numbers::pi / opt.frames, 0.0);
+        frame_ms.push_back(timed_frame());
+    }
+    const double median = quantile(frame_ms, 0.5), p90 = quantile(frame_ms, 0.9),
+                 worst = *std::max_element(frame_ms.begin(), frame_ms.end());
+    const size_t boxes = session.overlay.boxes.size();
+    const uint64_t peak = peak_memory_bytes();
+
+    if (opt.json) {
+        nlohmann::json out = {{"scene", state.scene},
+                              {"triangles", triangles},
+                              {"structure", std::string(to_string(state.accel.type))},
+                              {"view", opt.view},
+                              {"width", opt.width},
+                              {"height", opt.height},
+                              {"frames", opt.frames},
+                              {"overlay", state.overlay.show_structure},
+                              {"overlay_boxes", boxes},
+                              {"load_and_build_ms", load_and_build_ms},
+                              {"first_frame_ms", first_ms},
+                              {"median_frame_ms", median},
+                              {"p90_frame_ms", p90},
+                              {"worst_frame_ms", worst},
+                              {"frames_per_s", median > 0 ? 1000.0 / median : 0.0},
+                              {"peak_memory_bytes", peak},
+                              {"gl", (*app)->gl_description()}};
+        std::cout << out.dump(2) << "\n";
+        return 0;
+    }
+    std::printf("scene      %s (%zu triangles), %s, %s view %dx%d, overlay %s (%zu boxes)\n", state.scene.c_str(),
+                triangles, std::string(to_string(state.accel.type)).c_str(), opt.view.c_str(), opt.width, opt.height,
+                state.overlay.show_structure ? "on" : "off", boxes);
+    std::printf("load+build %.1f ms\n", load_and_build_ms);
+    std::printf("frames     %d while orbiting once: median %.1f ms (%.1f frames/s), 90%% %.1f ms, worst %.1f ms\n",
+                opt.frames, median, median > 0 ? 1000.0 / median : 0.0, p90, worst);
+    std::printf("first      %.1f ms (uploads the mesh and overlay)\n", first_ms);
+    std::printf("peak mem   %s\n", format_bytes(peak).c_str());
+    std::printf("gl         %s\n", (*app)->gl_description().c_str());
+    return 0;
+}
+
+}  // namespace
+
+Command register_bench_view(CLI::App& app) {
+    auto opt = std::make_shared<BenchViewOptions>();
+    CLI::App* sub = app.add_subcommand(
+        "bench-view", "Time the window's 3D view: draw frames headlessly (OSMesa, the window's own code) while the "
+                      "camera orbits the scene once; print median, 90th-percentile and worst frame times and peak memory");
+    sub->add_option("scene", opt->scene, "OBJ file, or builtin:NAME; optional with --preset");
+    add_preset_flag(*sub, opt->preset, opt->accel,
+                    "Start from this saved window state (a JSON file, or a shipped preset's name): its scene, "
+                    "structure, camera, overlay and view. SCENE and the flags given replace its values");
+    sub->add_option("--frames", opt->frames, "Frames timed while the camera turns once around its target")
+        ->check(whole_number(2, 100000))
+        ->capture_default_str();
+    sub->add_option("--width", opt->width, "Frame width in pixels")->check(whole_number(16, 8192))->capture_default_str();
+    sub->add_option("--height", opt->height, "Frame height in pixels")
+        ->check(whole_number(16, 8192))
+        ->capture_default_str();
+    sub->add_option("--view", opt->view,
+                    "gui (the whole window, panels included) | structure (the 3D view alone)")
+        ->check(CLI::IsMember(std::vector<std::string>{"gui", "structure"}))
+        ->capture_default_str();
+    sub->add_option("--overlay", opt->overlay,
+                    "on | off: draw the structure's boxes, cells or planes (default: on, or the preset's)")
+        ->check(CLI::IsMember(std::vector<std::string>{"on", "off"}));
+    sub->add_option("--max-boxes", opt->max_boxes,
+                    "The overlay's box budget: deeper levels are left out beyond it (0 = no limit; default "
+                    "200000, or the preset's)")
+        ->check(whole_number(0, INT32_MAX, ">= 0"));
+    sub->add_flag("--json", opt->json, "Print one JSON object instead of the table");
+    opt->camera.add_to(*sub);
+    add_accel_flags(*sub, opt->accel);
+    return {sub, [opt] { return run_bench_view(*opt); }};
+}
+
+}  // namespace accelviz::cli
