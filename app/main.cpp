@@ -73,7 +73,9 @@ int main(int argc, char** argv) {
             std::cerr << "accelviz: " << state.error() << "\n";
             return 1;
         }
-        return accelviz::run_window(std::move(*state), window->preset.state ? window->preset.path : "");
+        const bool first_preset = window->lecture && window->scene.empty() && !window->preset.state;
+        return accelviz::run_window(std::move(*state), window->preset.state ? window->preset.path : "", window->lecture,
+                                    first_preset);
     } catch (const std::exception& e) {
         std::cerr << "accelviz: " << e.what() << "\n";
         return 1;

@@ -18,6 +18,10 @@ std::shared_ptr<WindowOptions> add_window_flags(CLI::App& app, const std::string
     add_accel_flags(app, opt->accel);
     opt->accel.type = AppState{}.accel.type;  // the window's default structure (add_accel_flags sets the commands')
     opt->camera.add_to(app);
+    app.add_flag("--lecture", opt->lecture,
+                 "Open in lecture mode: full screen, no panels, text at projector scale, the preset's number and "
+                 "title in a caption bar (C hides it); PageDown / PageUp / Home / End go through the presets, B "
+                 "blanks the screen, L leaves. Without SCENE or --preset, starts at the first preset");
     return opt;
 }
 

@@ -21,6 +21,7 @@ struct WindowOptions {
     PresetFlag preset;               ///< --preset, read while parsing (before the structure flags apply)
     AccelConfig accel = AppState{}.accel;  ///< the preset's structure with the flags given over it
     CameraFlags camera;
+    bool lecture = false;            ///< --lecture
 };
 
 /// Adds SCENE, --preset, the structure flags and the camera flags to the top-level

@@ -37,8 +37,10 @@ struct Layout {
 /// Which stepper's panel sits right of the view (one at a time).
 enum class RightPanel { None, Build, Stepper };
 
-Layout compute_layout(int width, int height, bool ui, bool split, RightPanel right_panel) {
+/// `bottom_bar`: the height of lecture mode's caption bar (instead of the panels).
+Layout compute_layout(int width, int height, bool ui, bool split, RightPanel right_panel, float bottom_bar = 0) {
     Layout layout;
+    layout.status_height = std::floor(bottom_bar);
     if (ui) {
         const float font = ImGui::GetFontSize();
         layout.sidebar_width = std::floor(std::min(19.0f * font, 0.45f * float(width)));
@@ -65,6 +67,33 @@ Layout compute_layout(int width, int height, bool ui, bool split, RightPanel rig
 constexpr ImGuiWindowFlags kFixedPanel = ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoResize |
                                          ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoCollapse |
                                          ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoBringToFrontOnFocus;
+
+// [SECTION] Lecture mode
+
+/// The UI scale of lecture mode at least (text 32 px high: a projector's back row).
+constexpr float kLectureUiScale = 2.0f;
+
+void set_lecture_mode(Session& session, bool on) {
+    session.lecture.on = on;
+    session.lecture.blank = false;
+}
+
+/// "3/12  title" of the current preset (the scene's name when none is current).
+std::string lecture_caption(Session& session) {
+    const int current = session.presets.current();
+    if (current < 0) return session.scene ? session.scene->source : std::string();
+    return std::to_string(current + 1) + "/" + std::to_string(session.presets.entries().size()) + "  " +
+           session.presets.entries()[size_t(current)].title;
+}
+
+/// The caption bar's height for a frame `width` pixels wide: the caption wrapped to it.
+float lecture_caption_height(Session& session, int width) {
+    const ImGuiStyle& style = ImGui::GetStyle();
+    const std::string text = lecture_caption(session);
+    const float wrap = std::max(1.0f, float(width) - 2.0f * style.WindowPadding.x);
+    const float text_height = ImGui::CalcTextSize(text.c_str(), nullptr, false, wrap).y;
+    return std::ceil(std::max(text_height, ImGui::GetTextLineHeight()) + 2.0f * style.WindowPadding.y);
+}
 
 // [SECTION] Input for the 3D view
 
@@ -93,6 +122,20 @@ void handle_view_input(AppState& state, Session& session, const Layout& layout) 
         // Presets in lecture order (a presentation clicker sends these keys).
         if (ImGui::IsKeyPressed(GLFW_KEY_PAGE_DOWN, false)) session.presets.step(+1, state, session);
         if (ImGui::IsKeyPressed(GLFW_KEY_PAGE_UP, false)) session.presets.step(-1, state, session);
+        // Lecture mode: L in and out; B blanks the screen, C hides the caption bar, and
+        // Home / End go to the first / last preset (unless a stepper owns them).
+        if (ImGui::IsKeyPressed(GLFW_KEY_L, false)) set_lecture_mode(session, !session.lecture.on);
+        // F12: this frame to the View panel's screenshot file (also in lecture mode, without panels).
+        if (ImGui::IsKeyPressed(GLFW_KEY_F12, false)) session.screenshot_path = session.view_panel.screenshot_path;
+        if (session.lecture.on) {
+            if (ImGui::IsKeyPressed(GLFW_KEY_B, false)) session.lecture.blank = !session.lecture.blank;
+            if (ImGui::IsKeyPressed(GLFW_KEY_C, false)) session.lecture.caption = !session.lecture.caption;
+            const int presets = int(session.presets.entries().size());
+            if (!state.stepper.open && !state.build_step.active && presets > 0) {
+                if (ImGui::IsKeyPressed(GLFW_KEY_HOME, false)) session.presets.load(0, state, session);
+                if (ImGui::IsKeyPressed(GLFW_KEY_END, false)) session.presets.load(presets - 1, state, session);
+            }
+        }
     }
     if (!state.camera || rect.empty()) return;  // a preset may have just cleared the camera
     CameraParams& camera = *state.camera;
@@ -174,6 +217,7 @@ struct FramePlan {
     Layout layout;
     RightPanel right_panel = RightPanel::None;
     bool ui = false;        ///< panels and status bar drawn
+    bool lecture = false;   ///< lecture mode: no panels; the caption bar and the view's labels
     bool split = false;     ///< raster | ray cast
     bool stepping = false;  ///< a ray is being stepped
 };
@@ -182,7 +226,8 @@ struct FramePlan {
 /// from this frame's NewFrame), and the work this frame's picture needs started.
 FramePlan plan_frame(AppState& state, Session& session, const FrameInput& input) {
     FramePlan plan;
-    plan.ui = input.draw_ui && state.view.show_ui;
+    plan.lecture = input.draw_ui && session.lecture.on;
+    plan.ui = input.draw_ui && state.view.show_ui && !plan.lecture;
     plan.split = state.view.mode == ViewMode::Split;
     const bool split = plan.split;
     // One stepper at a time: the one switched on last wins.
@@ -195,7 +240,10 @@ FramePlan plan_frame(AppState& state, Session& session, const FrameInput& input)
     session.build_stepper.update(state, session.scene, input.deterministic);
     const bool build_panel = state.build_step.active && state.accel.type == AccelType::Bvh;
     plan.right_panel = build_panel ? RightPanel::Build : state.stepper.open ? RightPanel::Stepper : RightPanel::None;
-    plan.layout = compute_layout(input.width, input.height, plan.ui, split, plan.right_panel);
+    const float caption_bar =
+        plan.lecture && session.lecture.caption && !session.lecture.blank ? lecture_caption_height(session, input.width) : 0.0f;
+    plan.layout = compute_layout(input.width, input.height, plan.ui, split, plan.lecture ? RightPanel::None : plan.right_panel,
+                                 caption_bar);
     plan.stepping = state.stepper.open && state.stepper.ray.has_value();
     const Layout& layout = plan.layout;
     if (session.frame_pending && session.scene && state.camera && !layout.gl_view.empty()) {
@@ -287,6 +335,44 @@ void draw_panels(AppState& state, Session& session, const FrameInput& input, con
     session.help_window.draw(state);
 }
 
+/// Lecture mode's text: the view's own labels (titles, legends, messages) and the
+/// caption bar with the preset's number and title at the bottom; with the caption
+/// bar hidden, the number alone in the bottom right corner.
+void draw_lecture_labels(AppState& state, Session& session, const FrameInput& input, const FramePlan& plan) {
+    if (session.lecture.blank) return;
+    const Layout& layout = plan.layout;
+    const bool stepping = plan.stepping;
+    draw_view_labels(state, session, {layout.view, layout.gl_view, layout.ray_view, plan.split},
+                     state.overlay.show_structure && !stepping, input.deterministic);
+    const int current = session.presets.current();
+    const int count = int(session.presets.entries().size());
+    constexpr ImGuiWindowFlags kBar = kFixedPanel | ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoInputs;
+    if (session.lecture.caption && layout.status_height > 0) {
+        ImGui::SetNextWindowPos(ImVec2(0, float(input.height) - layout.status_height), ImGuiCond_Always);
+        ImGui::SetNextWindowSize(ImVec2(float(input.width), layout.status_height), ImGuiCond_Always);
+        if (ImGui::Begin("##lecture_caption", nullptr, kBar)) {
+            ImGui::PushTextWrapPos(float(input.width) - ImGui::GetStyle().WindowPadding.x);
+            ImGui::TextUnformatted(lecture_caption(session).c_str());
+            ImGui::PopTextWrapPos();
+        }
+        ImGui::End();
+    }
+    if (current >= 0 && !session.lecture.caption) {
+        // The caption bar hidden: the number alone, bottom right (where no label of the view goes).
+        char number[32];
+        std::snprintf(number, sizeof number, "%d/%d", current + 1, count);
+        const float margin = 0.5f * ImGui::GetFontSize();
+        ImGui::SetNextWindowPos(ImVec2(float(input.width) - margin, float(input.height) - margin), ImGuiCond_Always,
+                                ImVec2(1.0f, 1.0f));
+        ImGui::SetNextWindowBgAlpha(0.6f);
+        if (ImGui::Begin("##lecture_number", nullptr,
+                         ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoInputs |
+                             ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing))
+            ImGui::TextUnformatted(number);
+        ImGui::End();
+    }
+}
+
 /// The GL picture: background, then the 3D view (mesh, structure or a stepper's
 /// geometry), the split view's CPU images.
 FrameLayout draw_scene(AppState& state, Renderer& renderer, Session& session, const FrameInput& input,
@@ -295,6 +381,10 @@ FrameLayout draw_scene(AppState& state, Renderer& renderer, Session& session, co
     const bool split = plan.split, stepping = plan.stepping;
     FrameLayout out;
     out.view_rect = layout.gl_view;
+    if (plan.lecture && session.lecture.blank) {
+        renderer.begin_frame(input.width, input.height, Rgb{0, 0, 0});
+        return out;
+    }
     renderer.begin_frame(input.width, input.height, state.view.background);
     if (session.scene && state.camera && !layout.gl_view.empty()) {
         session.upload_to_gpu(state.overlay);  // the panels may have changed the overlay
@@ -366,18 +456,22 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
     session.upload_to_gpu(state.overlay);
 
     // 2. Fonts and colours (a changed UI scale rebuilds the font atlas), then ImGui's frame.
-    session.style.apply(state.view, renderer);
+    ViewSettings look = state.view;
+    if (session.lecture.on && input.draw_ui) look.ui_scale = std::max(look.ui_scale, kLectureUiScale);
+    session.style.apply(look, renderer);
     widget_audit::begin_frame();
     ImGui::NewFrame();
 
     // 3. Layout, input, work started; 4. the panels; 5. GL: the picture, panels on top; 6. a screenshot.
     const FramePlan plan = plan_frame(state, session, input);
     if (plan.ui) draw_panels(state, session, input, plan);
-    if (state.stepper.open && session.scene && state.camera && !plan.layout.gl_view.empty())
+    if (plan.lecture) draw_lecture_labels(state, session, input, plan);
+    if (state.stepper.open && session.scene && state.camera && !plan.layout.gl_view.empty() &&
+        !(plan.lecture && session.lecture.blank))
         session.stepper.draw_labels(make_view3d(*state.camera, plan.layout.gl_view, session.scene->bounds));
     ImGui::Render();
     const FrameLayout out = draw_scene(state, renderer, session, input, plan);
-    if (plan.ui) renderer.draw_imgui(ImGui::GetDrawData());
+    if (plan.ui || plan.lecture) renderer.draw_imgui(ImGui::GetDrawData());
     take_screenshot(renderer, session, input);
     return out;
 }

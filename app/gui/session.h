@@ -70,6 +70,15 @@ struct Session {
     UiStyle style;
     bool dragging_view = false;  ///< a mouse drag that started in the 3D view
 
+    /// Lecture mode (L, or `accelviz --lecture`): the window full screen, no panels,
+    /// text at projector scale, the preset's number and title in a caption bar.
+    struct LectureMode {
+        bool on = false;
+        bool caption = true;  ///< the caption bar (C hides it)
+        bool blank = false;   ///< B: a black screen, to talk over
+    };
+    LectureMode lecture;
+
     ScenePanel scene_panel;
     StructurePanel structure_panel;
     StatsPanel stats_panel;

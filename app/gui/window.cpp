@@ -155,6 +155,8 @@ public:
                                 {"hit_triangle", traced.hit.found() ? nlohmann::json(traced.hit.tri) : nlohmann::json()}};
         }
         j["status"] = session.stats_bar.last_line;
+        j["lecture"] = {{"on", session.lecture.on}, {"caption", session.lecture.caption}, {"blank", session.lecture.blank},
+                        {"preset", session.presets.current()}, {"font_size", ImGui::GetFontSize()}};
         j["message"] = session.message;
         j["busy"] = session.has_pending_work();
         j["loading"] = session.loader.busy() || session.loader.has_result();  // a scene or structure still coming
@@ -206,7 +208,7 @@ void report_duplicate_ids(std::set<std::string>& reported) {
 
 }  // namespace
 
-int run_window(AppState state, const std::string& preset_path) {
+int run_window(AppState state, const std::string& preset_path, bool lecture, bool first_preset) {
     // 1. The window and its GL context.
     auto window = GlfwWindow::create("accelviz", 1600, 900);
     if (!window) {
@@ -246,8 +248,13 @@ int run_window(AppState state, const std::string& preset_path) {
             session.loader.on_finished = [] { GlfwWindow::wake_up(); };
             session.ray_cast.set_on_finished([] { GlfwWindow::wake_up(); });
             session.build_stepper.set_on_finished([] { GlfwWindow::wake_up(); });
-            session.open_scene(state, state.scene, /*keep_camera=*/state.camera.has_value());
-            if (!preset_path.empty()) session.presets.opened_with(preset_path, session);
+            if (first_preset && !session.presets.entries().empty()) {
+                session.presets.load(0, state, session);
+            } else {
+                session.open_scene(state, state.scene, /*keep_camera=*/state.camera.has_value());
+                if (!preset_path.empty()) session.presets.opened_with(preset_path, session);
+            }
+            session.lecture.on = lecture;
 
             // 4. The loop. It sleeps until something happens: an input or window
             //    event, a load finishing (the loader wakes it), or a held key or
@@ -290,6 +297,7 @@ int run_window(AppState state, const std::string& preset_path) {
                 }
                 const FrameLayout layout = draw_frame(state, **renderer, session, input);
                 (*window)->swap_buffers();
+                if (session.lecture.on != (*window)->fullscreen()) (*window)->set_fullscreen(session.lecture.on);
                 if (check_ids) report_duplicate_ids(reported_duplicates);
                 if (snapshot) snapshot->write(state, session, layout);
                 frame_ms = std::chrono::duration<double, std::milli>(clock::now() - start).count();

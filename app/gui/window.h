@@ -12,6 +12,8 @@ namespace accelviz {
 /// code; without a display it prints why, suggests `accelviz render`, returns 1.
 /// `preset_path`: the preset file `state` came from, if any (one of the shipped
 /// presets becomes the current one: its caption shows, PageDown goes on from it).
-int run_window(AppState state, const std::string& preset_path = "");
+/// `lecture`: start in lecture mode (full screen, no panels, the caption bar);
+/// `first_preset`: open the first shipped preset instead of `state`'s scene.
+int run_window(AppState state, const std::string& preset_path = "", bool lecture = false, bool first_preset = false);
 
 }  // namespace accelviz

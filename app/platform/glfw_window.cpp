@@ -77,6 +77,21 @@ bool GlfwWindow::should_close() const { return glfwWindowShouldClose(window_); }
 
 void GlfwWindow::swap_buffers() { glfwSwapBuffers(window_); }
 
+void GlfwWindow::set_fullscreen(bool on) {
+    if (on == fullscreen_) return;
+    if (on) {
+        GLFWmonitor* monitor = glfwGetPrimaryMonitor();
+        const GLFWvidmode* mode = monitor ? glfwGetVideoMode(monitor) : nullptr;
+        if (!mode) return;  // no monitor to fill: stay a window
+        glfwGetWindowPos(window_, &windowed_[0], &windowed_[1]);
+        glfwGetWindowSize(window_, &windowed_[2], &windowed_[3]);
+        glfwSetWindowMonitor(window_, monitor, 0, 0, mode->width, mode->height, mode->refreshRate);
+    } else {
+        glfwSetWindowMonitor(window_, nullptr, windowed_[0], windowed_[1], windowed_[2], windowed_[3], GLFW_DONT_CARE);
+    }
+    fullscreen_ = on;
+}
+
 void GlfwWindow::process_events(double timeout_seconds) {
     if (timeout_seconds > 0)
         glfwWaitEventsTimeout(timeout_seconds);

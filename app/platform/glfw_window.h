@@ -43,6 +43,10 @@ public:
     std::vector<std::string> take_dropped_paths();
     /// For ImGui's GLFW backend.
     GLFWwindow* handle() const { return window_; }
+    /// Full screen on the primary monitor at its current video mode, or back to the
+    /// window's earlier position and size.
+    void set_fullscreen(bool on);
+    bool fullscreen() const { return fullscreen_; }
 
 private:
     GlfwWindow() = default;
@@ -52,6 +56,8 @@ private:
     GLFWwindow* window_ = nullptr;
     std::vector<std::string> dropped_;
     uint64_t event_count_ = 0;
+    bool fullscreen_ = false;
+    int windowed_[4] = {0, 0, 0, 0};  ///< x, y, width, height before going full screen
 };
 
 }  // namespace accelviz

@@ -508,6 +508,55 @@ TEST(WindowClicks, CancelStopsALongBuildAndKeepsTheScene) {
     }
 }
 
+/// Lecture mode, as a lecturer uses it with a clicker and a few keys: full screen, no
+/// panels, projector-sized text, PageDown / Home / End through the presets, B blanks
+/// the screen, C hides the caption bar, L goes back to the window.
+TEST(WindowClicks, LectureModeGoesThroughThePresetsFullScreen) {
+    Window w;
+    w.start("builtin:teapot?n=4", {"--lecture"}, false);  // the first preset's scene
+    auto lecture = [&] { return w.snapshot()["lecture"]; };
+    const json first = w.snapshot();
+    EXPECT_TRUE(first["lecture"]["on"].get<bool>());
+    EXPECT_EQ(first["lecture"]["preset"], 0);
+    EXPECT_GE(first["lecture"]["font_size"].get<double>(), 32.0) << "projector scale";
+    EXPECT_EQ(first["size"][0].get<double>(), 1920.0) << "full screen on the 1920x1080 display";
+    EXPECT_EQ(first["size"][1].get<double>(), 1080.0);
+    EXPECT_FALSE(w.find(first, "Structure").has_value()) << "no sidebar in lecture mode";
+    EXPECT_TRUE(w.find(first, "##lecture_caption", "##lecture_caption").has_value() ||
+                first["view"][3].get<int>() < 1080)
+        << "the caption bar takes the bottom of the screen";
+
+    w.key("Next");
+    w.wait_for("preset 2", [](const json& s) { return s["lecture"]["preset"] == 1 && !s["busy"].get<bool>(); });
+    w.key("Home");
+    w.wait_for("the first preset", [](const json& s) { return s["lecture"]["preset"] == 0 && !s["busy"].get<bool>(); });
+    w.key("End");  // (the last preset opens the ray stepper, which then owns Home and End)
+    const int last = int(std::distance(std::filesystem::directory_iterator(ACCELVIZ_PRESETS_DIR),
+                                       std::filesystem::directory_iterator())) - 1;
+    w.wait_for("the last preset", [&](const json& s) { return s["lecture"]["preset"] == last; });
+    w.settled_state();
+
+    w.key("b");
+    w.wait_for("a blank screen", [](const json& s) { return s["lecture"]["blank"].get<bool>(); });
+    w.key("b");
+    w.wait_for("the picture back", [](const json& s) { return !s["lecture"]["blank"].get<bool>(); });
+    // (The layout follows the key a frame later.)
+    const int view_with_caption =
+        w.wait_for("the caption bar back", [](const json& s) { return s["view"][3].get<int>() < 1080; })["view"][3];
+    w.key("c");
+    w.wait_for("the caption bar hidden", [](const json& s) { return !s["lecture"]["caption"].get<bool>(); });
+    EXPECT_EQ(w.wait_for("the view over the whole height", [](const json& s) { return s["view"][3] == 1080; })["view"][3], 1080);
+    EXPECT_LT(view_with_caption, 1080);
+    EXPECT_TRUE(lecture()["on"].get<bool>());
+
+    w.key("l");
+    const json windowed = w.wait_for("the window back", [](const json& s) {
+        return !s["lecture"]["on"].get<bool>() && s["size"][0].get<double>() < 1920.0;
+    });
+    EXPECT_LT(windowed["lecture"]["font_size"].get<double>(), 32.0);
+    w.visible("Structure", "##sidebar", kCombo);  // the panels are back
+}
+
 /// Keys sent in one burst, all between two frames, as a presentation clicker or a
 /// fast typist on a slow frame sends them: ImGui 1.86 reads the keyboard once a
 /// frame, and without the window's keyboard queue two PageDowns counted as one and
