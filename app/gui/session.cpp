@@ -47,13 +47,16 @@ void Session::apply_state(AppState& state, const AppState& loaded) {
     const bool new_scene = !scene || loaded.scene != scene->source;
     const bool new_structure =
         !scene || accel_config_json(loaded.accel) != accel_config_json(scene->accel_config);
+    // A load or build for an earlier state still on its way must not land after this
+    // one: even when this state is what is on screen, a request replaces it.
+    const bool superseding = loader.busy();
     const std::string current_scene = state.scene;
     state = loaded;
     if (new_scene) {
         state.scene = current_scene;  // until the new one has loaded
         loader.request(loaded.scene, loaded.accel);
         keep_camera_on_load = loaded.camera.has_value();
-    } else if (new_structure) {
+    } else if (new_structure || superseding) {
         rebuild_structure(state);
     }
     if (!state.camera && scene && !new_scene) {

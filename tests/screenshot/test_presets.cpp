@@ -83,7 +83,7 @@ TEST(Presets, TheCaptionStaysUntilThePresetsSceneIsOnScreen) {
     // must still be up when it arrives (it counts from then, not from the key press).
     const fs::path dir = fs::path(ACCELVIZ_SCREENSHOT_OUT) / "preset_caption";
     fs::create_directories(dir);
-    std::ofstream(dir / "01-slow.json") << R"({"title": "Slow", "scene": "builtin:soup?n=2000", "structure": {"type": "bvh"}})";
+    std::ofstream(dir / "01-slow.json") << R"({"title": "Slow", "scene": "builtin:soup?n=200000", "structure": {"type": "bvh"}})";
     Session session;
     session.presets.set_dir(dir.string());
     AppState state;
@@ -118,6 +118,35 @@ TEST(Presets, TheWindowOpenedOnAPresetGoesOnFromIt) {
     EXPECT_EQ(list.current(), 0);
     EXPECT_EQ(state.accel.type, AccelType::Bvh);
     while (session.loader.busy()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+}
+
+TEST(Presets, APresetOfTheSceneOnScreenOverridesALoadStillComing) {
+    // Two quick PageDowns: the first preset's scene is still loading when the second,
+    // whose scene and structure are the ones on screen, is chosen. The second wins:
+    // the first one's scene must not arrive under the second one's caption.
+    const fs::path dir = fs::path(ACCELVIZ_SCREENSHOT_OUT) / "preset_overrides";
+    fs::create_directories(dir);
+    std::ofstream(dir / "01-big.json") << R"({"title": "Big", "scene": "builtin:soup?n=300000", "structure": {"type": "kd"}})";
+    std::ofstream(dir / "02-cube.json") << R"({"title": "Cube", "scene": "builtin:cube", "structure": {"type": "bvh"}})";
+    Session session;
+    AppState state;
+    state.scene = "builtin:cube";
+    session.open_scene(state, state.scene);
+    while (session.loader.busy()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    session.take_finished_load(state);
+    ASSERT_TRUE(session.scene);
+    ASSERT_EQ(session.scene->accel_config.type, AccelType::Bvh);
+    session.presets.set_dir(dir.string());
+    session.presets.step(+1, state, session);  // 01: a 300k-triangle KD build, seconds
+    ASSERT_TRUE(session.loader.busy());
+    session.presets.step(+1, state, session);  // 02: what is on screen
+    while (session.loader.busy()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    session.take_finished_load(state);
+    EXPECT_EQ(session.presets.current(), 1);
+    EXPECT_EQ(session.scene->source, "builtin:cube");
+    EXPECT_EQ(session.scene->accel_config.type, AccelType::Bvh);
+    EXPECT_EQ(state.scene, "builtin:cube");
+    EXPECT_EQ(state.accel.type, AccelType::Bvh);
 }
 
 TEST(Presets, ABadPresetFileIsAMessageAndChangesNothing) {
