@@ -302,10 +302,11 @@ int run_window(AppState state, const std::string& preset_path, bool lecture, boo
                 if (snapshot) snapshot->write(state, session, layout);
                 frame_ms = std::chrono::duration<double, std::milli>(clock::now() - start).count();
             }
-            // Closed while a load or a build runs: that work has no point where it could
-            // stop, and waiting for it (the workers are joined below) would keep a closed
-            // window's process alive for as long as a 10M-triangle build takes. Nothing is
-            // left to save, so the process ends here.
+            // Closed while work runs: the loader's load or build stops at its next check,
+            // but the steppers' recordings and the split view's ray cast have no point
+            // where they could stop, and waiting for them (the workers are joined below)
+            // would keep a closed window's process alive. Nothing is left to save, so the
+            // process ends here.
             if (session.loader.busy() || session.build_stepper.busy() || session.ray_cast.busy() ||
                 session.stepper.has_pending_work()) {
                 std::cout.flush();
