@@ -215,8 +215,22 @@ public:
         move_to(w.cx(), w.cy());
         press_and_release();
     }
+    /// Clicks the widget `label` where it is once the pointer is over it: on a slow
+    /// frame (a sanitized build, a big scene) the sidebar can still be settling after
+    /// a change, so the widget is looked up again with the pointer there, and the
+    /// pointer follows it if it moved.
     void click(const std::string& label, const std::string& window = "##sidebar", int occurrence = 0) {
-        click(visible(label, window, occurrence));
+        for (int attempt = 0; attempt < 5; ++attempt) {
+            const Widget w = visible(label, window, occurrence);
+            move_to(w.cx(), w.cy());
+            const json s = snapshot();
+            const auto now = s.is_null() ? std::nullopt : find(s, label, window, occurrence);
+            if (now && now->x0 <= w.cx() && w.cx() < now->x1 && now->y0 <= w.cy() && w.cy() < now->y1) {
+                press_and_release();
+                return;
+            }
+        }
+        ADD_FAILURE() << "the widget '" << label << "' kept moving away from the pointer";
     }
 
     /// Opens the combo `label` and picks `entry` from its list. On a slow frame (a big
