@@ -261,10 +261,12 @@ FramePlan plan_frame(AppState& state, Session& session, const FrameInput& input)
         session.ray_cast.request(session.scene, *state.camera, layout.ray_view.width, layout.ray_view.height,
                                  input.deterministic, raster);
         session.ray_cast.update_texture(state.view);
-    } else if (session.ray_cast.has_result()) {
-        // A cast that finished after the split view closed: take it, or it would count
-        // as pending work for ever and the window would never go idle.
-        session.ray_cast.update_texture(state.view);
+    } else {
+        // The split view is closed: a cast under way is not wanted. One that finished
+        // (or stopped) is taken, or it would count as pending work for ever and the
+        // window would never go idle.
+        session.ray_cast.cancel();
+        if (session.ray_cast.has_result()) session.ray_cast.update_texture(state.view);
     }
 
     return plan;

@@ -26,16 +26,21 @@ void RayCastView::request(const std::shared_ptr<const LoadedScene>& scene, const
         return;
     }
     requested_ = key;
-    job_.submit([key, scene] {
+    if (cancel_) cancel_->cancel();  // the older cast is not wanted any more
+    cancel_ = std::make_shared<WorkProgress>();
+    job_.submit([key, scene, cancel = cancel_] {
         const auto start = std::chrono::steady_clock::now();
         RayCastOptions options;
         options.count_work = true;  // heat maps and the work label
+        options.cancel = cancel.get();
         Result r;
         r.key = key;
         r.scene = scene;
         r.frame = ray_cast(*scene->accel, make_triangles(*scene->mesh), Camera(key.camera, key.width, key.height),
                            options);
         r.milliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        r.cancelled = cancel->cancelled();
+        if (r.cancelled) return r;
         // The depth scale both grey images share: the nearest and farthest hit of either.
         auto widen = [&r](const std::vector<float>& depth) {
             for (float t : depth)
@@ -62,7 +67,9 @@ void RayCastView::request(const std::shared_ptr<const LoadedScene>& scene, const
 
 void RayCastView::update_texture(const ViewSettings& view) {
     bool changed = false;
-    if (auto result = job_.take()) {
+    auto result = job_.take();
+    if (result && result->cancelled) result.reset();  // a partial picture: dropped (requested_ was reset)
+    if (result) {
         shown_ = std::move(*result);
         changed = true;
         const Frame& f = shown_->frame;

@@ -44,6 +44,7 @@ public:
         RasterStats raster_work;
         double raster_milliseconds = 0;
         float t_near = 0, t_far = 0;  ///< the depth scale shared by both grey images
+        bool cancelled = false;       ///< stopped before the end: not shown
     };
 
     /// Asks for a cast of the current view if the last request differs (call
@@ -66,6 +67,13 @@ public:
     /// How the two depths agree, when the texture is the depth difference.
     const DepthAgreement& depth_agreement_shown() const { return agreement_; }
     const std::optional<Result>& shown() const { return shown_; }
+    /// Stops the cast under way at its next tile (its result, if taken, is partial);
+    /// called when the split view closes. A new request cancels the older cast too.
+    void cancel() {
+        if (cancel_) cancel_->cancel();
+        requested_ = Key{};  // the same view asked for again is cast again
+    }
+    ~RayCastView() { cancel(); }  // the worker (joined by job_'s destructor) then ends soon
     bool busy() const { return job_.busy(); }
     bool has_result() const { return job_.has_result(); }
     /// True when the picture shown is of another camera or size than requested.
@@ -73,6 +81,7 @@ public:
     void set_on_finished(std::function<void()> callback) { job_.on_finished = std::move(callback); }
 
 private:
+    std::shared_ptr<WorkProgress> cancel_;  ///< the newest cast's (shared with its job)
     LatestJob<Result> job_;
     Key requested_;
     std::optional<Result> shown_;

@@ -26,6 +26,7 @@ Frame ray_cast(const Accelerator& accel, const TriangleArray& triangles,
     }
     tbb::combinable<Counters> work;  // per-thread sums, combined at the end
     auto trace_tile = [&](const tbb::blocked_range2d<int>& tile) {
+        if (cancelled(options.cancel)) return;
         for (int y = tile.rows().begin(); y < tile.rows().end(); ++y)
             for (int x = tile.cols().begin(); x < tile.cols().end(); ++x) {
                 const Ray ray = camera.ray(x, y);

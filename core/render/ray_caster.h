@@ -4,6 +4,7 @@
 
 #include "core/accel/accelerator.h"
 #include "core/render/camera.h"
+#include "core/util/work_progress.h"
 #include "core/render/frame.h"
 
 namespace accelviz {
@@ -15,6 +16,9 @@ int effective_threads(int requested);
 struct RayCastOptions {
     int threads = 0;            ///< 0 = all cores; capped by effective_threads()
     bool count_work = false;    ///< fill Frame::nodes / Frame::tests (CountingObserver)
+    /// Once cancelled, tiles not started are left as they are (background, no hit):
+    /// for a picture nobody wants any more (a newer camera, a closed view).
+    const WorkProgress* cancel = nullptr;
 };
 
 /// Casts every pixel's primary ray through `accel`. `triangles` (by id) are used for shading.
