@@ -64,7 +64,9 @@ class Window {
 public:
     /// Starts `accelviz scene [args...]` (no `scene` argument when `scene_arg` is false,
     /// for a preset's scene) and waits until `scene` is on screen with nothing pending.
-    void start(const std::string& scene, const std::vector<std::string>& args = {}, bool scene_arg = true) {
+    /// `until_idle` false: only until the scene is on screen (its ray cast, say, may go on).
+    void start(const std::string& scene, const std::vector<std::string>& args = {}, bool scene_arg = true,
+               bool until_idle = true) {
         dir_ = std::filesystem::temp_directory_path() /
                ("accelviz-clicks-" + std::to_string(getpid()) + "-" + std::to_string(counter_++));
         std::filesystem::create_directories(dir_);
@@ -84,7 +86,7 @@ public:
         posix_spawn_file_actions_destroy(&actions);
         unsetenv("ACCELVIZ_UI_SNAPSHOT");
         wait_for("the scene on screen", [&](const json& s) {
-            return s.contains("shown") && !s["busy"].get<bool>() && s["shown"]["scene"] == scene;
+            return s.contains("shown") && (!until_idle || !s["busy"].get<bool>()) && s["shown"]["scene"] == scene;
         });
         window_id_ = run("xdotool search --sync --onlyvisible --name '^accelviz$' | head -n 1");
         ASSERT_FALSE(window_id_.empty()) << "xdotool found no window named accelviz";
@@ -526,12 +528,19 @@ TEST(WindowClicks, CancelStopsALongBuildAndKeepsTheScene) {
 /// panels, projector-sized text, PageDown / Home / End through the presets, B blanks
 /// the screen, C hides the caption bar, L goes back to the window.
 TEST(WindowClicks, LectureModeGoesThroughThePresetsFullScreen) {
+    {
+        // Alone, --lecture starts at the first preset. (Its naive ray cast of every pixel
+        // at full screen takes minutes in a sanitized build: not waited for.)
+        Window w;
+        w.start("builtin:teapot?n=4", {"--lecture"}, false, /*until_idle=*/false);
+        EXPECT_EQ(w.snapshot()["lecture"]["preset"], 0);
+    }
     Window w;
-    w.start("builtin:teapot?n=4", {"--lecture"}, false);  // the first preset's scene
+    w.start("builtin:teapot", {"--lecture", "--preset", "02-bounding-box"}, false);
     auto lecture = [&] { return w.snapshot()["lecture"]; };
     const json first = w.snapshot();
     EXPECT_TRUE(first["lecture"]["on"].get<bool>());
-    EXPECT_EQ(first["lecture"]["preset"], 0);
+    EXPECT_EQ(first["lecture"]["preset"], 1);
     EXPECT_GE(first["lecture"]["font_size"].get<double>(), 32.0) << "projector scale";
     EXPECT_EQ(first["size"][0].get<double>(), 1920.0) << "full screen on the 1920x1080 display";
     EXPECT_EQ(first["size"][1].get<double>(), 1080.0);
@@ -541,9 +550,9 @@ TEST(WindowClicks, LectureModeGoesThroughThePresetsFullScreen) {
         << "the caption bar takes the bottom of the screen";
 
     w.key("Next");
-    w.wait_for("preset 2", [](const json& s) { return s["lecture"]["preset"] == 1 && !s["busy"].get<bool>(); });
+    w.wait_for("preset 3", [](const json& s) { return s["lecture"]["preset"] == 2 && !s["busy"].get<bool>(); });
     w.key("Home");
-    w.wait_for("the first preset", [](const json& s) { return s["lecture"]["preset"] == 0 && !s["busy"].get<bool>(); });
+    w.wait_for("the first preset", [](const json& s) { return s["lecture"]["preset"] == 0; });
     w.key("End");  // (the last preset opens the ray stepper, which then owns Home and End)
     const int last = int(std::distance(std::filesystem::directory_iterator(ACCELVIZ_PRESETS_DIR),
                                        std::filesystem::directory_iterator())) - 1;
