@@ -5,6 +5,8 @@
 #include <fstream>
 #include <set>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -19,6 +21,19 @@ namespace {
 namespace fs = std::filesystem;
 
 const std::string kPresetDir = std::string(ACCELVIZ_SOURCE_DIR) + "/assets/presets";
+
+/// A directory of preset files (name, JSON text) under the test output.
+fs::path write_presets(const std::string& dir_name, const std::vector<std::pair<std::string, std::string>>& files) {
+    const fs::path dir = fs::path(ACCELVIZ_SCREENSHOT_OUT) / dir_name;
+    fs::create_directories(dir);
+    for (const auto& [name, text] : files) std::ofstream(dir / name) << text;
+    return dir;
+}
+
+/// Until the worker has finished what it was asked for.
+void wait_for_loader(const Session& session) {
+    while (session.loader.busy()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+}
 
 TEST(Presets, ShippedOnesAreFoundAndSortInLectureOrder) {
     EXPECT_EQ(fs::path(find_presets_dir()), fs::path(kPresetDir).lexically_normal());
@@ -52,11 +67,10 @@ TEST(Presets, EveryShippedPresetLoadsAndRendersHeadless) {
 }
 
 TEST(Presets, PageDownAndPageUpStepThroughTheListAndStopAtItsEnds) {
-    const fs::path dir = fs::path(ACCELVIZ_SCREENSHOT_OUT) / "preset_list";
-    fs::create_directories(dir);
-    std::ofstream(dir / "02-second.json") << R"({"title": "Second", "scene": "builtin:cube", "structure": {"type": "grid"}})";
-    std::ofstream(dir / "01-first.json") << R"({"title": "First", "scene": "builtin:cube", "structure": {"type": "bvh"}})";
-    std::ofstream(dir / "notes.txt") << "not a preset";
+    const fs::path dir = write_presets("preset_list", {
+        {"02-second.json", R"({"title": "Second", "scene": "builtin:cube", "structure": {"type": "grid"}})"},
+        {"01-first.json", R"({"title": "First", "scene": "builtin:cube", "structure": {"type": "bvh"}})"},
+        {"notes.txt", "not a preset"}});
     Session session;
     PresetList& list = session.presets;
     list.set_dir(dir.string());
@@ -75,22 +89,21 @@ TEST(Presets, PageDownAndPageUpStepThroughTheListAndStopAtItsEnds) {
     list.step(-1, state, session);
     EXPECT_EQ(list.current(), 0);
     EXPECT_EQ(state.accel.type, AccelType::Bvh);
-    while (session.loader.busy()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    wait_for_loader(session);
 }
 
 TEST(Presets, TheCaptionStaysUntilThePresetsSceneIsOnScreen) {
     // A scene that takes longer to load than the caption's few seconds: the caption
     // must still be up when it arrives (it counts from then, not from the key press).
-    const fs::path dir = fs::path(ACCELVIZ_SCREENSHOT_OUT) / "preset_caption";
-    fs::create_directories(dir);
-    std::ofstream(dir / "01-slow.json") << R"({"title": "Slow", "scene": "builtin:soup?n=200000", "structure": {"type": "bvh"}})";
+    const fs::path dir = write_presets("preset_caption", {
+        {"01-slow.json", R"({"title": "Slow", "scene": "builtin:soup?n=200000", "structure": {"type": "bvh"}})"}});
     Session session;
     session.presets.set_dir(dir.string());
     AppState state;
     session.presets.step(+1, state, session);
     ASSERT_TRUE(session.loader.busy());
     std::this_thread::sleep_for(std::chrono::milliseconds(4500));  // longer than the caption lasts
-    while (session.loader.busy()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    wait_for_loader(session);
     EXPECT_TRUE(session.presets.caption_fresh()) << "the caption went before the scene came";
     session.take_finished_load(state);
     ASSERT_TRUE(session.scene);
@@ -98,11 +111,10 @@ TEST(Presets, TheCaptionStaysUntilThePresetsSceneIsOnScreen) {
 }
 
 TEST(Presets, TheWindowOpenedOnAPresetGoesOnFromIt) {
-    const fs::path dir = fs::path(ACCELVIZ_SCREENSHOT_OUT) / "preset_opened_with";
-    fs::create_directories(dir);
-    std::ofstream(dir / "01-first.json") << R"({"title": "First", "scene": "builtin:cube", "structure": {"type": "bvh"}})";
-    std::ofstream(dir / "02-second.json") << R"({"title": "Second", "scene": "builtin:cube", "structure": {"type": "grid"}})";
-    std::ofstream(dir / "elsewhere.json.txt") << "{}";
+    const fs::path dir = write_presets("preset_opened_with", {
+        {"01-first.json", R"({"title": "First", "scene": "builtin:cube", "structure": {"type": "bvh"}})"},
+        {"02-second.json", R"({"title": "Second", "scene": "builtin:cube", "structure": {"type": "grid"}})"},
+        {"elsewhere.json.txt", "{}"}});
     Session session;
     PresetList& list = session.presets;
     list.set_dir(dir.string());
@@ -117,22 +129,21 @@ TEST(Presets, TheWindowOpenedOnAPresetGoesOnFromIt) {
     list.step(-1, state, session);  // PageUp goes on from it
     EXPECT_EQ(list.current(), 0);
     EXPECT_EQ(state.accel.type, AccelType::Bvh);
-    while (session.loader.busy()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    wait_for_loader(session);
 }
 
 TEST(Presets, APresetOfTheSceneOnScreenOverridesALoadStillComing) {
     // Two quick PageDowns: the first preset's scene is still loading when the second,
     // whose scene and structure are the ones on screen, is chosen. The second wins:
     // the first one's scene must not arrive under the second one's caption.
-    const fs::path dir = fs::path(ACCELVIZ_SCREENSHOT_OUT) / "preset_overrides";
-    fs::create_directories(dir);
-    std::ofstream(dir / "01-big.json") << R"({"title": "Big", "scene": "builtin:soup?n=300000", "structure": {"type": "kd"}})";
-    std::ofstream(dir / "02-cube.json") << R"({"title": "Cube", "scene": "builtin:cube", "structure": {"type": "bvh"}})";
+    const fs::path dir = write_presets("preset_overrides", {
+        {"01-big.json", R"({"title": "Big", "scene": "builtin:soup?n=300000", "structure": {"type": "kd"}})"},
+        {"02-cube.json", R"({"title": "Cube", "scene": "builtin:cube", "structure": {"type": "bvh"}})"}});
     Session session;
     AppState state;
     state.scene = "builtin:cube";
     session.open_scene(state, state.scene);
-    while (session.loader.busy()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    wait_for_loader(session);
     session.take_finished_load(state);
     ASSERT_TRUE(session.scene);
     ASSERT_EQ(session.scene->accel_config.type, AccelType::Bvh);
@@ -140,7 +151,7 @@ TEST(Presets, APresetOfTheSceneOnScreenOverridesALoadStillComing) {
     session.presets.step(+1, state, session);  // 01: a 300k-triangle KD build, seconds
     ASSERT_TRUE(session.loader.busy());
     session.presets.step(+1, state, session);  // 02: what is on screen
-    while (session.loader.busy()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    wait_for_loader(session);
     session.take_finished_load(state);
     EXPECT_EQ(session.presets.current(), 1);
     EXPECT_EQ(session.scene->source, "builtin:cube");
@@ -150,9 +161,8 @@ TEST(Presets, APresetOfTheSceneOnScreenOverridesALoadStillComing) {
 }
 
 TEST(Presets, ABadPresetFileIsAMessageAndChangesNothing) {
-    const fs::path dir = fs::path(ACCELVIZ_SCREENSHOT_OUT) / "preset_list_bad";
-    fs::create_directories(dir);
-    std::ofstream(dir / "01-broken.json") << R"({"structure": {"type": "bvh", "bvh": {"builder": "best"}}})";
+    const fs::path dir = write_presets("preset_list_bad", {
+        {"01-broken.json", R"({"structure": {"type": "bvh", "bvh": {"builder": "best"}}})"}});
     Session session;
     session.presets.set_dir(dir.string());
     AppState state;
