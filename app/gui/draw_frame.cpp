@@ -37,20 +37,21 @@ struct Layout {
 /// Which stepper's panel sits right of the view (one at a time).
 enum class RightPanel { None, Build, Stepper };
 
-/// `bottom_bar`: the height of lecture mode's caption bar (instead of the panels).
+/// `ui`: the sidebar and the status bar; `bottom_bar`: the height of lecture mode's
+/// caption bar (instead of them). `right_panel`: a stepper's panel, with or without `ui`.
 Layout compute_layout(int width, int height, bool ui, bool split, RightPanel right_panel, float bottom_bar = 0) {
     Layout layout;
     layout.status_height = std::floor(bottom_bar);
+    const float font = ImGui::GetFontSize();
     if (ui) {
-        const float font = ImGui::GetFontSize();
         layout.sidebar_width = std::floor(std::min(19.0f * font, 0.45f * float(width)));
         layout.status_height = std::floor(ImGui::GetTextLineHeight() + 2.0f * ImGui::GetStyle().FramePadding.y + 4.0f);
-        if (right_panel == RightPanel::Build)
-            layout.right_panel_width =
-                std::floor(std::min(30.0f * font, 0.6f * std::max(0.0f, float(width) - layout.sidebar_width)));
-        else if (right_panel == RightPanel::Stepper)
-            layout.right_panel_width = std::floor(std::min(26.0f * font, 0.4f * float(width)));
     }
+    if (right_panel == RightPanel::Build)
+        layout.right_panel_width =
+            std::floor(std::min(30.0f * font, 0.6f * std::max(0.0f, float(width) - layout.sidebar_width)));
+    else if (right_panel == RightPanel::Stepper)
+        layout.right_panel_width = std::floor(std::min(26.0f * font, 0.4f * float(width)));
     const int left = int(layout.sidebar_width);
     const int right = int(layout.right_panel_width);
     layout.view = {left, 0, std::max(0, width - left - right), std::max(0, height - int(layout.status_height))};
@@ -78,12 +79,14 @@ void set_lecture_mode(Session& session, bool on) {
     session.lecture.blank = false;
 }
 
-/// "3/12  title" of the current preset (the scene's name when none is current).
+/// "3/12  title" of the current preset and its caption on the next line (the
+/// scene's name when none is current).
 std::string lecture_caption(Session& session) {
     const int current = session.presets.current();
     if (current < 0) return session.scene ? session.scene->source : std::string();
-    return std::to_string(current + 1) + "/" + std::to_string(session.presets.entries().size()) + "  " +
-           session.presets.entries()[size_t(current)].title;
+    const PresetInfo& info = session.presets.entries()[size_t(current)];
+    return std::to_string(current + 1) + "/" + std::to_string(session.presets.entries().size()) + "  " + info.title +
+           (info.caption.empty() ? "" : "\n" + info.caption);
 }
 
 /// The caption bar's height for a frame `width` pixels wide: the caption wrapped to it.
@@ -242,8 +245,10 @@ FramePlan plan_frame(AppState& state, Session& session, const FrameInput& input)
     plan.right_panel = build_panel ? RightPanel::Build : state.stepper.open ? RightPanel::Stepper : RightPanel::None;
     const float caption_bar =
         plan.lecture && session.lecture.caption && !session.lecture.blank ? lecture_caption_height(session, input.width) : 0.0f;
-    plan.layout = compute_layout(input.width, input.height, plan.ui, split, plan.lecture ? RightPanel::None : plan.right_panel,
-                                 caption_bar);
+    // Lecture mode keeps a stepper's panel: a preset that steps a ray or a build is about
+    // what that panel shows (the slab intervals, the SAH chart).
+    plan.layout = compute_layout(input.width, input.height, plan.ui, split,
+                                 plan.ui || plan.lecture ? plan.right_panel : RightPanel::None, caption_bar);
     plan.stepping = state.stepper.open && state.stepper.ray.has_value();
     const Layout& layout = plan.layout;
     if (session.frame_pending && session.scene && state.camera && !layout.gl_view.empty()) {
@@ -300,17 +305,32 @@ void draw_sidebar(AppState& state, Session& session, const Layout& layout, int h
     ImGui::End();
 }
 
-/// The panels around the 3D view and the labels over it.
-void draw_panels(AppState& state, Session& session, const FrameInput& input, const FramePlan& plan) {
+/// The right panel of a stepper: the construction stepper's or the ray stepper's.
+void draw_right_panel(AppState& state, Session& session, const FrameInput& input, const FramePlan& plan) {
     const Layout& layout = plan.layout;
-    const bool split = plan.split, stepping = plan.stepping;
-    const RightPanel right_panel = plan.right_panel;
-    draw_sidebar(state, session, layout, input.height);
-    if (right_panel == RightPanel::Build)
+    if (plan.right_panel == RightPanel::Build)
         session.build_stepper.draw_panel(state, float(input.width) - layout.right_panel_width, 0,
                                          layout.right_panel_width, float(layout.view.height),
                                          layout.gl_view.height > 0 ? double(layout.gl_view.width) / layout.gl_view.height
                                                                    : 1.0);
+    if (plan.right_panel == RightPanel::Stepper) {
+        ImGui::SetNextWindowPos(ImVec2(float(input.width) - layout.right_panel_width, 0), ImGuiCond_Always);
+        ImGui::SetNextWindowSize(ImVec2(layout.right_panel_width, float(input.height) - layout.status_height),
+                                 ImGuiCond_Always);
+        if (ImGui::Begin("##stepper", nullptr, kFixedPanel)) session.stepper.draw(state, session, plan.lecture);
+        ImGui::End();
+    }
+}
+
+/// The panels around the 3D view and the labels over it.
+void draw_panels(AppState& state, Session& session, const FrameInput& input, const FramePlan& plan) {
+    const Layout& layout = plan.layout;
+    const bool split = plan.split, stepping = plan.stepping;
+    draw_sidebar(state, session, layout, input.height);
+    // The construction panel before the status bar, the stepper's after: the order the
+    // windows were first drawn in (ImGui focuses the newest, and the construction
+    // panel's title bar shows it).
+    if (plan.right_panel == RightPanel::Build) draw_right_panel(state, session, input, plan);
 
     ImGui::SetNextWindowPos(ImVec2(0, float(input.height) - layout.status_height), ImGuiCond_Always);
     ImGui::SetNextWindowSize(ImVec2(float(input.width), layout.status_height), ImGuiCond_Always);
@@ -321,13 +341,7 @@ void draw_panels(AppState& state, Session& session, const FrameInput& input, con
     ImGui::End();
     ImGui::PopStyleVar();
 
-    if (right_panel == RightPanel::Stepper) {
-        ImGui::SetNextWindowPos(ImVec2(float(input.width) - layout.right_panel_width, 0), ImGuiCond_Always);
-        ImGui::SetNextWindowSize(ImVec2(layout.right_panel_width, float(input.height) - layout.status_height),
-                                 ImGuiCond_Always);
-        if (ImGui::Begin("##stepper", nullptr, kFixedPanel)) session.stepper.draw(state, session);
-        ImGui::End();
-    }
+    if (plan.right_panel == RightPanel::Stepper) draw_right_panel(state, session, input, plan);
     // The overlay's legend: not over the CPU rasterizer's picture in the left half (it draws no overlay).
     const bool structure_legend =
         state.overlay.show_structure && !session.build_stepper.shows_3d(state) && !stepping &&
@@ -337,12 +351,13 @@ void draw_panels(AppState& state, Session& session, const FrameInput& input, con
     session.help_window.draw(state);
 }
 
-/// Lecture mode's text: the view's own labels (titles, legends, messages) and the
-/// caption bar with the preset's number and title at the bottom; with the caption
-/// bar hidden, the number alone in the bottom right corner.
+/// Lecture mode's text: a stepper's panel, the view's own labels (titles, legends,
+/// messages) and the caption bar with the preset's number and title at the bottom; with
+/// the caption bar hidden, the number alone in the bottom right corner.
 void draw_lecture_labels(AppState& state, Session& session, const FrameInput& input, const FramePlan& plan) {
     if (session.lecture.blank) return;
     const Layout& layout = plan.layout;
+    draw_right_panel(state, session, input, plan);
     const bool stepping = plan.stepping;
     draw_view_labels(state, session, {layout.view, layout.gl_view, layout.ray_view, plan.split},
                      state.overlay.show_structure && !stepping, input.deterministic);

@@ -68,6 +68,8 @@ std::vector<PresetInfo> list_presets(const std::string& dir) {
         const nlohmann::json json = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
         if (json.is_object() && json.contains("title") && json["title"].is_string())
             info.title = json["title"].get<std::string>();
+        if (json.is_object() && json.contains("caption") && json["caption"].is_string())
+            info.caption = json["caption"].get<std::string>();
         out.push_back(std::move(info));
     }
     std::sort(out.begin(), out.end(), [](const PresetInfo& a, const PresetInfo& b) { return a.name < b.name; });
@@ -137,8 +139,9 @@ void PresetList::step(int delta, AppState& state, Session& session) {
 
 std::string PresetList::caption() const {
     if (current_ < 0 || size_t(current_) >= entries_.size()) return {};
-    return "Preset " + std::to_string(current_ + 1) + "/" + std::to_string(entries_.size()) + ": " +
-           entries_[size_t(current_)].title;
+    const PresetInfo& info = entries_[size_t(current_)];
+    return "Preset " + std::to_string(current_ + 1) + "/" + std::to_string(entries_.size()) + ": " + info.title +
+           (info.caption.empty() ? "" : "\n" + info.caption);
 }
 
 bool PresetList::caption_fresh() const {

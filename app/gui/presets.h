@@ -2,7 +2,9 @@
 /// Presets: saved AppStates (JSON) in assets/presets/, named so that they sort
 /// in lecture order ("01-naive-cost.json", ...). PageDown / PageUp step through
 /// them (a presentation clicker sends those keys); the Scene panel lists them.
-/// A preset may carry a "title" (shown when it loads); AppState ignores it.
+/// A preset may carry a "title" and a "caption" (one or two sentences: what the
+/// picture proves), shown when it loads and in lecture mode's caption bar;
+/// AppState ignores both.
 
 #include <string>
 #include <vector>
@@ -17,6 +19,7 @@ struct PresetInfo {
     std::string path;   ///< the JSON file
     std::string name;   ///< file name without ".json" ("01-naive-cost")
     std::string title;  ///< its "title", or the name
+    std::string caption;  ///< its "caption" (may be empty)
 };
 
 /// Where the shipped presets are: PREFIX/share/accelviz/presets for a binary in
@@ -25,7 +28,7 @@ struct PresetInfo {
 /// binary or one or two directories up. Empty if none exists.
 std::string find_presets_dir();
 
-/// A preset given by name ("08-grid-stadium", with or without ".json") as its file
+/// A preset given by name ("21-grid-stadium", with or without ".json") as its file
 /// in find_presets_dir(); anything that is a file, or has a '/', is returned as it is.
 std::string resolve_preset(const std::string& name_or_path);
 
@@ -52,7 +55,7 @@ public:
     void opened_with(const std::string& path, const Session& session);
     /// The preset last loaded (-1: none).
     int current() const { return current_; }
-    /// "Preset 3/11: title" (empty when none is loaded).
+    /// "Preset 3/11: title" and the caption on the next line (empty when none is loaded).
     std::string caption() const;
     /// True while a preset's scene or structure is still coming and for a few seconds
     /// after it is on screen: its caption is shown over the view. (Counting from the

@@ -190,8 +190,8 @@ void StepperPanel::draw_controls(AppState& state) {
     if (step != before) scroll_to_current = true;
 }
 
-void StepperPanel::draw_event_list(AppState& state) {
-    const float height = 7.0f * ImGui::GetTextLineHeightWithSpacing();
+void StepperPanel::draw_event_list(AppState& state, int rows) {
+    const float height = float(rows) * ImGui::GetTextLineHeightWithSpacing();
     if (!ImGui::BeginChild("##events", ImVec2(0, height), true)) {
         ImGui::EndChild();
         return;
@@ -363,7 +363,7 @@ void StepperPanel::draw_ray_fields(AppState& state, Session& session) {
     }
 }
 
-void StepperPanel::draw(AppState& state, Session& session) {
+void StepperPanel::draw(AppState& state, Session& session, bool lecture) {
     const std::string structure = session.scene ? std::string(to_string(session.scene->accel_config.type)) : "?";
     if (state.stepper.pixel)
         ImGui::Text("Stepper: %s, ray of pixel (%d, %d)", structure.c_str(), (*state.stepper.pixel)[0],
@@ -376,8 +376,11 @@ void StepperPanel::draw(AppState& state, Session& session) {
         state.stepper.open = false;
         playing = false;
     }
-    const bool typing = ImGui::CollapsingHeader("Type a ray", state.stepper.ray ? 0 : ImGuiTreeNodeFlags_DefaultOpen);
-    if (typing) draw_ray_fields(state, session);
+    if (!lecture || !state.stepper.ray) {
+        const bool typing =
+            ImGui::CollapsingHeader("Type a ray", state.stepper.ray ? 0 : ImGuiTreeNodeFlags_DefaultOpen);
+        if (typing) draw_ray_fields(state, session);
+    }
     if (!state.stepper.ray) {
         grey_text("Click a pixel in the 3D view (or in the ray-cast half of the split view) to pick its ray, "
                   "or type an origin and a direction.");
@@ -400,7 +403,7 @@ void StepperPanel::draw(AppState& state, Session& session) {
     } else {
         grey_text("before the first event: press Right (or >) to step");
     }
-    draw_event_list(state);
+    draw_event_list(state, lecture ? 3 : 7);
 
     // Counters next to the naive O(N) count.
     const Counters& c = step_state.counters;

@@ -74,7 +74,9 @@ struct StepperPanel {
     /// Right/Left/Home/End/Space when ImGui does not want the keyboard.
     void handle_keys(AppState& state);
     /// The panel's contents (inside its window).
-    void draw(AppState& state, Session& session);
+    /// `lecture`: for the projector, the inspectors come before the fold: no "Type a
+    /// ray" section and a shorter event list.
+    void draw(AppState& state, Session& session, bool lecture = false);
     /// The step's boxes, segments and triangles in the 3D view (context current, view begun).
     /// Boxes at `line_width`, the ray and its marks thicker.
     void draw_3d(Renderer& renderer, float line_width);
@@ -87,7 +89,7 @@ struct StepperPanel {
 
 private:
     void draw_controls(AppState& state);
-    void draw_event_list(AppState& state);
+    void draw_event_list(AppState& state, int rows);
     void draw_slab_inspector(const SlabInspection& s) const;
     void draw_compare();
     void draw_inspectors(const TraversalEvent* current);

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # scripts/slides: one PNG per preset (in lecture order) and a handout page that shows
-# every one of them with its title.
+# every one of them with its title and caption.
 set -euo pipefail
 accelviz=$1; out=$2
 repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
@@ -23,6 +23,10 @@ for preset in "${presets[@]}"; do
   title=$(python3 -c 'import html, json, sys; print(html.escape(json.load(open(sys.argv[1]))["title"]))' "$preset")
   if ! grep -qF "<h2>$number. $title</h2>" "$index"; then
     echo "FAIL: slide $number ($name) is not in the page with its title: $title"; exit 1
+  fi
+  caption=$(python3 -c 'import html, json, sys; print(html.escape(json.load(open(sys.argv[1])).get("caption", "")))' "$preset")
+  if [ -n "$caption" ] && ! grep -qF "<p class=\"caption\">$caption</p>" "$index"; then
+    echo "FAIL: slide $number ($name) is not in the page with its caption: $caption"; exit 1
   fi
 done
 # The slides come in file-name order.
