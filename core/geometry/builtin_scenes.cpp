@@ -545,6 +545,18 @@ Mesh make_single(const Params&) {
     return mesh;
 }
 
+/// The lecture's KD-tree challenge (slide "KD 树划分的挑战"), for a ray along +x
+/// through the origin's y and z: b, a long sliver, reaches from x = -2 to x = 2.5
+/// and meets the ray at x = 2; a, small, meets it at x of about 1.1. A plane at
+/// a's near side puts b in both cells and a in the second only, so the ray, walking
+/// the first cell, finds b's hit first, although a is nearer. Triangle 0 is b, 1 is a.
+Mesh make_kd_challenge(const Params&) {
+    Mesh mesh;
+    mesh.add_triangle({2.5f, -0.25f, 0.0f}, {-2.0f, 2.0f, -0.5f}, {-2.0f, 2.0f, 0.5f});  // b
+    mesh.add_triangle({1.0f, -0.5f, -0.5f}, {1.0f, 0.5f, -0.5f}, {1.2f, 0.0f, 0.5f});   // a
+    return mesh;
+}
+
 // ---------------------------------------------------------------------------
 // [SECTION] Big scenes
 // ---------------------------------------------------------------------------
@@ -633,6 +645,10 @@ const std::vector<BuiltinDef>& registry() {
          always<make_soup>},
         {"empty", "no triangles at all", {}, always<make_empty>},
         {"single", "one triangle in the z = 0 plane", {}, always<make_single>},
+        {"kd-challenge",
+         "the lecture's KD-tree challenge: a ray along +x meets b in the first cell, but a, in the second, is nearer",
+         {},
+         always<make_kd_challenge>},
         {"instances",
          "a mesh repeated nx x nz times on a grid in the x-z plane (a 10M-triangle scene from one scan: "
          "builtin:instances?mesh=armadillo.obj&nx=6&nz=5)",

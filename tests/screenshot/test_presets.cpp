@@ -317,9 +317,22 @@ TEST(Presets, RaySteppingPresetsStopWhereTheirCaptionsSay) {
     EXPECT_EQ(walk.shown.kind, EventKind::EnterCell);
     EXPECT_GE(walk.count(EventKind::EnterCell), 3u) << "a walk through several cells";
 
-    const PresetRay kd = preset_ray("23-kd-hit-outside-cell");
-    EXPECT_EQ(kd.shown.kind, EventKind::HitOutsideCell);
-    EXPECT_TRUE(kd.trace.hit.found());
+}
+
+TEST(Presets, TheKdChallengeIsWrongWithoutTheInCellRuleAndRightWithIt) {
+    // builtin:kd-challenge: triangle 0 is b (hit first, in the first cell's walk, but
+    // beyond that cell), 1 is a (nearer, in the second cell only).
+    const PresetRay naive_rule = preset_ray("23-kd-in-cell-rule-off");
+    ASSERT_EQ(naive_rule.shown.kind, EventKind::Done);
+    EXPECT_EQ(naive_rule.trace.hit.tri, 0u) << "the naive rule answers b";
+    EXPECT_EQ(naive_rule.count(EventKind::HitOutsideCell), 0u);
+
+    const PresetRay in_cell = preset_ray("24-kd-in-cell-rule-on");
+    EXPECT_EQ(in_cell.shown.kind, EventKind::HitOutsideCell) << "b's hit lies beyond the cell it was found in";
+    EXPECT_EQ(in_cell.shown.tri, 0u);
+    EXPECT_EQ(in_cell.trace.hit.tri, 1u) << "a, the nearer one";
+    EXPECT_EQ(in_cell.trace.ray.origin, naive_rule.trace.ray.origin) << "the same ray";
+    EXPECT_EQ(in_cell.trace.ray.dir, naive_rule.trace.ray.dir);
 }
 
 }  // namespace

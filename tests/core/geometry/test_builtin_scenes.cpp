@@ -87,6 +87,7 @@ TEST(BuiltinScenes, TriangleCounts) {
         {"soup?n=12345&seed=7", 12345},
         {"empty", 0},
         {"single", 1},
+        {"kd-challenge", 2},
     };
     for (const auto& [spec, count] : expected) {
         const Mesh mesh = make(spec);
@@ -96,7 +97,7 @@ TEST(BuiltinScenes, TriangleCounts) {
 }
 
 TEST(BuiltinScenes, EveryListedSceneBuildsWithItsDefaultsAndIsWellFormed) {
-    ASSERT_EQ(builtin_scenes().size(), 11u);
+    ASSERT_EQ(builtin_scenes().size(), 12u);
     for (const BuiltinInfo& info : builtin_scenes()) {
         SCOPED_TRACE(info.name);
         EXPECT_FALSE(info.description.empty());
