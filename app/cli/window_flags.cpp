@@ -13,15 +13,16 @@ std::shared_ptr<WindowOptions> add_window_flags(CLI::App& app, const std::string
                        "; with --preset, replaces the preset's scene)");
     add_preset_flag(app, opt->preset, opt->accel,
                     "Open the window on this saved state (a JSON file, or a shipped preset's name, e.g. "
-                    "21-grid-stadium), as `accelviz render --preset` draws it; SCENE, the structure flags and the "
+                    "25-grid-stadium), as `accelviz render --preset` draws it; SCENE, the structure flags and the "
                     "camera flags given replace its values");
     add_accel_flags(app, opt->accel);
     opt->accel.type = AppState{}.accel.type;  // the window's default structure (add_accel_flags sets the commands')
     opt->camera.add_to(app);
     app.add_flag("--lecture", opt->lecture,
-                 "Open in lecture mode: full screen, no panels, text at projector scale, the preset's number and "
-                 "title in a caption bar (C hides it); PageDown / PageUp / Home / End go through the presets, B "
-                 "blanks the screen, L leaves. Without SCENE or --preset, starts at the first preset");
+                 "Open in lecture mode: full screen, no sidebar (a stepper's panel stays), text at projector "
+                 "scale, the preset's number, title and caption in a caption bar (C hides it); PageDown / PageUp "
+                 "go through the presets (Home / End too, unless a stepper is open), B blanks the screen, L "
+                 "leaves. Without SCENE or --preset, starts at the first preset");
     return opt;
 }
 

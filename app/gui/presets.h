@@ -28,7 +28,7 @@ struct PresetInfo {
 /// binary or one or two directories up. Empty if none exists.
 std::string find_presets_dir();
 
-/// A preset given by name ("21-grid-stadium", with or without ".json") as its file
+/// A preset given by name ("25-grid-stadium", with or without ".json") as its file
 /// in find_presets_dir(); anything that is a file, or has a '/', is returned as it is.
 std::string resolve_preset(const std::string& name_or_path);
 
@@ -55,8 +55,10 @@ public:
     void opened_with(const std::string& path, const Session& session);
     /// The preset last loaded (-1: none).
     int current() const { return current_; }
-    /// "Preset 3/11: title" and the caption on the next line (empty when none is loaded).
+    /// "Preset 3/11: title" (empty when none is loaded): one line, for the status bar.
     std::string caption() const;
+    /// The same with the preset's caption on the next line: over the view when it loads.
+    std::string caption_with_text() const;
     /// True while a preset's scene or structure is still coming and for a few seconds
     /// after it is on screen: its caption is shown over the view. (Counting from the
     /// key press instead, a big scene's caption was gone before the scene appeared.)

@@ -495,6 +495,7 @@ void StepperPanel::draw_inspectors(const TraversalEvent* current) {
         if (both.disagree())
             ImGui::TextWrapped("The two tests disagree: the ray passes within rounding of an edge or a vertex. "
                                "Structure > Triangle test picks the one that runs.");
+        draw_plane_first(t);
     };
     auto split = [&] {
         if (!step_state.last_split || !ImGui::CollapsingHeader("Split plane", ImGuiTreeNodeFlags_DefaultOpen)) return;
@@ -537,6 +538,38 @@ void StepperPanel::draw_inspectors(const TraversalEvent* current) {
     if (kind != EventKind::SplitPlane) split();
     if (kind != EventKind::EnterCell) cells();
     if (kind != EventKind::HitOutsideCell) rejected();
+}
+
+/// The lecture's first way on the inspected triangle and ray, beside Möller–Trumbore's
+/// u, v, t: the plane's t and point, the three edge tests, and what each way costs.
+void StepperPanel::draw_plane_first(const TriangleInspection& t) const {
+    if (!traced_scene || t.tri >= traced_scene->mesh->triangle_count() ||
+        !ImGui::TreeNodeEx("The lecture's two ways", ImGuiTreeNodeFlags_DefaultOpen))
+        return;
+    Ray ray = trace.ray;
+    ray.t_max = t.t_max;
+    const PlaneFirstTest p = plane_first_test(traced_scene->mesh->triangle(t.tri), ray);
+    if (p.parallel) {
+        ImGui::TextWrapped("1. Plane first: N·d = 0, the ray runs along the plane: no point to test.");
+    } else {
+        ImGui::TextWrapped("1. Plane first: t = N·(p0 - o) / N·d = %s, x = (%s, %s, %s)", number(p.t).c_str(),
+                           number(p.point.x).c_str(), number(p.point.y).c_str(), number(p.point.z).c_str());
+        const char* edge_names[3] = {"p0-p1", "p1-p2", "p2-p0"};
+        std::string edges = "   edges:";
+        for (int i = 0; i < 3; ++i)
+            edges += std::string(i ? ",  " : " ") + edge_names[i] + (p.edge[i] >= 0.0f ? " in" : " OUT");
+        ImGui::TextUnformatted(edges.c_str());
+        ImGui::TextColored(p.hit ? im_vec4(kStepColours.triangle_hit) : im_vec4(kStepColours.tested_miss), "   %s",
+                           p.hit ? "inside all three edges, t in range: hit"
+                           : !p.inside ? "outside an edge: miss"
+                                       : "inside, but t out of range: miss");
+    }
+    ImGui::TextWrapped("2. Moller-Trumbore: [t u v] = M^-1 (o - p0) at once: t = %s, u = %s, v = %s",
+                       number(t.t).c_str(), number(t.u).c_str(), number(t.v).c_str());
+    ImGui::TextDisabled("cost per test: 1. %d x, %d +-, %d /   2. %d x, %d +-, %d /", kPlaneFirstOps.multiplies,
+                        kPlaneFirstOps.adds, kPlaneFirstOps.divides, kMollerTrumboreOps.multiplies,
+                        kMollerTrumboreOps.adds, kMollerTrumboreOps.divides);
+    ImGui::TreePop();
 }
 
 // [SECTION] 3D view

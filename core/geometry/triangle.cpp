@@ -17,6 +17,26 @@ ShearedCorner shear(Vec3 p, const Ray& ray, const WatertightRay& r) {
 
 }  // namespace
 
+PlaneFirstTest plane_first_test(const Triangle& tri, const Ray& ray) {
+    PlaneFirstTest r;
+    const Vec3 n = cross(tri.edge1, tri.edge2);
+    const float n_dot_d = dot(n, ray.dir);
+    if (n_dot_d == 0.0f || !std::isfinite(n_dot_d)) {
+        r.parallel = true;
+        return r;
+    }
+    r.t = dot(n, tri.p0 - ray.origin) / n_dot_d;
+    r.point = ray.origin + ray.dir * r.t;
+    const Vec3 p1 = tri.p0 + tri.edge1, p2 = tri.p0 + tri.edge2;
+    const Vec3 edge_p1_p2 = tri.edge2 - tri.edge1;
+    r.edge[0] = dot(cross(tri.edge1, r.point - tri.p0), n);
+    r.edge[1] = dot(cross(edge_p1_p2, r.point - p1), n);
+    r.edge[2] = dot(cross(-tri.edge2, r.point - p2), n);
+    r.inside = r.edge[0] >= 0.0f && r.edge[1] >= 0.0f && r.edge[2] >= 0.0f;
+    r.hit = r.inside && r.t >= ray.t_min && r.t <= ray.t_max;
+    return r;
+}
+
 TriangleTest intersect_triangle(const TriangleCorners& tri, const Ray& ray, const WatertightRay& sheared,
                                 const BoxTestRay& box_ray) {
     TriangleTest r;

@@ -217,6 +217,36 @@ inline TriangleTest intersect_triangle(const Triangle& tri, const Ray& ray) {
     return intersect_triangle(tri, ray, BoxTestRay(ray));
 }
 
+/// The lecture's first ray-triangle test (回顾：光线与三角形交叉), for the stepper's
+/// inspector beside Möller–Trumbore (the structures never run it): the plane first,
+/// N = edge1 × edge2, t = N·(p0 - o) / N·d, the point x = o + t·d; then x is inside
+/// iff it lies on the inner side of all three edges, ((q - p) × (x - p))·N >= 0 for
+/// the edges p -> q = p0 -> p1, p1 -> p2, p2 -> p0. The edges' values are, up to the
+/// positive factor |N|², the weights of the opposite corners: edge[0] goes with v (p2's),
+/// edge[1] with 1 - u - v (p0's), edge[2] with u (p1's).
+struct PlaneFirstTest {
+    bool parallel = false;  ///< N·d = 0: the ray runs along the plane (or the triangle has no area)
+    float t = kInfinity;
+    Vec3 point;             ///< x, where the ray meets the plane
+    float edge[3] = {0, 0, 0};
+    bool inside = false;    ///< all three edges >= 0
+    bool hit = false;       ///< inside and t in [t_min, t_max]
+};
+PlaneFirstTest plane_first_test(const Triangle& tri, const Ray& ray);
+
+/// Arithmetic per test, counted from the code (plane_first_test and
+/// intersect_triangle above; the triangle's p0, edge1, edge2 stored, nothing else;
+/// comparisons, and Möller–Trumbore's own-box rule on hits, not counted).
+struct OperationCount {
+    int multiplies = 0, adds = 0, divides = 0;  ///< adds: additions and subtractions
+};
+/// N: 6 x 3 ±; N·(p0 - o): 3 x 5 ±; N·d: 3 x 2 ±; t: 1 ÷; x: 3 x 3 ±; the corners
+/// p1, p2 and the third edge: 9 ±; per edge x - p, a cross and a dot: 9 x 8 ± (three edges).
+inline constexpr OperationCount kPlaneFirstOps{42, 46, 1};
+/// pvec: 6 x 3 ±; det: 3 x 2 ±; 1/det: 1 ÷; tvec: 3 ±; u: 4 x 2 ±; qvec: 6 x 3 ±;
+/// v: 4 x 2 ±; t: 4 x 2 ±; u + v: 1 ±.
+inline constexpr OperationCount kMollerTrumboreOps{27, 18, 1};
+
 /// The watertight test (Woop, Benthin & Wald 2013, figure 10, without backface
 /// culling): hit iff the three edge functions have one sign (zero counts as inside:
 /// a closed triangle, as Möller–Trumbore's), their sum det != 0, the ray meets the

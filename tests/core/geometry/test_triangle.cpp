@@ -2,9 +2,11 @@
 // inside test u >= 0, v >= 0, u + v <= 1, with edge cases and no epsilons.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/geometry/triangle.h"
+#include "core/util/random.h"
 
 using namespace accelviz;
 
@@ -131,4 +133,60 @@ TEST(MollerTrumbore, EdgesParallelInFloatCountAsZeroArea) {
     EXPECT_FALSE(intersect_triangle(tri, ray).hit);
     // The watertight test keeps the corners, and its edge functions see the sliver.
     EXPECT_FALSE(intersect_triangle(TriangleCorners::from_points(p0, p1, p2), ray).hit);
+}
+
+// The lecture's first way (plane, then the inside test): the same answers as
+// Möller–Trumbore away from the edges, and each miss named by its edge.
+
+TEST(PlaneFirst, AgreesWithMollerTrumboreAwayFromTheEdges) {
+    Rng rng(5);
+    int compared = 0, hits = 0;
+    for (int i = 0; i < 20000; ++i) {
+        auto point = [&](float r) { return Vec3{rng.uniform(-r, r), rng.uniform(-r, r), rng.uniform(-r, r)}; };
+        const Vec3 p0 = point(1);
+        const Triangle tri = Triangle::from_points(p0, p0 + point(1), p0 + point(1));
+        // Aimed at the triangle's plane around it: about an eighth hit.
+        const Vec3 origin = point(3);
+        const Vec3 aim = p0 + tri.edge1 * rng.uniform(-0.5f, 1.5f) + tri.edge2 * rng.uniform(-0.5f, 1.5f);
+        const Ray ray{origin, aim - origin};
+        const TriangleTest mt = intersect_triangle(tri, ray);
+        const PlaneFirstTest plane = plane_first_test(tri, ray);
+        ASSERT_FALSE(plane.parallel);
+        const float w = 1.0f - mt.u - mt.v;
+        // Rounding decides rays within ~1e-4 of an edge differently in the two: skip those.
+        if (std::fabs(mt.u) < 1e-4f || std::fabs(mt.v) < 1e-4f || std::fabs(w) < 1e-4f) continue;
+        ++compared;
+        EXPECT_EQ(plane.inside, mt.u >= 0 && mt.v >= 0 && w >= 0) << i;
+        // Each edge's sign is its opposite corner's weight's sign.
+        EXPECT_EQ(plane.edge[0] >= 0, mt.v >= 0) << i;
+        EXPECT_EQ(plane.edge[1] >= 0, w >= 0) << i;
+        EXPECT_EQ(plane.edge[2] >= 0, mt.u >= 0) << i;
+        EXPECT_NEAR(plane.t, mt.t, 1e-3f * std::max(1.0f, std::fabs(mt.t))) << i;  // t = 1 at `aim`
+        EXPECT_EQ(plane.hit, mt.hit) << i;
+        hits += mt.hit;
+    }
+    EXPECT_GT(compared, 19000);
+    EXPECT_GT(hits, 2000);
+}
+
+TEST(PlaneFirst, NamesTheEdgeARayMissesByAndSeesAParallelRay) {
+    const PlaneFirstTest inside = plane_first_test(kTri, Ray{{0.25f, 0.25f, 2}, {0, 0, -1}});
+    EXPECT_TRUE(inside.hit);
+    EXPECT_FLOAT_EQ(inside.t, 2.0f);
+    EXPECT_FLOAT_EQ(inside.point.x, 0.25f);
+    // x < 0: beyond the edge p2 -> p0 (u < 0).
+    const PlaneFirstTest u_negative = plane_first_test(kTri, Ray{{-0.2f, 0.5f, 2}, {0, 0, -1}});
+    EXPECT_FALSE(u_negative.hit);
+    EXPECT_LT(u_negative.edge[2], 0.0f);
+    EXPECT_GT(u_negative.edge[0], 0.0f);
+    EXPECT_GT(u_negative.edge[1], 0.0f);
+    // x + y > 1: beyond the edge p1 -> p2 (u + v > 1).
+    const PlaneFirstTest beyond = plane_first_test(kTri, Ray{{0.7f, 0.6f, 2}, {0, 0, -1}});
+    EXPECT_FALSE(beyond.hit);
+    EXPECT_LT(beyond.edge[1], 0.0f);
+    EXPECT_GT(beyond.edge[0], 0.0f);
+    EXPECT_GT(beyond.edge[2], 0.0f);
+    const PlaneFirstTest parallel = plane_first_test(kTri, Ray{{-1, 0.3f, 0.5f}, {1, 0, 0}});
+    EXPECT_TRUE(parallel.parallel);
+    EXPECT_FALSE(parallel.hit);
 }
