@@ -375,12 +375,14 @@ void draw_lecture_labels(AppState& state, Session& session, const FrameInput& in
         ImGui::End();
     }
     if (current >= 0 && !session.lecture.caption) {
-        // The caption bar hidden: the number alone, bottom right (where no label of the view goes).
+        // The caption bar hidden: the number alone, bottom right of the view (where no
+        // label of the view goes; a stepper's panel may take the screen's right side).
         char number[32];
         std::snprintf(number, sizeof number, "%d/%d", current + 1, count);
         const float margin = 0.5f * ImGui::GetFontSize();
-        ImGui::SetNextWindowPos(ImVec2(float(input.width) - margin, float(input.height) - margin), ImGuiCond_Always,
-                                ImVec2(1.0f, 1.0f));
+        ImGui::SetNextWindowPos(ImVec2(float(layout.view.x + layout.view.width) - margin,
+                                       float(layout.view.y + layout.view.height) - margin),
+                                ImGuiCond_Always, ImVec2(1.0f, 1.0f));
         ImGui::SetNextWindowBgAlpha(0.6f);
         if (ImGui::Begin("##lecture_number", nullptr,
                          ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoInputs |

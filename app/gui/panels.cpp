@@ -485,9 +485,9 @@ void HelpWindow::draw(AppState& state) {
             {"Space (ray stepper open)", "play / pause"},
             {"F1", "this help"},
             {"Esc", "close this help; cancel a load or build"},
-            {"L", "lecture mode: full screen, no panels"},
+            {"L", "lecture mode: full screen, no sidebar"},
             {"C, B (lecture mode)", "hide the caption bar, blank the screen"},
-            {"Home / End (lecture mode)", "first / last preset"},
+            {"Home / End (lecture mode, no stepper)", "first / last preset"},
             {"F12", "screenshot (the View panel's file)"},
             {"Drop an .obj file", "open it"},
         };

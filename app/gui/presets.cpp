@@ -139,9 +139,14 @@ void PresetList::step(int delta, AppState& state, Session& session) {
 
 std::string PresetList::caption() const {
     if (current_ < 0 || size_t(current_) >= entries_.size()) return {};
-    const PresetInfo& info = entries_[size_t(current_)];
-    return "Preset " + std::to_string(current_ + 1) + "/" + std::to_string(entries_.size()) + ": " + info.title +
-           (info.caption.empty() ? "" : "\n" + info.caption);
+    return "Preset " + std::to_string(current_ + 1) + "/" + std::to_string(entries_.size()) + ": " +
+           entries_[size_t(current_)].title;
+}
+
+std::string PresetList::caption_with_text() const {
+    const std::string line = caption();
+    if (line.empty() || entries_[size_t(current_)].caption.empty()) return line;
+    return line + "\n" + entries_[size_t(current_)].caption;
 }
 
 bool PresetList::caption_fresh() const {

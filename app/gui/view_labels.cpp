@@ -229,7 +229,7 @@ void draw_structure_legend(const Session& session, LabelStack& stack) {
 /// The preset just loaded (PageDown / PageUp), for a few seconds.
 void draw_preset_caption(const Session& session, LabelStack& stack) {
     if (stack.lines_left() < 1) return;
-    const std::string text = fit_lines(session.presets.caption(), stack.content_width(), stack.lines_for(4, 0.3f));
+    const std::string text = fit_lines(session.presets.caption_with_text(), stack.content_width(), stack.lines_for(4, 0.3f));
     stack.begin("##preset_caption", LabelStack::Edge::Top);
     ImGui::TextUnformatted(text.c_str());
     stack.end();

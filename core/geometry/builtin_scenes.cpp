@@ -547,9 +547,10 @@ Mesh make_single(const Params&) {
 
 /// The lecture's KD-tree challenge (slide "KD 树划分的挑战"), for a ray along +x
 /// through the origin's y and z: b, a long sliver, reaches from x = -2 to x = 2.5
-/// and meets the ray at x = 2; a, small, meets it at x of about 1.1. A plane at
-/// a's near side puts b in both cells and a in the second only, so the ray, walking
-/// the first cell, finds b's hit first, although a is nearer. Triangle 0 is b, 1 is a.
+/// and meets the ray at x = 2; a, small, meets it at x of about 1.1. A plane between
+/// x = -2 and a (the median builder's first, at x = 0.25, or an SAH plane at a's near
+/// side) puts b in both cells and a in the second only, so the ray, walking the first
+/// cell, finds b's hit first, although a is nearer. Triangle 0 is b, 1 is a.
 Mesh make_kd_challenge(const Params&) {
     Mesh mesh;
     mesh.add_triangle({2.5f, -0.25f, 0.0f}, {-2.0f, 2.0f, -0.5f}, {-2.0f, 2.0f, 0.5f});  // b
