@@ -327,9 +327,36 @@ TEST(Presets, OneBoxCostsOneTestOnAMissAndEveryTriangleOnAHit) {
     EXPECT_EQ(hit.count(EventKind::TriangleTest), hit.triangles) << "and every triangle tested";
 }
 
+TEST(Presets, OverlappingSiblingsAreBothEntered) {
+    // The root's two children: their boxes overlap, the ray tests both, enters the
+    // nearer (2) first and finds nothing, then the other (1), where its hit is.
+    const PresetRay r = preset_ray("15-bvh-overlapping-siblings");
+    ASSERT_EQ(r.shown.kind, EventKind::VisitNode);
+    EXPECT_EQ(r.shown.node, 1u);
+    auto state = load_app_state_file(kPresetDir + "/15-bvh-overlapping-siblings.json");
+    ASSERT_TRUE(state);
+    auto mesh = load_scene(state->scene);
+    ASSERT_TRUE(mesh);
+    auto accel = build_accelerator(*mesh, state->accel);
+    ASSERT_TRUE(accel);
+    const NodeBoxes boxes(**accel);
+    const Aabb overlap = intersection(*boxes.node(1), *boxes.node(2));
+    EXPECT_FALSE(overlap.empty()) << "the sibling boxes overlap";
+    std::vector<uint32_t> visits;
+    size_t hit_at = 0;
+    for (size_t i = 0; i < r.trace.events.size(); ++i) {
+        const TraversalEvent& e = r.trace.events[i];
+        if (e.kind == EventKind::VisitNode && (e.node == 1 || e.node == 2)) visits.push_back(e.node);
+        if (e.kind == EventKind::NewClosest && hit_at == 0) hit_at = i + 1;
+    }
+    EXPECT_EQ(visits, (std::vector<uint32_t>{2, 1})) << "the nearer sibling first, then the other";
+    EXPECT_GT(hit_at, size_t(16)) << "the hit is found in the second sibling";
+    EXPECT_TRUE(r.trace.hit.found());
+}
+
 TEST(Presets, AlgorithmTwoFindsTheSameHitWithLessWork) {
-    const PresetRay one = preset_ray("17-bvh-algorithm-1");
-    const PresetRay two = preset_ray("18-bvh-algorithm-2");
+    const PresetRay one = preset_ray("18-bvh-algorithm-1");
+    const PresetRay two = preset_ray("19-bvh-algorithm-2");
     ASSERT_EQ(one.shown.kind, EventKind::Done);
     ASSERT_EQ(two.shown.kind, EventKind::Done);
     ASSERT_TRUE(one.shown.hit);
@@ -347,7 +374,7 @@ TEST(Presets, RaySteppingPresetsStopWhereTheirCaptionsSay) {
     ASSERT_EQ(watertight.shown.kind, EventKind::Done);
     EXPECT_FALSE(watertight.shown.hit) << "Moller-Trumbore lets the ray from inside slip out";
 
-    const PresetRay walk = preset_ray("24-grid-cell-walk");
+    const PresetRay walk = preset_ray("25-grid-cell-walk");
     EXPECT_EQ(walk.shown.kind, EventKind::EnterCell);
     EXPECT_GE(walk.count(EventKind::EnterCell), 3u) << "a walk through several cells";
     EXPECT_TRUE(walk.trace.hit.found()) << "and it ends on a hit";
@@ -356,12 +383,12 @@ TEST(Presets, RaySteppingPresetsStopWhereTheirCaptionsSay) {
 TEST(Presets, TheKdChallengeIsWrongWithoutTheInCellRuleAndRightWithIt) {
     // builtin:kd-challenge: triangle 0 is b (hit first, in the first cell's walk, but
     // beyond that cell), 1 is a (nearer, in the second cell only).
-    const PresetRay naive_rule = preset_ray("27-kd-in-cell-rule-off");
+    const PresetRay naive_rule = preset_ray("28-kd-in-cell-rule-off");
     ASSERT_EQ(naive_rule.shown.kind, EventKind::Done);
     EXPECT_EQ(naive_rule.trace.hit.tri, 0u) << "the naive rule answers b";
     EXPECT_EQ(naive_rule.count(EventKind::HitOutsideCell), 0u);
 
-    const PresetRay in_cell = preset_ray("28-kd-in-cell-rule-on");
+    const PresetRay in_cell = preset_ray("29-kd-in-cell-rule-on");
     EXPECT_EQ(in_cell.shown.kind, EventKind::HitOutsideCell) << "b's hit lies beyond the cell it was found in";
     EXPECT_EQ(in_cell.shown.tri, 0u);
     EXPECT_EQ(in_cell.trace.hit.tri, 1u) << "a, the nearer one";

@@ -457,12 +457,12 @@ TEST(WindowFlags, TheWindowOpensOnWhatTheFlagsSay) {
     // A shipped preset by name: its caption, and PageDown goes on to the next one.
     {
         Window w;
-        w.start("builtin:teapot", {"--preset", "16-bvh-sah"}, false);
-        EXPECT_NE(w.snapshot()["status"].get<std::string>().find("Preset 16/"), std::string::npos)
+        w.start("builtin:teapot", {"--preset", "17-bvh-sah"}, false);
+        EXPECT_NE(w.snapshot()["status"].get<std::string>().find("Preset 17/"), std::string::npos)
             << w.snapshot()["status"];
         w.key("Next");
-        w.wait_for("Preset 17 on screen", [](const json& s) {
-            return s["status"].get<std::string>().find("Preset 17/") != std::string::npos;
+        w.wait_for("Preset 18 on screen", [](const json& s) {
+            return s["status"].get<std::string>().find("Preset 18/") != std::string::npos;
         });
     }
 }
@@ -547,11 +547,11 @@ TEST(WindowClicks, LectureModeGoesThroughThePresetsFullScreen) {
     }
     Window w;
     // Presets without a ray stepper (an open stepper owns Home and End).
-    w.start("builtin:teapot", {"--lecture", "--preset", "15-bvh-median"}, false);
+    w.start("builtin:teapot", {"--lecture", "--preset", "16-bvh-median"}, false);
     auto lecture = [&] { return w.snapshot()["lecture"]; };
     const json first = w.snapshot();
     EXPECT_TRUE(first["lecture"]["on"].get<bool>());
-    EXPECT_EQ(first["lecture"]["preset"], 14);
+    EXPECT_EQ(first["lecture"]["preset"], 15);
     EXPECT_GE(first["lecture"]["font_size"].get<double>(), 32.0) << "projector scale";
     EXPECT_EQ(first["size"][0].get<double>(), 1920.0) << "full screen on the 1920x1080 display";
     EXPECT_EQ(first["size"][1].get<double>(), 1080.0);
@@ -561,7 +561,7 @@ TEST(WindowClicks, LectureModeGoesThroughThePresetsFullScreen) {
         << "the caption bar takes the bottom of the screen";
 
     w.key("Next");
-    w.wait_for("preset 16", [](const json& s) { return s["lecture"]["preset"] == 15 && !s["busy"].get<bool>(); });
+    w.wait_for("preset 17", [](const json& s) { return s["lecture"]["preset"] == 16 && !s["busy"].get<bool>(); });
     w.key("Home");
     w.wait_for("the first preset", [](const json& s) { return s["lecture"]["preset"] == 0; });
     w.key("End");
@@ -665,11 +665,17 @@ TEST(WindowSurvives, ALectureOfAbuse) {
     w.settled_state();
     screenshot();
 
-    // The split view and back; the stepper, stepped by keys.
+    // The split view and back (whichever the last preset shows); the stepper, stepped by keys.
+    const std::string mode_before = w.settled_state()["view"]["mode"];
+    const std::string other_mode = mode_before == "split" ? "3d" : "split";
     w.key("s");
-    w.wait_for("the split view", [](const json& s) { return s["state"]["view"]["mode"] == "split"; });
+    w.wait_for("S: the other view", [&](const json& s) { return s["state"]["view"]["mode"] == other_mode; });
     w.key("s");
-    w.wait_for("the 3D view", [](const json& s) { return s["state"]["view"]["mode"] == "3d"; });
+    w.wait_for("S: back", [&](const json& s) { return s["state"]["view"]["mode"] == mode_before; });
+    if (mode_before == "split") {
+        w.key("s");
+        w.wait_for("the 3D view", [](const json& s) { return s["state"]["view"]["mode"] == "3d"; });
+    }
     if (!w.settled_state()["stepper"]["open"].get<bool>()) w.toggle("Step one ray", "/stepper/open");
     const json view = w.snapshot()["view"];
     w.move_to(view[0].get<double>() + 0.5 * view[2].get<double>(), view[1].get<double>() + 0.5 * view[3].get<double>());
