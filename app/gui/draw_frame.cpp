@@ -352,8 +352,8 @@ void draw_panels(AppState& state, Session& session, const FrameInput& input, con
 }
 
 /// Lecture mode's text: a stepper's panel, the view's own labels (titles, legends,
-/// messages) and the caption bar with the preset's number and title at the bottom; with
-/// the caption bar hidden, the number alone in the bottom right corner.
+/// messages) and the caption bar with the preset's number, title and caption at the
+/// bottom; with the caption bar hidden, the number alone in the view's bottom right corner.
 void draw_lecture_labels(AppState& state, Session& session, const FrameInput& input, const FramePlan& plan) {
     if (session.lecture.blank) return;
     const Layout& layout = plan.layout;
