@@ -66,6 +66,15 @@ void StepperPanel::pick(AppState& state, const CameraParams& camera, int width, 
 // [SECTION] Update
 
 void StepperPanel::update(AppState& state, Session& session, double delta_seconds, bool wait) {
+    // A compare build that has finished is taken even with the stepper closed: left
+    // waiting, it would count as pending work for ever and the window would never go idle.
+    if (compare_job.has_result()) {
+        auto done = compare_job.take();
+        if (done && session.scene && done->mesh == session.scene->mesh) {
+            compare = std::move(*done);
+            compare_ray_of.reset();
+        }
+    }
     if (!state.stepper.open || !session.scene) return;
     const bool new_scene = traced_scene != session.scene;
     const bool new_ray = state.stepper.ray.has_value() != traced_ray.has_value() ||
@@ -108,13 +117,6 @@ void StepperPanel::update(AppState& state, Session& session, double delta_second
     }
 
     // The compare table: structures per mesh on the worker, rows per ray (cheap).
-    if (compare_job.has_result()) {
-        auto done = compare_job.take();
-        if (done && done->mesh == session.scene->mesh) {
-            compare = std::move(*done);
-            compare_ray_of.reset();
-        }
-    }
     if (compare_requested != session.scene->mesh) {
         compare_requested = session.scene->mesh;
         compare.reset();

@@ -135,6 +135,24 @@ TEST(StepperGolden, FinalStateClampsPastTheEnd) {
                        });
 }
 
+TEST(Stepper, ACompareBuildFinishingAfterTheStepperClosedLeavesNothingPending) {
+    // The compare table's structures build on a worker. If the stepper closes before
+    // they are done, the finished build must still be taken: pending work the window
+    // never takes keeps it busy for ever (found by the survival session under ASan).
+    AppState state = stepper_state(kTeapot, R"({"structure": {"type": "bvh"}})", 520, 400, 1);
+    auto loaded = load_and_build(state.scene, state.accel);
+    ASSERT_TRUE(loaded) << loaded.error();
+    Session session;
+    session.set_scene(state, std::move(*loaded), true);
+    StepperPanel& stepper = session.stepper;
+    stepper.update(state, session, 0.0, /*wait=*/false);  // the window's frame: the build starts
+    state.stepper.open = false;
+    stepper.compare_job.wait();
+    ASSERT_TRUE(stepper.compare_job.has_result());
+    stepper.update(state, session, 0.0, false);  // a frame with the stepper closed
+    EXPECT_FALSE(stepper.has_pending_work());
+}
+
 // [SECTION] The window's events are trace --json's events
 
 std::string run(const std::string& command) {
