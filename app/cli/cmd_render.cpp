@@ -269,7 +269,9 @@ Command register_render(CLI::App& app) {
                     "with the BVH construction stepper at --step) | step (the window with the traversal stepper "
                     "at --step K on the ray of --pixel X,Y, the 3D view seeing the ray from the side: the camera "
                     "turned 35 degrees about up and 15 higher, aimed at the ray's point nearest its target, at 0.6 "
-                    "times its distance): the window's OpenGL renderer through OSMesa. Without a preset or camera "
+                    "times its distance) | comparison (the window with the comparison panel: every structure built "
+                    "and traced on one thread over this view's rays, measured now, and the amortization chart): "
+                    "the window's OpenGL renderer through OSMesa. Without a preset or camera "
                     "flags, structure/gui frame the scene like the window does")
         ->check(CLI::IsMember(all_views()))
         ->capture_default_str();

@@ -251,6 +251,7 @@ nlohmann::json to_json(const AppState& s) {
         stepper["ray"] = nullptr;
     if (s.stepper.pixel) stepper["pixel"] = {(*s.stepper.pixel)[0], (*s.stepper.pixel)[1]};
     j["stepper"] = stepper;
+    j["comparison"] = {{"open", s.comparison.open}};
     return j;
 }
 
@@ -341,6 +342,7 @@ Expected<AppState> app_state_from_json(const nlohmann::json& j) {
                                                      read_whole(p[1], "stepper.pixel", 0, 16383)};
             }
         }
+        if (j.contains("comparison")) s.comparison.open = read(j["comparison"], "open", s.comparison.open, "comparison");
     } catch (const std::exception& e) {  // ours name the field; nlohmann's do not
         return Error{without_json_tag(e.what())};
     }

@@ -124,6 +124,14 @@ struct StepperSettings {
     bool operator==(const StepperSettings&) const = default;
 };
 
+/// The comparison panel: every structure measured on the current scene and
+/// camera (build, memory, time and work per ray) and the amortization chart.
+/// Opening it closes the steppers' panels (one right panel at a time).
+struct ComparisonSettings {
+    bool open = false;
+    bool operator==(const ComparisonSettings&) const = default;
+};
+
 struct AppState {
     std::string scene = "builtin:cube";  ///< "builtin:NAME?k=v" or an OBJ path
     /// The structure and its build parameters; the window starts with a BVH
@@ -137,6 +145,7 @@ struct AppState {
     ViewSettings view;
     BuildStepSettings build_step;
     StepperSettings stepper;
+    ComparisonSettings comparison;
 };
 
 /// The structure part of the JSON form (what AppState's "structure" holds).

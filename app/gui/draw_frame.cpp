@@ -34,8 +34,8 @@ struct Layout {
     float right_panel_width = 0;  ///< a stepper's panel, right of the view (0: none)
 };
 
-/// Which stepper's panel sits right of the view (one at a time).
-enum class RightPanel { None, Build, Stepper };
+/// Which panel sits right of the view (one at a time): a stepper's, or the comparison.
+enum class RightPanel { None, Build, Stepper, Comparison };
 
 /// `ui`: the sidebar and the status bar; `bottom_bar`: the height of lecture mode's
 /// caption bar (instead of them). `right_panel`: a stepper's panel, with or without `ui`.
@@ -52,6 +52,9 @@ Layout compute_layout(int width, int height, bool ui, bool split, RightPanel rig
             std::floor(std::min(30.0f * font, 0.6f * std::max(0.0f, float(width) - layout.sidebar_width)));
     else if (right_panel == RightPanel::Stepper)
         layout.right_panel_width = std::floor(std::min(26.0f * font, 0.4f * float(width)));
+    else if (right_panel == RightPanel::Comparison)  // a table of 8 columns and a chart: most of the width
+        layout.right_panel_width =
+            std::floor(std::min(42.0f * font, 0.65f * std::max(0.0f, float(width) - layout.sidebar_width)));
     const int left = int(layout.sidebar_width);
     const int right = int(layout.right_panel_width);
     layout.view = {left, 0, std::max(0, width - left - right), std::max(0, height - int(layout.status_height))};
@@ -233,16 +236,24 @@ FramePlan plan_frame(AppState& state, Session& session, const FrameInput& input)
     plan.ui = input.draw_ui && state.view.show_ui && !plan.lecture;
     plan.split = state.view.mode == ViewMode::Split;
     const bool split = plan.split;
-    // One stepper at a time: the one switched on last wins.
+    // One right panel at a time: the one switched on last wins.
     if (state.stepper.open && state.build_step.active) {
         if (session.stepper.was_open) state.stepper.open = false;
         else state.build_step.active = false;
     }
+    if (state.comparison.open && (state.stepper.open || state.build_step.active)) {
+        if (session.comparison.was_open) state.comparison.open = false;  // a stepper was just switched on
+        else state.stepper.open = state.build_step.active = false;
+    }
     session.stepper.was_open = state.stepper.open;
+    session.comparison.was_open = state.comparison.open;
     // The construction stepper: its recorded build and chart (on workers; headless waits).
     session.build_stepper.update(state, session.scene, input.deterministic);
     const bool build_panel = state.build_step.active && state.accel.type == AccelType::Bvh;
-    plan.right_panel = build_panel ? RightPanel::Build : state.stepper.open ? RightPanel::Stepper : RightPanel::None;
+    plan.right_panel = build_panel            ? RightPanel::Build
+                       : state.stepper.open   ? RightPanel::Stepper
+                       : state.comparison.open ? RightPanel::Comparison
+                                              : RightPanel::None;
     const float caption_bar =
         plan.lecture && session.lecture.caption && !session.lecture.blank ? lecture_caption_height(session, input.width) : 0.0f;
     // Lecture mode keeps a stepper's panel: a preset that steps a ray or a build is about
@@ -257,6 +268,8 @@ FramePlan plan_frame(AppState& state, Session& session, const FrameInput& input)
     }
     if (input.draw_ui) handle_view_input(state, session, layout);
     session.stepper.update(state, session, input.deterministic ? 0.0 : ImGui::GetIO().DeltaTime, input.deterministic);
+    // The comparison measures the rays of the 3D view's picture (headless waits for it).
+    session.comparison.update(state, session.scene, layout.gl_view.width, layout.gl_view.height, input.deterministic);
 
     // Split view: the ray caster's picture of this frame's camera (on the worker;
     // headless waits for it so the frame is complete).
@@ -297,6 +310,13 @@ void draw_sidebar(AppState& state, Session& session, const Layout& layout, int h
                 ImGui::PopStyleColor();
             }
         }
+        if (ImGui::CollapsingHeader("Compare structures")) {
+            ImGui::Checkbox("Measure every structure", &state.comparison.open);
+            if (ImGui::IsItemHovered())
+                ImGui::SetTooltip("Builds naive, grid, KD tree, octree and BVH on one thread and traces the same\n"
+                                  "rays of this view through each: the lecture's comparison table, and when each\n"
+                                  "build pays off.");
+        }
         session.view_panel.draw(state, session,
                                 layout.view.height > 0 ? double(layout.view.width) / layout.view.height : 1.0);
         if (session.build_stepper.draw_sidebar(state)) session.rebuild_structure(state);
@@ -313,11 +333,15 @@ void draw_right_panel(AppState& state, Session& session, const FrameInput& input
                                          layout.right_panel_width, float(layout.view.height),
                                          layout.gl_view.height > 0 ? double(layout.gl_view.width) / layout.gl_view.height
                                                                    : 1.0);
-    if (plan.right_panel == RightPanel::Stepper) {
+    if (plan.right_panel == RightPanel::Stepper || plan.right_panel == RightPanel::Comparison) {
         ImGui::SetNextWindowPos(ImVec2(float(input.width) - layout.right_panel_width, 0), ImGuiCond_Always);
         ImGui::SetNextWindowSize(ImVec2(layout.right_panel_width, float(input.height) - layout.status_height),
                                  ImGuiCond_Always);
-        if (ImGui::Begin("##stepper", nullptr, kFixedPanel)) session.stepper.draw(state, session, plan.lecture);
+        if (plan.right_panel == RightPanel::Stepper) {
+            if (ImGui::Begin("##stepper", nullptr, kFixedPanel)) session.stepper.draw(state, session, plan.lecture);
+        } else if (ImGui::Begin("##comparison", nullptr, kFixedPanel)) {
+            session.comparison.draw(state, ImGui::GetContentRegionAvail().x, plan.lecture);
+        }
         ImGui::End();
     }
 }
@@ -341,7 +365,8 @@ void draw_panels(AppState& state, Session& session, const FrameInput& input, con
     ImGui::End();
     ImGui::PopStyleVar();
 
-    if (plan.right_panel == RightPanel::Stepper) draw_right_panel(state, session, input, plan);
+    if (plan.right_panel == RightPanel::Stepper || plan.right_panel == RightPanel::Comparison)
+        draw_right_panel(state, session, input, plan);
     // The overlay's legend: not over the CPU rasterizer's picture in the left half (it draws no overlay).
     const bool structure_legend =
         state.overlay.show_structure && !session.build_stepper.shows_3d(state) && !stepping &&

@@ -66,19 +66,21 @@ std::string HeadlessApp::gl_description() const { return context_->description()
 // [SECTION] One-shot renders
 
 Expected<HeadlessRender> render_headless(const AppState& state, WindowView view, int width, int height,
-                                         int frames) {
+                                         int frames, const std::function<void(Session&)>& prepare) {
     if (view == WindowView::Step && !state.stepper.ray) return Error{"view step: no ray to step (pick a pixel)"};
 
     LoadResult loaded = load_and_build(state.scene, state.accel);
     if (!loaded) return Error{loaded.error()};
-    return render_headless(state, std::move(*loaded), view, width, height, frames);
+    return render_headless(state, std::move(*loaded), view, width, height, frames, prepare);
 }
 
 Expected<HeadlessRender> render_headless(const AppState& state, std::shared_ptr<const LoadedScene> scene,
-                                         WindowView view, int width, int height, int frames) {
+                                         WindowView view, int width, int height, int frames,
+                                         const std::function<void(Session&)>& prepare) {
     if (!scene) return Error{"no scene to render"};
     auto app = HeadlessApp::create(width, height);
     if (!app) return Error{app.error()};
+    if (prepare) prepare((*app)->session());
 
     HeadlessRender out;
     out.gl_description = (*app)->gl_description();
@@ -103,7 +105,12 @@ Expected<HeadlessRender> render_headless(const AppState& state, std::shared_ptr<
     }
     if (view == WindowView::Step) {
         frame_state.stepper.open = true;
-        frame_state.build_step.active = false;  // one stepper at a time
+        frame_state.build_step.active = false;  // one right panel at a time
+        frame_state.comparison.open = false;
+    }
+    if (view == WindowView::Comparison) {
+        frame_state.comparison.open = true;
+        frame_state.stepper.open = frame_state.build_step.active = false;
     }
     // gui: auto-sized windows appear on the second frame; step: the event list
     // scrolls to the current event on the frame after it is laid out.

@@ -2,6 +2,7 @@
 /// Headless rendering of the window's views through OSMesa, with the same
 /// draw_frame() the window uses.
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -30,11 +31,13 @@ enum class WindowView {
     BuildStep,  ///< the whole frame with the construction stepper at state.build_step.step
                 ///< (one of the recorded build's decisions)
     Step,       ///< the whole frame with the traversal stepper open on state.stepper.ray
+    Comparison, ///< the whole frame with the comparison panel open (every structure measured)
 };
-inline constexpr EnumNames<WindowView, 4> kWindowViewNames{{{{WindowView::Structure, "structure"},
+inline constexpr EnumNames<WindowView, 5> kWindowViewNames{{{{WindowView::Structure, "structure"},
                                                               {WindowView::Gui, "gui"},
                                                               {WindowView::BuildStep, "build-step"},
-                                                              {WindowView::Step, "step"}}}};
+                                                              {WindowView::Step, "step"},
+                                                              {WindowView::Comparison, "comparison"}}}};
 constexpr std::string_view to_string(WindowView v) { return kWindowViewNames.name(v); }
 
 /// Renders `view` of `state` at width x height through an OSMesa context
@@ -57,12 +60,15 @@ struct HeadlessRender {
 /// `frames` >= 1 frames are drawn, the last read back (more give a steady-state
 /// frame time). "gui" draws at least two: ImGui hides a window that sizes
 /// itself on its first frame.
+/// `prepare` (if set) sees the Session before the first frame (tests give the
+/// comparison panel a clock that ticks, so that its figures are the same every run).
 Expected<HeadlessRender> render_headless(const AppState& state, WindowView view, int width, int height,
-                                         int frames = 1);
+                                         int frames = 1, const std::function<void(Session&)>& prepare = {});
 /// The same with the scene already loaded and built (`scene` must be
 /// state.scene built with state.accel), e.g. when the caller needed its bounds.
 Expected<HeadlessRender> render_headless(const AppState& state, std::shared_ptr<const LoadedScene> scene,
-                                         WindowView view, int width, int height, int frames = 1);
+                                         WindowView view, int width, int height, int frames = 1,
+                                         const std::function<void(Session&)>& prepare = {});
 
 /// A window without a window: an OSMesa context, a Renderer, its own ImGui
 /// context and a Session, drawing with draw_frame() like the window loop does.

@@ -13,6 +13,7 @@
 #include "app/gl/renderer.h"
 #include "app/gui/app_state.h"
 #include "app/gui/build_stepper.h"
+#include "app/gui/comparison_panel.h"
 #include "app/gui/panels.h"
 #include "app/gui/presets.h"
 #include "app/gui/ray_cast_view.h"
@@ -67,6 +68,9 @@ struct Session {
     /// The construction stepper: the recorded BVH build and the SAH chart of the step shown.
     BuildStepper build_stepper;
 
+    /// The comparison panel: every structure measured on the scene (on a worker).
+    ComparisonPanel comparison;
+
     UiStyle style;
     bool dragging_view = false;  ///< a mouse drag that started in the 3D view
 
@@ -108,7 +112,7 @@ struct Session {
     /// is up (the window keeps drawing frames until then).
     bool has_pending_work() const { return !pending_work().empty(); }
     /// What has_pending_work() waits for, by name ("loader", "caption", "ray_cast",
-    /// "build_stepper", "stepper"): the UI snapshot lists them.
+    /// "build_stepper", "stepper", "comparison"): the UI snapshot lists them.
     std::vector<const char*> pending_work() const;
     /// Makes the GPU copies match `scene` and the overlay match `settings`
     /// (call on the GL thread).

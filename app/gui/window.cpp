@@ -154,6 +154,12 @@ public:
                                 {"events", traced.events.size()},
                                 {"hit_triangle", traced.hit.found() ? nlohmann::json(traced.hit.tri) : nlohmann::json()}};
         }
+        if (const StructureComparison* c = session.comparison.measured()) {
+            nlohmann::json rows = nlohmann::json::array();
+            for (const StructureMeasurement& row : c->rows)
+                rows.push_back({{"label", row.label}, {"rays", row.rays}, {"mismatches", row.mismatches}});
+            j["comparison"] = {{"width", c->width}, {"height", c->height}, {"rows", rows}};
+        }
         j["status"] = session.stats_bar.last_line;
         j["lecture"] = {{"on", session.lecture.on}, {"caption", session.lecture.caption}, {"blank", session.lecture.blank},
                         {"preset", session.presets.current()}, {"font_size", ImGui::GetFontSize()}};
@@ -248,6 +254,7 @@ int run_window(AppState state, const std::string& preset_path, bool lecture, boo
             session.loader.on_finished = [] { GlfwWindow::wake_up(); };
             session.ray_cast.set_on_finished([] { GlfwWindow::wake_up(); });
             session.build_stepper.set_on_finished([] { GlfwWindow::wake_up(); });
+            session.comparison.set_on_finished([] { GlfwWindow::wake_up(); });
             if (first_preset && !session.presets.entries().empty()) {
                 session.presets.load(0, state, session);
             } else {
@@ -308,7 +315,7 @@ int run_window(AppState state, const std::string& preset_path, bool lecture, boo
             // would keep a closed window's process alive. Nothing is left to save, so the
             // process ends here.
             if (session.loader.busy() || session.build_stepper.busy() || session.ray_cast.busy() ||
-                session.stepper.has_pending_work()) {
+                session.stepper.has_pending_work() || session.comparison.busy()) {
                 std::cout.flush();
                 std::cerr.flush();
                 std::_Exit(exit_code);

@@ -87,4 +87,10 @@ std::string screenshot_out_dir() {
     return matches_golden(*image, name);
 }
 
+void use_ticking_clock(Session& session) {
+    auto now = std::make_shared<double>(0.0);
+    session.comparison.options.clock = [now] { return *now += 1e-3; };
+    session.comparison.options.naive_test_budget = 1;
+}
+
 }  // namespace accelviz::testing

@@ -22,6 +22,7 @@
 
 #include "app/gui/app_state.h"
 #include "app/gui/headless.h"
+#include "app/gui/session.h"
 #include "core/render/image.h"
 
 namespace accelviz::testing {
@@ -40,6 +41,12 @@ void set_update_golden_mode(bool on);
 /// and compares it with golden/NAME.png; a failed render fails with its message.
 ::testing::AssertionResult view_matches_golden(const AppState& state, WindowView view, int width, int height,
                                                const std::string& name);
+
+/// Makes the comparison panel's figures the same every run: its clock moves 1 ms each
+/// time it is read (every build takes 1 ms, every pass of the rays 1 ms), and naive
+/// traces 16 rays, so it is the slowest per ray and the chart has its break-even
+/// points. (core's tests check the measuring itself.)
+void use_ticking_clock(Session& session);
 
 /// Where the tests write what they rendered (created on demand).
 std::string screenshot_out_dir();

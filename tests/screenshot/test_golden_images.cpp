@@ -8,6 +8,7 @@
 #include "app/gui/session.h"
 #include "core/accel/factory.h"
 #include "core/geometry/scene.h"
+#include "core/measure/comparison.h"
 #include "core/render/ray_caster.h"
 #include "core/render/views.h"
 #include "golden.h"
@@ -192,6 +193,35 @@ TEST(GoldenImage, CpuSplitAndHeatViewsAt640x360And1920x1080) {
 }
 
 // [SECTION] Errors
+
+/// `state`'s `view` at width x height, with the comparison's ticking clock, and in
+/// lecture mode when `lecture`.
+::testing::AssertionResult comparison_matches_golden(const AppState& state, WindowView view, int width, int height,
+                                                     bool lecture, const std::string& name) {
+    auto render = render_headless(state, view, width, height, 1, [lecture](Session& session) {
+        testing::use_ticking_clock(session);
+        session.lecture.on = lecture;
+    });
+    if (!render) return ::testing::AssertionFailure() << render.error();
+    return matches_golden(render->colour, name);
+}
+
+TEST(GoldenImage, ComparisonPanelTableAndAmortizationChart) {
+    // The table's eight columns and the log-log chart with its break-even dots, at a
+    // desk's size (times from the ticking clock: use_ticking_clock).
+    AppState state;
+    state.scene = "builtin:teapot";
+    state.overlay.show_structure = false;
+    EXPECT_TRUE(comparison_matches_golden(state, WindowView::Comparison, 1600, 900, false, "comparison_1600x900"));
+}
+
+TEST(GoldenImage, ComparisonPanelInLectureModeAtProjectorScale) {
+    AppState state;
+    state.scene = "builtin:stadium";
+    state.accel.type = AccelType::Grid;
+    state.comparison.open = true;
+    EXPECT_TRUE(comparison_matches_golden(state, WindowView::Gui, 1920, 1080, true, "comparison_lecture_1920x1080"));
+}
 
 TEST(HeadlessRender, WindowViewNamesParseBackToTheirViews) {
     for (const auto& [view, name] : kWindowViewNames.entries) EXPECT_EQ(kWindowViewNames.parse(name), view) << name;

@@ -18,6 +18,8 @@
 #include "app/gui/session.h"
 #include "core/accel/factory.h"
 #include "core/geometry/scene.h"
+#include "core/measure/comparison.h"
+#include "core/render/camera.h"
 #include "core/stepper/stepper.h"
 #include "golden.h"
 
@@ -164,6 +166,12 @@ TEST(Presets, ABadPresetFileIsAMessageAndChangesNothing) {
 
 // [SECTION] The lecture's sequence
 
+/// A clock that moves one millisecond each time it is read.
+MeasureClock ticking_clock() {
+    auto now = std::make_shared<double>(0.0);
+    return [now] { return *now += 1e-3; };
+}
+
 TEST(GoldenImage, EveryShippedPresetLoadsRendersAndMatchesItsGolden) {
     // The window's frame for the preset (without the caption, whose "N/M" changes
     // when a preset is added). Checked by eye when made.
@@ -171,8 +179,10 @@ TEST(GoldenImage, EveryShippedPresetLoadsRendersAndMatchesItsGolden) {
         SCOPED_TRACE(preset.path);
         auto state = load_app_state_file(preset.path);
         ASSERT_TRUE(state) << state.error();
-        auto image = render_gui_view_headless(*state, WindowView::Gui, 640, 360);
-        ASSERT_TRUE(image) << image.error();
+        auto render = render_headless(*state, WindowView::Gui, 640, 360, 1,
+                                      testing::use_ticking_clock);
+        ASSERT_TRUE(render) << render.error();
+        const Image* image = &render->colour;
         // Right of the sidebar the frame shows something besides the background.
         std::set<uint32_t> colours;
         for (int y = 0; y < image->height; y += 2)
@@ -183,6 +193,34 @@ TEST(GoldenImage, EveryShippedPresetLoadsRendersAndMatchesItsGolden) {
         EXPECT_GT(colours.size(), 20u);
         EXPECT_TRUE(testing::matches_golden(*image, "preset_" + preset.name));
     }
+}
+
+TEST(Presets, TheComparisonPresetsMeasureWhatTheirCaptionsSay) {
+    // Counts, not times (those are the machine's): every structure finds naive's hits;
+    // the cell structures meet triangles again, the BVH never; in the stadium the grid,
+    // which cannot adapt, tests many times the triangles per ray the trees do.
+    std::vector<StructureComparison> measured;
+    for (const char* name : {"31-comparison-table", "32-amortization"}) {
+        SCOPED_TRACE(name);
+        auto state = load_app_state_file(kPresetDir + "/" + name + ".json");
+        ASSERT_TRUE(state) << state.error();
+        EXPECT_TRUE(state->comparison.open);
+        auto mesh = load_scene(state->scene);
+        ASSERT_TRUE(mesh) << mesh.error();
+        const Camera camera(state->camera.value_or(default_camera(mesh->bounds())), 320, 240);
+        MeasureOptions options;
+        options.clock = ticking_clock();
+        auto comparison = measure_structures(*mesh, camera, options);
+        ASSERT_TRUE(comparison) << comparison.error();
+        ASSERT_EQ(comparison->rows.size(), 5u);
+        for (const StructureMeasurement& row : comparison->rows) EXPECT_EQ(row.mismatches, 0u) << row.label;
+        EXPECT_GT(comparison->rows[1].repeats_per_ray, 0.0);  // grid
+        EXPECT_EQ(comparison->rows[4].repeats_per_ray, 0.0);  // BVH
+        measured.push_back(std::move(*comparison));
+    }
+    ASSERT_EQ(measured.size(), 2u);
+    const auto& stadium = measured[1].rows;
+    for (size_t tree : {2, 3, 4}) EXPECT_GT(stadium[1].triangle_tests_per_ray, 10 * stadium[tree].triangle_tests_per_ray);
 }
 
 /// The ray a preset steps, recorded through its structure as the window's stepper

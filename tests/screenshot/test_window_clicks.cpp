@@ -411,6 +411,31 @@ TEST(WindowClicks, EveryComboAndCheckboxOfTheSidebarResponds) {
     EXPECT_TRUE(w.snapshot()["duplicate_ids"].empty()) << w.snapshot()["duplicate_ids"].dump();
 }
 
+TEST(WindowClicks, TheComparisonPanelMeasuresOnAClickAndGivesWayToTheStepper) {
+    Window w;
+    w.start("builtin:teapot");
+    w.click("Compare structures");
+    w.toggle("Measure every structure", "/comparison/open");
+    json s = w.wait_for("every structure measured", [](const json& snap) {
+        return !snap["busy"].get<bool>() && snap.contains("comparison");
+    });
+    ASSERT_EQ(s["comparison"]["rows"].size(), 5u);
+    for (const json& row : s["comparison"]["rows"]) EXPECT_EQ(row["mismatches"], 0) << row.dump();
+    // The rays are the 3D view's pixels (the view is what is left beside the panel).
+    EXPECT_EQ(s["comparison"]["width"], s["view"][2]);
+    // Measure again: busy, then measured again.
+    w.click("Measure again", "##comparison");
+    w.wait_for("measured again", [](const json& snap) {
+        return !snap["busy"].get<bool>() && snap.contains("comparison");
+    });
+    // One right panel at a time: the stepper switched on closes the comparison.
+    w.toggle("Step one ray", "/stepper/open");
+    s = w.wait_for("the comparison closed", [](const json& snap) {
+        return snap["state"]["comparison"]["open"] == false && snap["state"]["stepper"]["open"] == true;
+    });
+    EXPECT_TRUE(w.snapshot()["duplicate_ids"].empty()) << w.snapshot()["duplicate_ids"].dump();
+}
+
 TEST(WindowClicks, DraggingTheLeafSizeSliderRebuildsOnRelease) {
     Window w;
     w.start("builtin:teapot");
