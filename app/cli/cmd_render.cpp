@@ -256,7 +256,7 @@ Command register_render(CLI::App& app) {
     // options were added, so the flags given apply on top of the preset's structure.
     add_preset_flag(
         *sub, opt->preset, opt->accel,
-        "Start from this saved window state (a JSON file, or a shipped preset's name, e.g. 26-grid-stadium): "
+        "Start from this saved window state (a JSON file, or a shipped preset's name, e.g. 29-grid-stadium): "
         "scene, structure, camera, "
         "overlay and view settings. SCENE, the structure flags and the camera flags given replace its values. "
         "A relative OBJ path in it is relative to the preset's directory if the file is there",

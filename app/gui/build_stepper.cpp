@@ -13,6 +13,7 @@
 
 #include "app/gui/camera_control.h"
 #include "core/accel/accelerator.h"
+#include "core/accel/sah.h"
 
 namespace accelviz {
 
@@ -233,16 +234,33 @@ void BuildStepper::draw_panel(AppState& state, float x, float y, float w, float 
     ImGui::PushTextWrapPos(0.0f);
     ImGui::TextUnformatted(explain(step.decision, trace_->config.max_leaf_size).c_str());
     if (!leaf) {
+        // Each child's surface area over the node's: the SAH's chance that a ray through
+        // the node's box also meets the child's box (the lecture's S_A/S_N, S_B/S_N).
+        const BvhNode& node = trace_->bvh.nodes[step.node];
+        const float area = node.bounds.area();
+        const float p_left = SahCostModel::hit_probability(trace_->bvh.nodes[node.first].bounds.area(), area);
+        const float p_right = SahCostModel::hit_probability(trace_->bvh.nodes[node.first + 1].bounds.area(), area);
+        const uint32_t n_left = step.left_count, n_right = step.count - step.left_count;
         swatch(im(kLeftColour));
-        ImGui::Text("left %u", step.left_count);
-        ImGui::SameLine();
+        ImGui::Text("left %u, S_A/S_N = %.2f", n_left, double(p_left));
         swatch(im(kRightColour));
-        ImGui::Text("right %u", step.count - step.left_count);
+        ImGui::Text("right %u, S_B/S_N = %.2f", n_right, double(p_right));
         if (step.axis >= 0)
             ImGui::Text("split at %s = %.4g, cost %s", kAxisNames[step.axis], double(step.split_position),
                         cost_text(step.split_cost).c_str());
         else
             ImGui::Text("split by index, cost %s", cost_text(step.split_cost).c_str());
+        // The same cost (the children's own boxes), term by term as the lecture writes it.
+        const SahCostModel model{trace_->config.cost_trav, trace_->config.cost_isect};
+        ImGui::TextDisabled("C = C_trav + S_A/S_N N_A C_isect + S_B/S_N N_B C_isect = %s + %.2f x %u x %s + %.2f x %u x %s "
+                            "= %s (a leaf: %s)",
+                            cost_text(model.cost_trav).c_str(), double(p_left), n_left,
+                            cost_text(model.cost_isect).c_str(), double(p_right), n_right,
+                            cost_text(model.cost_isect).c_str(),
+                            cost_text(model.split_cost(area, trace_->bvh.nodes[node.first].bounds.area(), n_left,
+                                                       trace_->bvh.nodes[node.first + 1].bounds.area(), n_right))
+                                .c_str(),
+                            cost_text(model.leaf_cost(step.count)).c_str());
     }
     ImGui::PopTextWrapPos();
     ImGui::Separator();

@@ -310,7 +310,7 @@ void draw_sidebar(AppState& state, Session& session, const Layout& layout, int h
                 ImGui::PopStyleColor();
             }
         }
-        if (ImGui::CollapsingHeader("Compare structures")) {
+        if (ImGui::CollapsingHeader("Measure structures")) {
             ImGui::Checkbox("Measure every structure", &state.comparison.open);
             if (ImGui::IsItemHovered())
                 ImGui::SetTooltip("Builds naive, grid, KD tree, octree and BVH on one thread and traces the same\n"

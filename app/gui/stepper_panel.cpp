@@ -461,6 +461,19 @@ void StepperPanel::draw_inspectors(const TraversalEvent* current) {
             return;
         const bool now = current && current->kind == EventKind::BoxTest;
         ImGui::Text("%s box test, node %u", now ? "this" : "last", step_state.last_box_test->node);
+        // Why the boxes are axis-aligned: this ray's box tests so far, counted both ways.
+        const uint64_t box_tests = uint64_t(std::count_if(trace.events.begin(), trace.events.begin() + long(step),
+                                                          [](const TraversalEvent& e) { return e.kind == EventKind::BoxTest; }));
+        const OperationCount axis = box_test_ops(box_tests, kAxisPlaneOps);
+        const OperationCount general = box_test_ops(box_tests, kGeneralPlaneOps);
+        ImGui::PushTextWrapPos(0.0f);
+        ImGui::Text("%llu box tests so far, 6 planes each: %d +-, %d / (axis-aligned) against %d x, %d +-, %d / "
+                    "(general planes)",
+                    (unsigned long long)box_tests, axis.adds, axis.divides, general.multiplies, general.adds,
+                    general.divides);
+        ImGui::TextDisabled("A plane crossing: axis-aligned x = x0, t = (x0 - o.x) / d.x: 1 -, 1 /; general N.x = c, "
+                            "t = (c - N.o) / (N.d): 6 x, 5 +-, 1 /.");
+        ImGui::PopTextWrapPos();
         if (auto s = inspect_box_test(trace, boxes, *step_state.last_box_test)) draw_slab_inspector(*s);
     };
     auto triangle = [&] {

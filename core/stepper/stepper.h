@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "core/accel/accelerator.h"
+#include "core/geometry/triangle.h"
 #include "core/traversal/replay.h"
 #include "core/util/expected.h"
 
@@ -98,6 +99,21 @@ struct SlabInspection {
 /// The inspection of a BoxTest event (nothing if the box is unknown).
 std::optional<SlabInspection> inspect_box_test(const SteppedRay& r, const NodeBoxes& boxes,
                                                const TraversalEvent& box_test);
+
+/// Why boxes are axis-aligned (the lecture's 为什么用轴对齐的包围盒): a box is six
+/// planes, and where a ray o + t d crosses a plane costs
+///   a general plane N·x = c:      t = (c − N·o) / (N·d)   N·o 3× 2±, N·d 3× 2±, c − N·o 1±, 1÷
+///   an axis-aligned one x = x0:   t = (x0 − o_x) / d_x     1±, 1÷
+/// (the slide's 2D count is 4× 1± 1÷ against 1± 1÷). The slab test computes 1/d once
+/// per ray, so its ÷ is a ×: the lecture's count is kept here.
+inline constexpr OperationCount kGeneralPlaneOps{6, 5, 1};
+inline constexpr OperationCount kAxisPlaneOps{0, 1, 1};
+inline constexpr int kBoxPlanes = 6;
+/// The arithmetic of `box_tests` box tests, each of kBoxPlanes planes costing `per_plane`.
+constexpr OperationCount box_test_ops(uint64_t box_tests, const OperationCount& per_plane) {
+    const int64_t planes = int64_t(box_tests) * kBoxPlanes;
+    return {int(planes * per_plane.multiplies), int(planes * per_plane.adds), int(planes * per_plane.divides)};
+}
 
 // [SECTION] Triangle inspector
 

@@ -200,7 +200,7 @@ TEST(Presets, TheComparisonPresetsMeasureWhatTheirCaptionsSay) {
     // the cell structures meet triangles again, the BVH never; in the stadium the grid,
     // which cannot adapt, tests many times the triangles per ray the trees do.
     std::vector<StructureComparison> measured;
-    for (const char* name : {"31-comparison-table", "32-amortization"}) {
+    for (const char* name : {"34-comparison-table", "35-amortization"}) {
         SCOPED_TRACE(name);
         auto state = load_app_state_file(kPresetDir + "/" + name + ".json");
         ASSERT_TRUE(state) << state.error();
@@ -300,14 +300,14 @@ TEST(Presets, RayTrianglePresetsShowAHitAndEachWayToMiss) {
 TEST(Presets, SlabPresetsShowEachCaseOfTheSlabTest) {
     // Each stops at the root's box test (step 1), the slab inspector's subject:
     // t_enter = max of the slabs' entries, t_exit = min of their exits.
-    const PresetRay hit = preset_ray("07-slab-hit");
+    const PresetRay hit = preset_ray("08-slab-hit");
     ASSERT_EQ(hit.shown.kind, EventKind::BoxTest);
     ASSERT_TRUE(hit.slabs);
     EXPECT_TRUE(hit.shown.hit);
     EXPECT_LT(hit.slabs_enter(), hit.slabs_exit());
     EXPECT_GT(hit.slabs_enter(), 0.0f);
 
-    const PresetRay miss = preset_ray("08-slab-miss");
+    const PresetRay miss = preset_ray("09-slab-miss");
     ASSERT_EQ(miss.shown.kind, EventKind::BoxTest);
     ASSERT_TRUE(miss.slabs);
     EXPECT_FALSE(miss.shown.hit);
@@ -317,21 +317,21 @@ TEST(Presets, SlabPresetsShowEachCaseOfTheSlabTest) {
     EXPECT_LT(miss.slabs->axis_min[0], miss.slabs->axis_max[0]);
     EXPECT_GT(miss.slabs_exit(), 0.0f) << "in front of the ray: not the box-behind case";
 
-    const PresetRay behind = preset_ray("09-slab-box-behind");
+    const PresetRay behind = preset_ray("10-slab-box-behind");
     ASSERT_EQ(behind.shown.kind, EventKind::BoxTest);
     ASSERT_TRUE(behind.slabs);
     EXPECT_FALSE(behind.shown.hit);
     EXPECT_LT(behind.slabs_enter(), behind.slabs_exit()) << "the slabs overlap";
     EXPECT_LT(behind.slabs_exit(), 0.0f) << "but behind the origin";
 
-    const PresetRay inside = preset_ray("10-slab-origin-inside");
+    const PresetRay inside = preset_ray("11-slab-origin-inside");
     ASSERT_EQ(inside.shown.kind, EventKind::BoxTest);
     ASSERT_TRUE(inside.slabs);
     EXPECT_TRUE(inside.shown.hit);
     EXPECT_LT(inside.slabs_enter(), 0.0f);
     EXPECT_GT(inside.slabs_exit(), 0.0f);
 
-    const PresetRay parallel = preset_ray("11-slab-parallel");
+    const PresetRay parallel = preset_ray("12-slab-parallel");
     ASSERT_EQ(parallel.shown.kind, EventKind::BoxTest);
     ASSERT_TRUE(parallel.slabs);
     EXPECT_EQ(parallel.trace.ray.dir.y, 0.0f) << "parallel to the y slab";
@@ -341,13 +341,13 @@ TEST(Presets, SlabPresetsShowEachCaseOfTheSlabTest) {
 }
 
 TEST(Presets, OneBoxCostsOneTestOnAMissAndEveryTriangleOnAHit) {
-    const PresetRay miss = preset_ray("12-bounding-box-miss");
+    const PresetRay miss = preset_ray("13-bounding-box-miss");
     ASSERT_EQ(miss.shown.kind, EventKind::Done);
     EXPECT_FALSE(miss.shown.hit);
     EXPECT_EQ(miss.count(EventKind::BoxTest), 1u);
     EXPECT_EQ(miss.count(EventKind::TriangleTest), 0u);
 
-    const PresetRay hit = preset_ray("13-bounding-box-hit");
+    const PresetRay hit = preset_ray("14-bounding-box-hit");
     ASSERT_EQ(hit.shown.kind, EventKind::Done);
     EXPECT_TRUE(hit.shown.hit);
     EXPECT_EQ(hit.count(EventKind::BoxTest), 1u) << "one box: the whole scene in one leaf";
@@ -357,7 +357,7 @@ TEST(Presets, OneBoxCostsOneTestOnAMissAndEveryTriangleOnAHit) {
 TEST(Presets, OverlappingSiblingsAreBothEntered) {
     // The root's two children: their boxes overlap, the ray tests both, enters the
     // nearer (2) first and finds nothing, then the other (1), where its hit is.
-    const PresetRay r = preset_ray("15-bvh-overlapping-siblings");
+    const PresetRay r = preset_ray("18-bvh-overlapping-siblings");
     ASSERT_EQ(r.shown.kind, EventKind::VisitNode);
     EXPECT_EQ(r.shown.node, 1u);
     EXPECT_FALSE(intersection(*r.boxes.node(1), *r.boxes.node(2)).empty()) << "the sibling boxes overlap";
@@ -377,8 +377,8 @@ TEST(Presets, OverlappingSiblingsAreBothEntered) {
 }
 
 TEST(Presets, AlgorithmTwoFindsTheSameHitWithLessWork) {
-    const PresetRay one = preset_ray("18-bvh-algorithm-1");
-    const PresetRay two = preset_ray("19-bvh-algorithm-2");
+    const PresetRay one = preset_ray("21-bvh-algorithm-1");
+    const PresetRay two = preset_ray("22-bvh-algorithm-2");
     ASSERT_EQ(one.shown.kind, EventKind::Done);
     ASSERT_EQ(two.shown.kind, EventKind::Done);
     ASSERT_TRUE(one.shown.hit);
@@ -396,21 +396,68 @@ TEST(Presets, RaySteppingPresetsStopWhereTheirCaptionsSay) {
     ASSERT_EQ(watertight.shown.kind, EventKind::Done);
     EXPECT_FALSE(watertight.shown.hit) << "Moller-Trumbore lets the ray from inside slip out";
 
-    const PresetRay walk = preset_ray("25-grid-cell-walk");
+    const PresetRay walk = preset_ray("28-grid-cell-walk");
     EXPECT_EQ(walk.shown.kind, EventKind::EnterCell);
     EXPECT_GE(walk.count(EventKind::EnterCell), 3u) << "a walk through several cells";
     EXPECT_TRUE(walk.trace.hit.found()) << "and it ends on a hit";
 }
 
+TEST(Presets, AxisAlignedBoxesCountEveryBoxTestOfTheRayBothWays) {
+    const PresetRay ray = preset_ray("07-why-axis-aligned-boxes");
+    ASSERT_EQ(ray.shown.kind, EventKind::Done) << "the whole ray: every box test counted";
+    const uint64_t box_tests = ray.count(EventKind::BoxTest);
+    EXPECT_GE(box_tests, 3u);
+    const OperationCount axis = box_test_ops(box_tests, kAxisPlaneOps);
+    const OperationCount general = box_test_ops(box_tests, kGeneralPlaneOps);
+    EXPECT_EQ(axis.divides, int(6 * box_tests));
+    EXPECT_EQ(axis.multiplies, 0);
+    EXPECT_EQ(general.multiplies, int(36 * box_tests));
+}
+
+TEST(Presets, ConstructionPresetsShowASplitThenAChildsSplitThenALeaf) {
+    // The decision each preset opens at, from the build the construction stepper records.
+    auto decision = [](const std::string& name) {
+        auto state = load_app_state_file(kPresetDir + "/" + name + ".json");
+        EXPECT_TRUE(state) << state.error();
+        EXPECT_TRUE(state->build_step.active) << name;
+        auto loaded = load_and_build(state->scene, state->accel);
+        EXPECT_TRUE(loaded) << loaded.error();
+        std::shared_ptr<const BuildTrace> trace = record_build(*loaded);
+        EXPECT_TRUE(trace && size_t(state->build_step.step) < trace->steps.size()) << name;
+        return std::make_pair(trace, trace->steps[size_t(state->build_step.step)]);
+    };
+    const auto [root_trace, root] = decision("15-bvh-construction");
+    EXPECT_EQ(root.depth, 0u);
+    EXPECT_GT(root.left_count, 0u);
+    const auto [child_trace, child] = decision("16-bvh-construction-recurse");
+    EXPECT_EQ(child.depth, 1u);
+    ASSERT_GT(child.left_count, 0u) << "a split";
+    // The panel's S_A/S_N and S_B/S_N, put into the lecture's formula, give the split's cost.
+    const Bvh& bvh = child_trace->bvh;
+    const BvhNode& node = bvh.nodes[child.node];
+    const float area = node.bounds.area();
+    const float p_a = bvh.nodes[node.first].bounds.area() / area, p_b = bvh.nodes[node.first + 1].bounds.area() / area;
+    EXPECT_GT(p_a, 0.0f);
+    EXPECT_LE(p_a, 1.0f);
+    EXPECT_LE(p_b, 1.0f);
+    EXPECT_NEAR(1.0f + p_a * float(child.left_count) + p_b * float(child.count - child.left_count), child.split_cost,
+                1e-4f * child.split_cost);
+    const auto [leaf_trace, leaf] = decision("17-bvh-construction-leaf");
+    EXPECT_TRUE(leaf_trace->bvh.nodes[leaf.node].is_leaf());
+    EXPECT_EQ(leaf.decision, BuildDecision::LeafFits);
+    EXPECT_LE(leaf.count, 5u);
+    EXPECT_GT(leaf.count, 0u);
+}
+
 TEST(Presets, TheKdChallengeIsWrongWithoutTheInCellRuleAndRightWithIt) {
     // builtin:kd-challenge: triangle 0 is b (hit first, in the first cell's walk, but
     // beyond that cell), 1 is a (nearer, in the second cell only).
-    const PresetRay naive_rule = preset_ray("28-kd-in-cell-rule-off");
+    const PresetRay naive_rule = preset_ray("31-kd-in-cell-rule-off");
     ASSERT_EQ(naive_rule.shown.kind, EventKind::Done);
     EXPECT_EQ(naive_rule.trace.hit.tri, 0u) << "the naive rule answers b";
     EXPECT_EQ(naive_rule.count(EventKind::HitOutsideCell), 0u);
 
-    const PresetRay in_cell = preset_ray("29-kd-in-cell-rule-on");
+    const PresetRay in_cell = preset_ray("32-kd-in-cell-rule-on");
     EXPECT_EQ(in_cell.shown.kind, EventKind::HitOutsideCell) << "b's hit lies beyond the cell it was found in";
     EXPECT_EQ(in_cell.shown.tri, 0u);
     EXPECT_EQ(in_cell.trace.hit.tri, 1u) << "a, the nearer one";

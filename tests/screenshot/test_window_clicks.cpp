@@ -414,7 +414,7 @@ TEST(WindowClicks, EveryComboAndCheckboxOfTheSidebarResponds) {
 TEST(WindowClicks, TheComparisonPanelMeasuresOnAClickAndGivesWayToTheStepper) {
     Window w;
     w.start("builtin:teapot");
-    w.click("Compare structures");
+    w.click("Measure structures");
     w.toggle("Measure every structure", "/comparison/open");
     json s = w.wait_for("every structure measured", [](const json& snap) {
         return !snap["busy"].get<bool>() && snap.contains("comparison");
@@ -482,12 +482,12 @@ TEST(WindowFlags, TheWindowOpensOnWhatTheFlagsSay) {
     // A shipped preset by name: its caption, and PageDown goes on to the next one.
     {
         Window w;
-        w.start("builtin:teapot", {"--preset", "17-bvh-sah"}, false);
-        EXPECT_NE(w.snapshot()["status"].get<std::string>().find("Preset 17/"), std::string::npos)
+        w.start("builtin:teapot", {"--preset", "20-bvh-sah"}, false);
+        EXPECT_NE(w.snapshot()["status"].get<std::string>().find("Preset 20/"), std::string::npos)
             << w.snapshot()["status"];
         w.key("Next");
-        w.wait_for("Preset 18 on screen", [](const json& s) {
-            return s["status"].get<std::string>().find("Preset 18/") != std::string::npos;
+        w.wait_for("Preset 21 on screen", [](const json& s) {
+            return s["status"].get<std::string>().find("Preset 21/") != std::string::npos;
         });
     }
 }
@@ -564,7 +564,7 @@ TEST(WindowClicks, LectureModeGoesThroughThePresetsFullScreen) {
         // A preset that steps a ray keeps the stepper's panel (its slab inspector is
         // what the preset is about), right of a narrower view; still no sidebar.
         Window w;
-        w.start("builtin:cube", {"--lecture", "--preset", "07-slab-hit"}, false);
+        w.start("builtin:cube", {"--lecture", "--preset", "08-slab-hit"}, false);
         const json s = w.wait_for("the window to settle", [](const json& j) { return !j["busy"].get<bool>(); });
         EXPECT_TRUE(w.find(s, "Close", "##stepper").has_value()) << "the stepper's panel";
         EXPECT_FALSE(w.find(s, "Structure").has_value()) << "no sidebar";
@@ -572,11 +572,11 @@ TEST(WindowClicks, LectureModeGoesThroughThePresetsFullScreen) {
     }
     Window w;
     // Presets without a ray stepper (an open stepper owns Home and End).
-    w.start("builtin:teapot", {"--lecture", "--preset", "16-bvh-median"}, false);
+    w.start("builtin:teapot", {"--lecture", "--preset", "19-bvh-median"}, false);
     auto lecture = [&] { return w.snapshot()["lecture"]; };
     const json first = w.snapshot();
     EXPECT_TRUE(first["lecture"]["on"].get<bool>());
-    EXPECT_EQ(first["lecture"]["preset"], 15);
+    EXPECT_EQ(first["lecture"]["preset"], 18);
     EXPECT_GE(first["lecture"]["font_size"].get<double>(), 32.0) << "projector scale";
     EXPECT_EQ(first["size"][0].get<double>(), 1920.0) << "full screen on the 1920x1080 display";
     EXPECT_EQ(first["size"][1].get<double>(), 1080.0);
@@ -586,7 +586,7 @@ TEST(WindowClicks, LectureModeGoesThroughThePresetsFullScreen) {
         << "the caption bar takes the bottom of the screen";
 
     w.key("Next");
-    w.wait_for("preset 17", [](const json& s) { return s["lecture"]["preset"] == 16 && !s["busy"].get<bool>(); });
+    w.wait_for("preset 20", [](const json& s) { return s["lecture"]["preset"] == 19 && !s["busy"].get<bool>(); });
     w.key("Home");
     w.wait_for("the first preset", [](const json& s) { return s["lecture"]["preset"] == 0; });
     w.key("End");

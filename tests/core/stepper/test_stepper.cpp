@@ -244,3 +244,19 @@ TEST(Stepper, TriangleInspectorComparesBothTestsWhereARaySlipsThrough) {
         EXPECT_GE(disagreements, 1u);
     }
 }
+
+TEST(AxisAlignedPlanes, ABoxTestIsSixPlaneCrossingsCountedBothWays) {
+    // The lecture's slide: x = x0 costs 1 subtraction and 1 division; N.x = c, in 3D,
+    // 6 multiplications, 5 additions or subtractions and 1 division.
+    EXPECT_EQ(kAxisPlaneOps.multiplies, 0);
+    EXPECT_EQ(kAxisPlaneOps.adds, 1);
+    EXPECT_EQ(kAxisPlaneOps.divides, 1);
+    const OperationCount axis = box_test_ops(3, kAxisPlaneOps);
+    EXPECT_EQ(axis.multiplies, 0);
+    EXPECT_EQ(axis.adds, 18);
+    EXPECT_EQ(axis.divides, 18);
+    const OperationCount general = box_test_ops(3, kGeneralPlaneOps);
+    EXPECT_EQ(general.multiplies, 108);
+    EXPECT_EQ(general.adds, 90);
+    EXPECT_EQ(general.divides, 18);
+}
