@@ -76,7 +76,7 @@ double ms_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-/// A window view (structure, gui, build-step): draw_frame() through OSMesa, as the window draws it.
+/// A window view (structure, gui, build-step, comparison): draw_frame() through OSMesa, as the window draws it.
 int run_window_view(const RenderOptions& opt, WindowView view, AppState state) {
     auto loaded = load_and_build(state.scene, state.accel);
     if (!loaded) return fail(loaded.error());

@@ -73,10 +73,11 @@ bool ComparisonPanel::Key::operator==(const Key& o) const {
 
 void ComparisonPanel::start(const Key& key, std::shared_ptr<const LoadedScene> scene) {
     if (progress_) progress_->cancel();  // an older measurement still running is not wanted
-    requested_ = key;
+    requested_mesh_ = scene->mesh;
+    error_.clear();
     progress_ = std::make_shared<WorkProgress>();
     row_ = std::make_shared<std::atomic<int>>(0);
-    job_.submit([key, scene = std::move(scene), progress = progress_, row = row_, options = options] () mutable {
+    job_.submit([key, scene = std::move(scene), progress = progress_, row = row_, options = options]() mutable {
         Result result{key, scene, std::nullopt, ""};
         options.progress = progress.get();
         options.current_row = row.get();
@@ -87,26 +88,40 @@ void ComparisonPanel::start(const Key& key, std::shared_ptr<const LoadedScene> s
     });
 }
 
+void ComparisonPanel::cancel() {
+    if (job_.busy() && progress_) {
+        progress_->cancel();
+        requested_mesh_.reset();  // not measured: the next showing measures again
+    }
+}
+
+void ComparisonPanel::take_finished() {
+    auto done = job_.take();
+    if (!done) return;
+    if (done->comparison) result_ = std::move(*done);
+    else if (done->error != WorkProgress::cancelled_error().message) error_ = done->error;
+}
+
 void ComparisonPanel::update(const AppState& state, const std::shared_ptr<const LoadedScene>& scene, int view_width,
-                             int view_height, bool wait) {
-    if (!state.comparison.open || !scene || !state.camera || view_width <= 0 || view_height <= 0) {
-        // Closed: a measurement under way is not wanted; one that finished is kept.
-        if (job_.busy() && progress_) progress_->cancel();
-        if (auto done = job_.take(); done && done->comparison) result_ = std::move(*done);
+                             int view_height, bool shown, bool wait) {
+    if (!shown || !scene || !state.camera || view_width <= 0 || view_height <= 0) {
+        cancel();  // a measurement nobody sees is not wanted
+        take_finished();
         return;
     }
     const Key key{scene->mesh.get(), *state.camera, view_width, view_height};
+    shown_view_ = key;
     // A new mesh is measured at once; a moved camera or a resized view when asked (a
     // measurement builds every structure: not on every drag).
-    if (requested_.mesh != key.mesh || measure_again_) {
+    if (requested_mesh_.lock() != scene->mesh || measure_again_) {
         measure_again_ = false;
         start(key, scene);
     }
     if (wait) job_.wait();
-    if (auto done = job_.take()) result_ = std::move(*done);
+    take_finished();
 }
 
-void ComparisonPanel::draw(const AppState& state, float width, bool lecture) {
+void ComparisonPanel::draw(float width, bool lecture) {
     ImGui::PushTextWrapPos(0.0f);
     ImGui::TextUnformatted("Structures compared: measured here, now");
     if (job_.busy()) {
@@ -119,9 +134,9 @@ void ComparisonPanel::draw(const AppState& state, float width, bool lecture) {
         ImGui::SameLine();
         if (ImGui::Button("Cancel") && progress_) progress_->cancel();
     }
-    if (result_ && !result_->error.empty() && !job_.busy()) {
+    if (!error_.empty() && !job_.busy()) {
         ImGui::PushStyleColor(ImGuiCol_Text, IM_COL32(255, 120, 100, 255));
-        ImGui::TextWrapped("Could not measure: %s", result_->error.c_str());
+        ImGui::TextWrapped("Could not measure: %s", error_.c_str());
         ImGui::PopStyleColor();
     }
     const StructureComparison* c = measured();
@@ -132,8 +147,7 @@ void ComparisonPanel::draw(const AppState& state, float width, bool lecture) {
     }
     ImGui::TextDisabled("One thread; %s triangles; %s rays from a %d x %d view.", count_text(double(c->triangles)).c_str(),
                         count_text(double(c->sample_rays)).c_str(), c->width, c->height);
-    const bool moved =
-        state.camera && !(Key{result_->key.mesh, *state.camera, result_->key.width, result_->key.height} == result_->key);
+    const bool moved = !(shown_view_ == result_->key);
     if (!job_.busy()) {
         if (ImGui::Button("Measure again")) measure_again_ = true;
         if (moved) {

@@ -27,21 +27,23 @@ public:
     ComparisonPanel(const ComparisonPanel&) = delete;
     ComparisonPanel& operator=(const ComparisonPanel&) = delete;
 
-    /// Once per frame on the UI thread: when open, starts measuring a mesh not
-    /// measured yet (the camera and view size of the moment; again on the button), and
-    /// takes a finished measurement. `wait`: block until it is done (headless renders).
+    /// Once per frame on the UI thread: when `shown` (open and on screen), starts
+    /// measuring a mesh not measured yet (the camera and view size of the moment; again
+    /// on the button), and takes a finished measurement. Not shown: a measurement under
+    /// way is cancelled (the next showing measures again). `wait`: block until it is
+    /// done (headless renders).
     void update(const AppState& state, const std::shared_ptr<const LoadedScene>& scene, int view_width,
-                int view_height, bool wait);
+                int view_height, bool shown, bool wait);
     /// The panel's contents (inside a window the caller opened): the progress or
     /// the table, then the chart, `width` wide. `lecture`: without the explanations
     /// (the caption gives them), so that the chart has the room.
-    void draw(const AppState& state, float width, bool lecture);
+    void draw(float width, bool lecture);
 
     bool busy() const { return job_.busy(); }
     bool has_result() const { return job_.has_result(); }
     void set_on_finished(const std::function<void()>& callback) { job_.on_finished = callback; }
     /// The last measurement (null before the first finishes).
-    const StructureComparison* measured() const { return result_ && result_->comparison ? &*result_->comparison : nullptr; }
+    const StructureComparison* measured() const { return result_ ? &*result_->comparison : nullptr; }
 
     /// How the panel measures (its progress and row are set per measurement). Tests
     /// put a clock that ticks here, for golden images.
@@ -49,8 +51,10 @@ public:
     bool was_open = false;  ///< open in the previous frame (draw_frame keeps one right panel)
 
 private:
+    /// What a measurement is of: the mesh (not the scene: a new structure over the same
+    /// mesh changes nothing here), the camera and the view's size.
     struct Key {
-        const Mesh* mesh = nullptr;  ///< the mesh, not the scene: a new structure over it changes nothing here
+        const Mesh* mesh = nullptr;
         CameraParams camera;
         int width = 0, height = 0;
         bool operator==(const Key& o) const;
@@ -62,12 +66,18 @@ private:
         std::string error;
     };
     void start(const Key& key, std::shared_ptr<const LoadedScene> scene);
+    void cancel();
+    void take_finished();
     void draw_table(const StructureComparison& c, bool lecture) const;
     void draw_chart(const StructureComparison& c, float width, bool lecture) const;
 
     LatestJob<Result> job_;
-    Key requested_;
-    std::optional<Result> result_;
+    /// The mesh last asked for; expired (or null) when none is, so that a new mesh at a
+    /// freed one's address still counts as new.
+    std::weak_ptr<const Mesh> requested_mesh_;
+    Key shown_view_;                ///< the view of the last update, to tell when it changed
+    std::optional<Result> result_;  ///< the last successful measurement (kept when a later one fails)
+    std::string error_;             ///< the last measurement's error, if it failed
     std::shared_ptr<WorkProgress> progress_;
     std::shared_ptr<std::atomic<int>> row_;
     bool measure_again_ = false;  ///< the button was pressed

@@ -31,14 +31,15 @@ struct Layout {
     ViewRect view;      ///< the whole area of the view (mouse and keys act here)
     ViewRect gl_view;   ///< where OpenGL draws the scene: `view`, or its left half when split
     ViewRect ray_view;  ///< split: the right half, the ray caster's picture (same size as gl_view)
-    float right_panel_width = 0;  ///< a stepper's panel, right of the view (0: none)
+    float right_panel_width = 0;  ///< a stepper's panel or the comparison, right of the view (0: none)
 };
 
 /// Which panel sits right of the view (one at a time): a stepper's, or the comparison.
 enum class RightPanel { None, Build, Stepper, Comparison };
 
 /// `ui`: the sidebar and the status bar; `bottom_bar`: the height of lecture mode's
-/// caption bar (instead of them). `right_panel`: a stepper's panel, with or without `ui`.
+/// caption bar (instead of them). `right_panel`: a stepper's panel or the comparison, with or
+/// without `ui`.
 Layout compute_layout(int width, int height, bool ui, bool split, RightPanel right_panel, float bottom_bar = 0) {
     Layout layout;
     layout.status_height = std::floor(bottom_bar);
@@ -228,7 +229,7 @@ struct FramePlan {
     bool stepping = false;  ///< a ray is being stepped
 };
 
-/// One stepper at a time, the layout, the 3D view's input (ImGui's capture flags are
+/// One right panel at a time, the layout, the 3D view's input (ImGui's capture flags are
 /// from this frame's NewFrame), and the work this frame's picture needs started.
 FramePlan plan_frame(AppState& state, Session& session, const FrameInput& input) {
     FramePlan plan;
@@ -256,8 +257,8 @@ FramePlan plan_frame(AppState& state, Session& session, const FrameInput& input)
                                               : RightPanel::None;
     const float caption_bar =
         plan.lecture && session.lecture.caption && !session.lecture.blank ? lecture_caption_height(session, input.width) : 0.0f;
-    // Lecture mode keeps a stepper's panel: a preset that steps a ray or a build is about
-    // what that panel shows (the slab intervals, the SAH chart).
+    // Lecture mode keeps the right panel: a preset that steps a ray or a build, or compares
+    // the structures, is about what that panel shows (the slab intervals, the SAH chart).
     plan.layout = compute_layout(input.width, input.height, plan.ui, split,
                                  plan.ui || plan.lecture ? plan.right_panel : RightPanel::None, caption_bar);
     plan.stepping = state.stepper.open && state.stepper.ray.has_value();
@@ -268,8 +269,11 @@ FramePlan plan_frame(AppState& state, Session& session, const FrameInput& input)
     }
     if (input.draw_ui) handle_view_input(state, session, layout);
     session.stepper.update(state, session, input.deterministic ? 0.0 : ImGui::GetIO().DeltaTime, input.deterministic);
-    // The comparison measures the rays of the 3D view's picture (headless waits for it).
-    session.comparison.update(state, session.scene, layout.gl_view.width, layout.gl_view.height, input.deterministic);
+    // The comparison measures the rays of the 3D view's picture, while its panel is on
+    // screen (headless waits for it).
+    const bool comparison_shown = (plan.ui || plan.lecture) && plan.right_panel == RightPanel::Comparison;
+    session.comparison.update(state, session.scene, layout.gl_view.width, layout.gl_view.height, comparison_shown,
+                              input.deterministic);
 
     // Split view: the ray caster's picture of this frame's camera (on the worker;
     // headless waits for it so the frame is complete).
@@ -340,7 +344,7 @@ void draw_right_panel(AppState& state, Session& session, const FrameInput& input
         if (plan.right_panel == RightPanel::Stepper) {
             if (ImGui::Begin("##stepper", nullptr, kFixedPanel)) session.stepper.draw(state, session, plan.lecture);
         } else if (ImGui::Begin("##comparison", nullptr, kFixedPanel)) {
-            session.comparison.draw(state, ImGui::GetContentRegionAvail().x, plan.lecture);
+            session.comparison.draw(ImGui::GetContentRegionAvail().x, plan.lecture);
         }
         ImGui::End();
     }
@@ -376,7 +380,7 @@ void draw_panels(AppState& state, Session& session, const FrameInput& input, con
     session.help_window.draw(state);
 }
 
-/// Lecture mode's text: a stepper's panel, the view's own labels (titles, legends,
+/// Lecture mode's text: the right panel (a stepper's or the comparison), the view's own labels (titles, legends,
 /// messages) and the caption bar with the preset's number, title and caption at the
 /// bottom; with the caption bar hidden, the number alone in the view's bottom right corner.
 void draw_lecture_labels(AppState& state, Session& session, const FrameInput& input, const FramePlan& plan) {

@@ -464,13 +464,13 @@ void StepperPanel::draw_inspectors(const TraversalEvent* current) {
         // Why the boxes are axis-aligned: this ray's box tests so far, counted both ways.
         const uint64_t box_tests = uint64_t(std::count_if(trace.events.begin(), trace.events.begin() + long(step),
                                                           [](const TraversalEvent& e) { return e.kind == EventKind::BoxTest; }));
-        const OperationCount axis = box_test_ops(box_tests, kAxisPlaneOps);
-        const OperationCount general = box_test_ops(box_tests, kGeneralPlaneOps);
+        const BoxTestOps axis = box_test_ops(box_tests, kAxisPlaneOps);
+        const BoxTestOps general = box_test_ops(box_tests, kGeneralPlaneOps);
         ImGui::PushTextWrapPos(0.0f);
-        ImGui::Text("%llu box tests so far, 6 planes each: %d +-, %d / (axis-aligned) against %d x, %d +-, %d / "
-                    "(general planes)",
-                    (unsigned long long)box_tests, axis.adds, axis.divides, general.multiplies, general.adds,
-                    general.divides);
+        ImGui::Text("%llu box tests so far, 6 planes each: %lld +-, %lld / (axis-aligned) against %lld x, %lld +-, "
+                    "%lld / (general planes)",
+                    (unsigned long long)box_tests, (long long)axis.adds, (long long)axis.divides,
+                    (long long)general.multiplies, (long long)general.adds, (long long)general.divides);
         ImGui::TextDisabled("A plane crossing: axis-aligned x = x0, t = (x0 - o.x) / d.x: 1 -, 1 /; general N.x = c, "
                             "t = (c - N.o) / (N.d): 6 x, 5 +-, 1 /.");
         ImGui::PopTextWrapPos();

@@ -106,6 +106,7 @@ Expected<StructureComparison> measure_structures(const Mesh& mesh, const Camera&
         RecordingObserver recorder;
         std::vector<uint32_t> met;
         for (size_t r = 0; r < count; ++r) {
+            if (r % 64 == 0 && cancelled(options.progress)) return WorkProgress::cancelled_error();
             Hit hit;
             if (may_repeat) {
                 recorder.events.clear();
@@ -132,7 +133,10 @@ Expected<StructureComparison> measure_structures(const Mesh& mesh, const Camera&
         uint32_t sink = 0;
         for (int pass = 0; pass < 64 && (pass == 0 || elapsed < options.min_trace_seconds); ++pass) {
             if (cancelled(options.progress)) return WorkProgress::cancelled_error();
-            for (size_t r = 0; r < count; ++r) sink += accel.intersect_closest(rays[r]).tri;
+            for (size_t r = 0; r < count; ++r) {
+                if (r % 256 == 0 && cancelled(options.progress)) return WorkProgress::cancelled_error();
+                sink += accel.intersect_closest(rays[r]).tri;
+            }
             traced += count;
             elapsed = options.clock() - trace_start;
         }

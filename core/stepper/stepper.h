@@ -109,10 +109,14 @@ std::optional<SlabInspection> inspect_box_test(const SteppedRay& r, const NodeBo
 inline constexpr OperationCount kGeneralPlaneOps{6, 5, 1};
 inline constexpr OperationCount kAxisPlaneOps{0, 1, 1};
 inline constexpr int kBoxPlanes = 6;
+/// The arithmetic of many box tests (64 bits: a frame's rays make billions).
+struct BoxTestOps {
+    int64_t multiplies = 0, adds = 0, divides = 0;
+};
 /// The arithmetic of `box_tests` box tests, each of kBoxPlanes planes costing `per_plane`.
-constexpr OperationCount box_test_ops(uint64_t box_tests, const OperationCount& per_plane) {
+constexpr BoxTestOps box_test_ops(uint64_t box_tests, const OperationCount& per_plane) {
     const int64_t planes = int64_t(box_tests) * kBoxPlanes;
-    return {int(planes * per_plane.multiplies), int(planes * per_plane.adds), int(planes * per_plane.divides)};
+    return {planes * per_plane.multiplies, planes * per_plane.adds, planes * per_plane.divides};
 }
 
 // [SECTION] Triangle inspector

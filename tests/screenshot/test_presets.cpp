@@ -14,7 +14,9 @@
 #include <gtest/gtest.h>
 
 #include "app/gui/headless.h"
+#include "app/gui/comparison_panel.h"
 #include "app/gui/presets.h"
+#include "app/gui/scene_loader.h"
 #include "app/gui/session.h"
 #include "core/accel/factory.h"
 #include "core/geometry/scene.h"
@@ -223,6 +225,24 @@ TEST(Presets, TheComparisonPresetsMeasureWhatTheirCaptionsSay) {
     for (size_t tree : {2, 3, 4}) EXPECT_GT(stadium[1].triangle_tests_per_ray, 10 * stadium[tree].triangle_tests_per_ray);
 }
 
+TEST(ComparisonPanel, ClosedWhileMeasuringItMeasuresAgainWhenShownAgain) {
+    auto loaded = load_and_build("builtin:teapot", AccelConfig{});
+    ASSERT_TRUE(loaded) << loaded.error();
+    AppState state;
+    state.comparison.open = true;
+    state.camera = default_camera((*loaded)->bounds);
+    ComparisonPanel panel;
+    panel.options.clock = ticking_clock();
+    panel.update(state, *loaded, 320, 240, /*shown=*/true, /*wait=*/false);
+    panel.update(state, *loaded, 320, 240, /*shown=*/false, /*wait=*/false);  // closed: cancelled
+    // Shown again: whether or not the first measurement got to finish, a table comes,
+    // and a cancelled measurement is no error to show.
+    panel.update(state, *loaded, 320, 240, /*shown=*/true, /*wait=*/true);
+    ASSERT_NE(panel.measured(), nullptr);
+    EXPECT_EQ(panel.measured()->rows.size(), 5u);
+    EXPECT_EQ(panel.measured()->width, 320);
+}
+
 /// The ray a preset steps, recorded through its structure as the window's stepper
 /// records it, and the event its step shows (the last one when the step is past the end).
 struct PresetRay {
@@ -407,11 +427,11 @@ TEST(Presets, AxisAlignedBoxesCountEveryBoxTestOfTheRayBothWays) {
     ASSERT_EQ(ray.shown.kind, EventKind::Done) << "the whole ray: every box test counted";
     const uint64_t box_tests = ray.count(EventKind::BoxTest);
     EXPECT_GE(box_tests, 3u);
-    const OperationCount axis = box_test_ops(box_tests, kAxisPlaneOps);
-    const OperationCount general = box_test_ops(box_tests, kGeneralPlaneOps);
-    EXPECT_EQ(axis.divides, int(6 * box_tests));
+    const BoxTestOps axis = box_test_ops(box_tests, kAxisPlaneOps);
+    const BoxTestOps general = box_test_ops(box_tests, kGeneralPlaneOps);
+    EXPECT_EQ(axis.divides, int64_t(6 * box_tests));
     EXPECT_EQ(axis.multiplies, 0);
-    EXPECT_EQ(general.multiplies, int(36 * box_tests));
+    EXPECT_EQ(general.multiplies, int64_t(36 * box_tests));
 }
 
 TEST(Presets, ConstructionPresetsShowASplitThenAChildsSplitThenALeaf) {

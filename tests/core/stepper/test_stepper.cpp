@@ -251,11 +251,11 @@ TEST(AxisAlignedPlanes, ABoxTestIsSixPlaneCrossingsCountedBothWays) {
     EXPECT_EQ(kAxisPlaneOps.multiplies, 0);
     EXPECT_EQ(kAxisPlaneOps.adds, 1);
     EXPECT_EQ(kAxisPlaneOps.divides, 1);
-    const OperationCount axis = box_test_ops(3, kAxisPlaneOps);
+    const BoxTestOps axis = box_test_ops(3, kAxisPlaneOps);
     EXPECT_EQ(axis.multiplies, 0);
     EXPECT_EQ(axis.adds, 18);
     EXPECT_EQ(axis.divides, 18);
-    const OperationCount general = box_test_ops(3, kGeneralPlaneOps);
+    const BoxTestOps general = box_test_ops(3, kGeneralPlaneOps);
     EXPECT_EQ(general.multiplies, 108);
     EXPECT_EQ(general.adds, 90);
     EXPECT_EQ(general.divides, 18);
