@@ -195,6 +195,8 @@ struct RasterTarget {
     Frame& frame;
     const std::vector<double>& ray_length;  ///< |Camera::plane_direction| at each pixel centre
     RasterStats& stats;
+    RasterHistory* history = nullptr;       ///< the writes, when recorded
+    uint64_t overwrites = 0;                ///< writes over an earlier triangle's
 };
 
 /// Stages 4 and 5 for one projected (and clipped) triangle.
@@ -246,9 +248,14 @@ void rasterize_triangle(const ScreenVertex& v0, const ScreenVertex& v1, const Sc
             // The z-test, with the ray caster's order (is_closer): smaller t, and
             // on an exact tie the smaller triangle id.
             if (is_closer(t, id, Hit{frame.tri[i], frame.depth[i]})) {
+                if (frame.tri[i] != Hit::kNoHit && frame.tri[i] != id) ++target.overwrites;
                 frame.depth[i] = t;
                 frame.tri[i] = id;
                 ++target.stats.depth_writes;
+                if (target.history) {
+                    target.history->write_pixel.push_back(uint32_t(i));
+                    target.history->write_tri.push_back(id);
+                }
             }
         }
     }
@@ -256,7 +263,7 @@ void rasterize_triangle(const ScreenVertex& v0, const ScreenVertex& v1, const Sc
 
 }  // namespace
 
-Frame rasterize(const Mesh& mesh, const Camera& camera, RasterStats* stats_out) {
+Frame rasterize(const Mesh& mesh, const Camera& camera, RasterStats* stats_out, RasterHistory* history) {
     const int width = std::max(camera.width(), 0), height = std::max(camera.height(), 0);
     Frame frame(width, height);  // depth = +inf, tri = none: "initialize z_closest[] to ∞"
     frame.tests.assign(frame.depth.size(), 0);
@@ -276,9 +283,17 @@ Frame rasterize(const Mesh& mesh, const Camera& camera, RasterStats* stats_out) 
             ray_length[frame.index(x, y)] = std::sqrt(dot(d, d));
         }
 
-    RasterTarget target{frame, ray_length, stats};
+    RasterTarget target{frame, ray_length, stats, history};
+    if (history) *history = RasterHistory{};
+    auto note_counts = [&] {
+        if (!history) return;
+        history->writes_before.push_back(stats.depth_writes);
+        history->fragments_before.push_back(stats.fragments);
+        history->overwrites_before.push_back(target.overwrites);
+    };
     const Projection project(camera);
     for (uint32_t id = 0; id < mesh.triangle_count(); ++id) {
+        note_counts();
         const std::array<CameraPoint, 3> tri = {points[mesh.indices[id][0]], points[mesh.indices[id][1]],
                                                 points[mesh.indices[id][2]]};
         if (!is_finite(tri[0]) || !is_finite(tri[1]) || !is_finite(tri[2])) continue;  // NaN or inf input
@@ -293,6 +308,8 @@ Frame rasterize(const Mesh& mesh, const Camera& camera, RasterStats* stats_out) 
             rasterize_triangle(screen[0], screen[k], screen[k + 1], id, target);
         }
     }
+
+    note_counts();  // the totals after the last triangle
 
     // Stage 6 — shading, deferred: the colour depends only on the triangle kept
     // and the pixel's ray, so shading once per pixel after the z-test gives the

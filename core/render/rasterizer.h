@@ -16,6 +16,7 @@
 /// can be far smaller than a GPU's near/far ratio.
 
 #include <cstdint>
+#include <vector>
 
 #include "core/geometry/mesh.h"
 #include "core/render/camera.h"
@@ -35,8 +36,20 @@ struct RasterStats {
     double z_near = 0;                  ///< the near plane used (camera-space depth)
 };
 
+/// The rasterizer's loop as it ran, for replaying it triangle by triangle (the fill-
+/// order animation, core/render/fill_order.h): every z-buffer write in order, and per
+/// triangle how far the counts had got before it.
+struct RasterHistory {
+    std::vector<uint32_t> write_pixel;  ///< the pixel index of each depth write, in order
+    std::vector<uint32_t> write_tri;    ///< the triangle that wrote it
+    /// Size triangle_count + 1; entry k: the totals before triangle k (the last: all).
+    std::vector<uint64_t> writes_before, fragments_before, overwrites_before;
+};
+
 /// Rasterizes `mesh` as seen by `camera`. Frame::depth holds the ray distance t
 /// (+inf where nothing is drawn); Frame::tests counts fragments per pixel.
-Frame rasterize(const Mesh& mesh, const Camera& camera, RasterStats* stats = nullptr);
+/// `history` (if given) records the writes (memory: 8 bytes per write).
+Frame rasterize(const Mesh& mesh, const Camera& camera, RasterStats* stats = nullptr,
+                RasterHistory* history = nullptr);
 
 }  // namespace accelviz
