@@ -76,7 +76,7 @@ double ms_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-/// A window view (structure, gui, build-step, comparison): draw_frame() through OSMesa, as the window draws it.
+/// A window view (structure, gui, build-step, comparison, fill-order): draw_frame() through OSMesa, as the window draws it.
 int run_window_view(const RenderOptions& opt, WindowView view, AppState state) {
     auto loaded = load_and_build(state.scene, state.accel);
     if (!loaded) return fail(loaded.error());
@@ -163,8 +163,11 @@ int run_render(const RenderOptions& opt) {
     const std::optional<WindowView> window_view = kWindowViewNames.parse(opt.view);
     const CpuView cpu_view = kCpuViewNames.parse(opt.view).value_or(CpuView::Split);  // CLI11 checked the name
     if (window_view == WindowView::Step) return run_render_step(opt);
-    if ((opt.step >= 0 && window_view != WindowView::BuildStep) || !opt.pixel.empty())
-        return fail("--step is for --view build-step or step, --pixel for --view step");
+    if ((opt.step >= 0 && window_view != WindowView::BuildStep && window_view != WindowView::FillOrder) ||
+        !opt.pixel.empty())
+        return fail("--step is for --view build-step, step or fill-order, --pixel for --view step");
+    if (window_view == WindowView::FillOrder && opt.step > 100)
+        return fail("--step " + std::to_string(opt.step) + ": fill-order takes a percentage of the work, 0 to 100");
     using clock = std::chrono::steady_clock;
     if (!opt.preset.error.empty()) return fail("--preset: " + opt.preset.error);
     // The state: the preset's, then what the command line gave.
@@ -173,6 +176,7 @@ int run_render(const RenderOptions& opt) {
     else if (!opt.preset.state) return fail("no scene: give SCENE (an OBJ file or builtin:NAME) or --preset FILE");
     state.accel = opt.accel;  // already the preset's structure with the flags given applied on top
     if (window_view == WindowView::BuildStep) return run_build_step(opt, std::move(state));
+    if (window_view == WindowView::FillOrder) state.view.fill = opt.step < 0 ? 1.0f : float(opt.step) / 100.0f;
     if (window_view) {
         if (!opt.depth_out.empty()) return fail("--depth-out: only the CPU views write a depth file, not --view " + opt.view);
         return run_window_view(opt, *window_view, std::move(state));
@@ -270,7 +274,9 @@ Command register_render(CLI::App& app) {
                     "at --step K on the ray of --pixel X,Y, the 3D view seeing the ray from the side: the camera "
                     "turned 35 degrees about up and 15 higher, aimed at the ray's point nearest its target, at 0.6 "
                     "times its distance) | comparison (the window with the comparison panel: every structure built "
-                    "and traced on one thread over this view's rays, measured now, and the amortization chart): "
+                    "and traced on one thread over this view's rays, measured now, and the amortization chart) | "
+                    "fill-order (the window split: the CPU rasterizer after --step percent of its triangles, the "
+                    "ray caster after --step percent of its pixels, row by row; default 100): "
                     "the window's OpenGL renderer through OSMesa. Without a preset or camera "
                     "flags, structure/gui frame the scene like the window does")
         ->check(CLI::IsMember(all_views()))
@@ -288,7 +294,8 @@ Command register_render(CLI::App& app) {
         ->check(number_between(1, 1e9));
     sub->add_option("--step", opt->step,
                     "build-step: which decision of the BVH build to show (0 = the root's); step: events applied "
-                    "(0 = before the first, the default; past the end = the final state)")
+                    "(0 = before the first, the default; past the end = the final state); fill-order: the "
+                    "percentage of each loop's work done (0 to 100)")
         ->check(whole_number(0, INT32_MAX, ">= 0"));
     sub->add_option("--pixel", opt->pixel,
                     "step: pixel X,Y (0,0 = top left) of the --width x --height image whose ray is stepped "

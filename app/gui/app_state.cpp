@@ -235,7 +235,7 @@ nlohmann::json to_json(const AppState& s) {
                  {"mode", std::string(to_string(s.view.mode))},
                  {"right_view", std::string(to_string(s.view.right_view))},
                  {"left_view", std::string(to_string(s.view.left_view))}, {"heat_same_scale", s.view.heat_same_scale},
-                 {"line_width", s.view.line_width}};
+                 {"line_width", s.view.line_width}, {"fill_order", s.view.fill_order}, {"fill", s.view.fill}};
     nlohmann::json b = {{"active", s.build_step.active}, {"step", s.build_step.step}};
     if (s.build_step.bins) b["bins"] = *s.build_step.bins;
     if (s.build_step.cost_trav) b["cost_trav"] = *s.build_step.cost_trav;
@@ -299,6 +299,9 @@ Expected<AppState> app_state_from_json(const nlohmann::json& j) {
             if (v.contains("right_view")) s.view.right_view = read_named(v["right_view"], "view.right_view", kRightViewNames);
             if (v.contains("left_view")) s.view.left_view = read_named(v["left_view"], "view.left_view", kLeftViewNames);
             s.view.heat_same_scale = read(v, "heat_same_scale", s.view.heat_same_scale, "view");
+            s.view.fill_order = read(v, "fill_order", s.view.fill_order, "view");
+            s.view.fill = read(v, "fill", s.view.fill, "view");
+            if (!(s.view.fill >= 0.0f && s.view.fill <= 1.0f)) return Error{"view.fill: must be between 0 and 1"};
         }
         if (j.contains("build_step")) {
             const auto& b = j["build_step"];

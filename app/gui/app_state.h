@@ -70,6 +70,11 @@ struct ViewSettings {
     /// Heat maps keep the largest count seen since the scene was loaded as the top
     /// of their scale, so that switching structures compares like with like.
     bool heat_same_scale = false;
+    /// The split view's fill order (the lecture's two loops, stopped part-way): the CPU
+    /// rasterizer after the first `fill` of its triangles on the left, the ray caster
+    /// after the first `fill` of its pixels on the right (0 to 1).
+    bool fill_order = false;
+    float fill = 1.0f;
 };
 
 /// What of the current structure the 3D view draws over the mesh.

@@ -126,6 +126,10 @@ void handle_view_input(AppState& state, Session& session, const Layout& layout) 
             else if (session.loader.busy()) session.loader.cancel();
         }
         if (ImGui::IsKeyPressed(GLFW_KEY_S, false)) state.view.mode = state.view.mode == ViewMode::Split ? ViewMode::View3D : ViewMode::Split;
+        // Space plays the split view's fill order (the ray stepper, when open, owns it).
+        if (state.view.mode == ViewMode::Split && state.view.fill_order && !state.stepper.open &&
+            ImGui::IsKeyPressed(GLFW_KEY_SPACE, false))
+            session.view_panel.play_or_pause_fill(state.view);
         // Presets in lecture order (a presentation clicker sends these keys).
         if (ImGui::IsKeyPressed(GLFW_KEY_PAGE_DOWN, false)) session.presets.step(+1, state, session);
         if (ImGui::IsKeyPressed(GLFW_KEY_PAGE_UP, false)) session.presets.step(-1, state, session);
@@ -269,6 +273,7 @@ FramePlan plan_frame(AppState& state, Session& session, const FrameInput& input)
     }
     if (input.draw_ui) handle_view_input(state, session, layout);
     session.stepper.update(state, session, input.deterministic ? 0.0 : ImGui::GetIO().DeltaTime, input.deterministic);
+    if (!input.deterministic && split) session.view_panel.advance_fill(state.view, ImGui::GetIO().DeltaTime);
     // The comparison measures the rays of the 3D view's picture, while its panel is on
     // screen (headless waits for it).
     const bool comparison_shown = (plan.ui || plan.lecture) && plan.right_panel == RightPanel::Comparison;
@@ -281,7 +286,7 @@ FramePlan plan_frame(AppState& state, Session& session, const FrameInput& input)
         const bool raster = state.view.left_view != LeftView::OpenGl || state.view.right_view == RightView::Depth ||
                             state.view.right_view == RightView::DepthDiff;
         session.ray_cast.request(session.scene, *state.camera, layout.ray_view.width, layout.ray_view.height,
-                                 input.deterministic, raster);
+                                 input.deterministic, raster, state.view.fill_order);
         session.ray_cast.update_texture(state.view);
     } else {
         // The split view is closed: a cast under way is not wanted. One that finished

@@ -108,6 +108,10 @@ Expected<HeadlessRender> render_headless(const AppState& state, std::shared_ptr<
         frame_state.build_step.active = false;  // one right panel at a time
         frame_state.comparison.open = false;
     }
+    if (view == WindowView::FillOrder) {
+        frame_state.view.mode = ViewMode::Split;
+        frame_state.view.fill_order = true;
+    }
     if (view == WindowView::Comparison) {
         frame_state.comparison.open = true;
         frame_state.stepper.open = frame_state.build_step.active = false;

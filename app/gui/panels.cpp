@@ -369,7 +369,46 @@ void ViewPanel::draw_split_choices(ViewSettings& view) {
         ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);
         if (ImGui::Combo("Ray cast shows", &current, kLabels, int(std::size(kLabels)))) view.right_view = RightView(current);
         ImGui::Checkbox("Heat: same scale for all structures", &view.heat_same_scale);
+        draw_fill_order(view);
     }
+}
+
+void ViewPanel::draw_fill_order(ViewSettings& view) {
+    if (ImGui::Checkbox("Fill order (both loops part-way)", &view.fill_order) && view.fill_order) {
+        view.fill = 0.0f;  // from the start: press Play
+        fill_playing = false;
+    }
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("Left: the CPU rasterizer, triangle after triangle (its z-buffer filling in).\n"
+                          "Right: the ray caster, pixel after pixel. Both stopped at the same share of their work.");
+    if (!view.fill_order) {
+        fill_playing = false;
+        return;
+    }
+    float percent = view.fill * 100.0f;
+    if (ImGui::SliderFloat("Done", &percent, 0.0f, 100.0f, "%.1f %%", ImGuiSliderFlags_AlwaysClamp)) {
+        view.fill = percent / 100.0f;
+        fill_playing = false;
+    }
+    if (ImGui::Button(fill_playing ? "Pause##fill" : "Play##fill")) play_or_pause_fill(view);
+    ImGui::SameLine();
+    if (ImGui::Button("-1%##fill")) view.fill = std::max(0.0f, view.fill - 0.01f), fill_playing = false;
+    ImGui::SameLine();
+    if (ImGui::Button("+1%##fill")) view.fill = std::min(1.0f, view.fill + 0.01f), fill_playing = false;
+    float speed = fill_speed * 100.0f;
+    if (ImGui::SliderFloat("Speed", &speed, 1.0f, 100.0f, "%.0f %%/s", ImGuiSliderFlags_Logarithmic))
+        fill_speed = speed / 100.0f;
+}
+
+void ViewPanel::play_or_pause_fill(ViewSettings& view) {
+    if (!fill_playing && view.fill >= 1.0f) view.fill = 0.0f;  // play again from the start
+    fill_playing = !fill_playing;
+}
+
+void ViewPanel::advance_fill(ViewSettings& view, double seconds) {
+    if (!fill_playing || !view.fill_order) return;
+    view.fill = std::min(1.0f, view.fill + float(seconds) * fill_speed);
+    if (view.fill >= 1.0f) fill_playing = false;
 }
 
 void ViewPanel::draw_camera(AppState& state, const Session& session, double view_aspect) {
@@ -483,6 +522,7 @@ void HelpWindow::draw(AppState& state) {
             {"Click (ray stepper open)", "step the ray of that pixel"},
             {"Right / Left, Home / End (a stepper open)", "next / previous, first / last step"},
             {"Space (ray stepper open)", "play / pause"},
+            {"Space (split view's fill order)", "play / pause both loops"},
             {"F1", "this help"},
             {"Esc", "close this help; cancel a load or build"},
             {"L", "lecture mode: full screen, no sidebar"},

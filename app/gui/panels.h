@@ -38,16 +38,23 @@ struct StatsPanel {
 /// Camera and the lecture-hall settings: UI scale, theme, background.
 struct ViewPanel {
     float ui_scale_edit = 0;   ///< the slider's value; applied when released (font rebuild)
+    bool fill_playing = false;  ///< the fill order animates (not state: no animation in a saved frame)
+    float fill_speed = 0.1f;    ///< share of the work per second while playing
     bool editing_scale = false;
     bool copied = false;       ///< "copied" feedback after the copy button
     std::string state_path = "accelviz-state.json";      ///< save / load the whole state
     std::string screenshot_path = "accelviz-screenshot.png";
     void draw(AppState& state, Session& session, double view_aspect);
+    /// Playing: moves the fill order on by `seconds` x speed (stops at the end).
+    void advance_fill(ViewSettings& view, double seconds);
+    /// Play (from the start when at the end) or pause the fill order (its button, Space).
+    void play_or_pause_fill(ViewSettings& view);
 
 private:
     void draw_scale(ViewSettings& view);                  ///< UI scale, presets for desk and projector, line width
     static void draw_colours(ViewSettings& view);         ///< theme and background
-    static void draw_split_choices(ViewSettings& view);   ///< raster | ray cast and what each half shows
+    void draw_split_choices(ViewSettings& view);          ///< raster | ray cast and what each half shows
+    void draw_fill_order(ViewSettings& view);             ///< the fill order: share done, play, speed, step
     void draw_camera(AppState& state, const Session& session, double view_aspect);
     void draw_files(AppState& state, Session& session);   ///< state JSON save / load, screenshots
 };

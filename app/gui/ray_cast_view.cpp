@@ -12,15 +12,15 @@ namespace accelviz {
 
 bool RayCastView::Key::operator==(const Key& o) const {
     auto same = [](Vec3d a, Vec3d b) { return a.x == b.x && a.y == b.y && a.z == b.z; };
-    return scene == o.scene && width == o.width && height == o.height && raster == o.raster &&
+    return scene == o.scene && width == o.width && height == o.height && raster == o.raster && history == o.history &&
            same(camera.eye, o.camera.eye) &&
            same(camera.target, o.camera.target) && same(camera.up, o.camera.up) && camera.fov_deg == o.camera.fov_deg;
 }
 
 void RayCastView::request(const std::shared_ptr<const LoadedScene>& scene, const CameraParams& camera, int width,
-                          int height, bool wait, bool raster) {
+                          int height, bool wait, bool raster, bool history) {
     if (!scene || width <= 0 || height <= 0) return;
-    const Key key{scene.get(), camera, width, height, raster};
+    const Key key{scene.get(), camera, width, height, raster || history, history};
     if (key == requested_) {
         if (wait) job_.wait();
         return;
@@ -54,7 +54,8 @@ void RayCastView::request(const std::shared_ptr<const LoadedScene>& scene, const
         widen(r.frame.depth);
         if (key.raster) {
             const auto raster_start = std::chrono::steady_clock::now();
-            r.raster = rasterize(*scene->mesh, Camera(key.camera, key.width, key.height), &r.raster_work);
+            r.raster = rasterize(*scene->mesh, Camera(key.camera, key.width, key.height), &r.raster_work,
+                                 key.history ? &r.raster_history : nullptr);
             r.raster_milliseconds =
                 std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - raster_start).count();
             widen(r.raster.depth);
@@ -83,6 +84,28 @@ void RayCastView::update_texture(const ViewSettings& view) {
     if (!shown_) return;
     const Frame& f = shown_->frame;
     const bool have_raster = shown_->key.raster && shown_->raster.width == f.width;
+
+    // The fill order: both loops stopped at the same share of their work.
+    if (view.fill_order && have_raster && shown_->key.history) {
+        if (changed || !fill_shown_ || view.fill != fill_of_textures_ || !texture_ || !left_texture_) {
+            if (!texture_) texture_ = std::make_unique<Texture>();
+            if (!left_texture_) left_texture_ = std::make_unique<Texture>();
+            const Camera camera(shown_->key.camera, shown_->key.width, shown_->key.height);
+            const uint64_t triangles = shown_->scene->mesh->triangle_count();
+            left_texture_->upload(raster_fill_image(shown_->raster_history, *shown_->scene->mesh, camera,
+                                                    fill_amount(view.fill, triangles), &raster_fill_));
+            texture_->upload(ray_cast_fill_image(f, fill_amount(view.fill, f.colour.pixels.size()), &ray_fill_));
+            fill_of_textures_ = view.fill;
+        }
+        fill_shown_ = true;
+        left_view_ = LeftView::Raster;
+        texture_view_ = RightView::RayCast;
+        return;
+    }
+    if (fill_shown_) {  // back from the fill order: the textures are made again
+        fill_shown_ = false;
+        changed = true;
+    }
 
     // Right: the ray caster's picture.
     if (changed || view.right_view != texture_view_ || view.heat_same_scale != texture_same_scale_ || !texture_) {

@@ -18,6 +18,7 @@
 #include "app/gui/app_state.h"
 #include "app/gui/latest_job.h"
 #include "app/gui/scene_loader.h"
+#include "core/render/fill_order.h"
 #include "core/render/frame.h"
 #include "core/render/rasterizer.h"
 #include "core/render/views.h"
@@ -32,7 +33,8 @@ public:
         const LoadedScene* scene = nullptr;
         CameraParams camera;
         int width = 0, height = 0;
-        bool raster = false;  ///< the core CPU rasterizer runs too
+        bool raster = false;   ///< the core CPU rasterizer runs too
+        bool history = false;  ///< and records its writes (the fill-order replay)
         bool operator==(const Key& o) const;
     };
     struct Result {
@@ -42,6 +44,7 @@ public:
         double milliseconds = 0;
         Frame raster;             ///< key.raster: the CPU rasterizer's frame of the same camera
         RasterStats raster_work;
+        RasterHistory raster_history;  ///< key.history: every z-buffer write, for the fill order
         double raster_milliseconds = 0;
         float t_near = 0, t_far = 0;  ///< the depth scale shared by both grey images
         bool cancelled = false;       ///< stopped before the end: not shown
@@ -52,8 +55,9 @@ public:
     /// done (headless renders).
     /// `raster`: run the core CPU rasterizer too (left_view other than "opengl",
     /// or a depth view on the right).
+    /// `history`: the fill order is on (the rasterizer records its writes; implies `raster`).
     void request(const std::shared_ptr<const LoadedScene>& scene, const CameraParams& camera, int width, int height,
-                 bool wait, bool raster = false);
+                 bool wait, bool raster = false, bool history = false);
     /// Takes a finished cast and makes the textures for the views (GL thread).
     void update_texture(const ViewSettings& view);
     /// The texture (null before the first cast finishes) and what it shows.
@@ -64,6 +68,11 @@ public:
     double heat_max(bool nodes) const { return nodes ? heat_max_nodes_ : heat_max_tests_; }
     /// The scale of the heat map in the texture (for its legend).
     const HeatScale& heat_scale_shown() const { return heat_scale_; }
+    /// The fill order's counts in the textures (view.fill_order): each loop's work so far.
+    const RasterFillCounts& raster_fill_shown() const { return raster_fill_; }
+    const RayFillCounts& ray_fill_shown() const { return ray_fill_; }
+    /// True when the textures show the fill order (the split view's fill-order mode).
+    bool fill_shown() const { return fill_shown_; }
     /// How the two depths agree, when the texture is the depth difference.
     const DepthAgreement& depth_agreement_shown() const { return agreement_; }
     const std::optional<Result>& shown() const { return shown_; }
@@ -91,6 +100,10 @@ private:
     HeatScale heat_scale_;       ///< right_view heat-*: the texture's scale
     DepthAgreement agreement_;   ///< right_view depth-diff: the figures of the texture
     LeftView left_view_ = LeftView::OpenGl;  ///< the left_view left_texture_ was made for
+    bool fill_shown_ = false;   ///< the textures are the fill order's
+    float fill_of_textures_ = -1;  ///< the fraction they show
+    RasterFillCounts raster_fill_;
+    RayFillCounts ray_fill_;
     std::unique_ptr<Texture> left_texture_;
     // Same scale for all structures: the largest counts since this mesh loaded.
     const void* heat_mesh_ = nullptr;

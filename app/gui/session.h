@@ -112,7 +112,8 @@ struct Session {
     /// is up (the window keeps drawing frames until then).
     bool has_pending_work() const { return !pending_work().empty(); }
     /// What has_pending_work() waits for, by name ("loader", "caption", "ray_cast",
-    /// "build_stepper", "stepper", "comparison"): the UI snapshot lists them.
+    /// "build_stepper", "stepper", "comparison", "fill_order" while it plays): the UI
+    /// snapshot lists them.
     std::vector<const char*> pending_work() const;
     /// Makes the GPU copies match `scene` and the overlay match `settings`
     /// (call on the GL thread).

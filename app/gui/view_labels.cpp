@@ -239,7 +239,15 @@ void draw_preset_caption(const Session& session, LabelStack& stack) {
 void draw_raster_label(const AppState& state, const Session& session, LabelStack& stack, bool deterministic) {
     char text[256];
     const auto& shown_cast = session.ray_cast.shown();
-    if (session.ray_cast.left_texture() != nullptr) {
+    if (session.ray_cast.fill_shown()) {
+        const RasterFillCounts& c = session.ray_cast.raster_fill_shown();
+        std::snprintf(text, sizeof text, "%llu of %llu triangles: %llu depth tests, %llu writes, %llu of them overwrites",
+                      (unsigned long long)c.triangles, (unsigned long long)c.triangle_count,
+                      (unsigned long long)c.depth_tests, (unsigned long long)c.depth_writes,
+                      (unsigned long long)c.overwrites);
+        titled_label(stack, "##raster_label", LabelStack::Edge::Top, "Rasterization: for each triangle (CPU z-buffer)",
+                     text);
+    } else if (session.ray_cast.left_texture() != nullptr) {
         const RasterStats& r = shown_cast->raster_work;
         std::snprintf(text, sizeof text,
                       "%llu triangles rasterized, %llu pixel centres tested, %llu fragments, %llu depth writes",
@@ -278,7 +286,7 @@ void draw_raster_label(const AppState& state, const Session& session, LabelStack
 /// difference (what core's image legends show, in the window's font).
 void draw_ray_legend(const AppState& state, const Session& session, LabelStack& stack) {
     const RightView right = state.view.right_view;
-    if (!session.ray_cast.shown() || stack.lines_left() < 3) return;
+    if (!session.ray_cast.shown() || session.ray_cast.fill_shown() || stack.lines_left() < 3) return;
     std::string title;
     std::array<std::string, 3> ticks;
     if (is_heat(right)) {
@@ -314,6 +322,15 @@ void draw_ray_label(const AppState& state, const Session& session, LabelStack& s
     if (right == RightView::HeatTris) title += ": triangle tests per pixel";
     if (right == RightView::Depth) title += ": depth";
     if (right == RightView::DepthDiff) title = "Depth: CPU raster vs ray cast (" + structure + ")";
+    if (session.ray_cast.fill_shown()) {
+        const RayFillCounts& c = session.ray_cast.ray_fill_shown();
+        std::snprintf(text, sizeof text, "%llu of %llu pixels, one ray each: %llu nodes, %llu triangle tests",
+                      (unsigned long long)c.pixels, (unsigned long long)c.pixel_count, (unsigned long long)c.nodes,
+                      (unsigned long long)c.triangle_tests);
+        titled_label(stack, "##ray_label", LabelStack::Edge::Top, "Ray casting: for each pixel (CPU, " + structure + ")",
+                     text);
+        return;
+    }
     std::string detail = "computing ...";
     if (const auto& shown = session.ray_cast.shown()) {
         const Counters& w = shown->frame.work;

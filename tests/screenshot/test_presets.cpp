@@ -225,6 +225,15 @@ TEST(Presets, TheComparisonPresetsMeasureWhatTheirCaptionsSay) {
     for (size_t tree : {2, 3, 4}) EXPECT_GT(stadium[1].triangle_tests_per_ray, 10 * stadium[tree].triangle_tests_per_ray);
 }
 
+TEST(Presets, TheTwoLoopsPresetStopsBothPartWay) {
+    auto state = load_app_state_file(kPresetDir + "/36-raster-vs-raycast-loops.json");
+    ASSERT_TRUE(state) << state.error();
+    EXPECT_EQ(state->view.mode, ViewMode::Split);
+    EXPECT_TRUE(state->view.fill_order);
+    EXPECT_GT(state->view.fill, 0.0f);
+    EXPECT_LT(state->view.fill, 1.0f);
+}
+
 TEST(ComparisonPanel, ClosedWhileMeasuringItMeasuresAgainWhenShownAgain) {
     auto loaded = load_and_build("builtin:teapot", AccelConfig{});
     ASSERT_TRUE(loaded) << loaded.error();

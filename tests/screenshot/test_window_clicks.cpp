@@ -11,6 +11,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -434,6 +435,34 @@ TEST(WindowClicks, TheComparisonPanelMeasuresOnAClickAndGivesWayToTheStepper) {
         return snap["state"]["comparison"]["open"] == false && snap["state"]["stepper"]["open"] == true;
     });
     EXPECT_TRUE(w.snapshot()["duplicate_ids"].empty()) << w.snapshot()["duplicate_ids"].dump();
+}
+
+TEST(WindowClicks, TheFillOrderPlaysWithSpaceAndStopsAtTheEnd) {
+    Window w;
+    w.start("builtin:teapot");
+    w.click("Raster | ray cast (S)");
+    w.wait_for("the split view", [](const json& s) { return s["state"]["view"]["mode"] == "split"; });
+    w.toggle("Fill order (both loops part-way)", "/view/fill_order");
+    json s = w.wait_for("the fill order from the start", [](const json& snap) {
+        return snap["state"]["view"]["fill_order"] == true && snap["state"]["view"]["fill"] == 0.0;
+    });
+    w.click("+1%##fill");
+    w.wait_for("one percent on", [](const json& snap) { return snap["state"]["view"]["fill"].get<double>() > 0.005; });
+    w.key("space");
+    w.wait_for("playing", [](const json& snap) { return snap["state"]["view"]["fill"].get<double>() > 0.05; });
+    w.key("space");  // pause
+    s = w.wait_for("paused", [](const json& snap) {
+        const auto& p = snap["pending"];
+        return std::find(p.begin(), p.end(), "fill_order") == p.end();
+    });
+    const double paused_at = s["state"]["view"]["fill"].get<double>();
+    EXPECT_LT(paused_at, 1.0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(400));
+    EXPECT_EQ(w.snapshot()["state"]["view"]["fill"].get<double>(), paused_at) << "paused: it stays";
+    w.key("space");  // on to the end, where it stops by itself
+    w.wait_for("the end", [](const json& snap) {
+        return snap["state"]["view"]["fill"].get<double>() == 1.0 && !snap["busy"].get<bool>();
+    });
 }
 
 TEST(WindowClicks, DraggingTheLeafSizeSliderRebuildsOnRelease) {
