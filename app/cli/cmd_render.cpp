@@ -176,7 +176,7 @@ int run_render(const RenderOptions& opt) {
     else if (!opt.preset.state) return fail("no scene: give SCENE (an OBJ file or builtin:NAME) or --preset FILE");
     state.accel = opt.accel;  // already the preset's structure with the flags given applied on top
     if (window_view == WindowView::BuildStep) return run_build_step(opt, std::move(state));
-    if (window_view == WindowView::FillOrder) state.view.fill = opt.step < 0 ? 1.0f : float(opt.step) / 100.0f;
+    if (window_view == WindowView::FillOrder && opt.step >= 0) state.view.fill = float(opt.step) / 100.0f;
     if (window_view) {
         if (!opt.depth_out.empty()) return fail("--depth-out: only the CPU views write a depth file, not --view " + opt.view);
         return run_window_view(opt, *window_view, std::move(state));
@@ -276,7 +276,7 @@ Command register_render(CLI::App& app) {
                     "times its distance) | comparison (the window with the comparison panel: every structure built "
                     "and traced on one thread over this view's rays, measured now, and the amortization chart) | "
                     "fill-order (the window split: the CPU rasterizer after --step percent of its triangles, the "
-                    "ray caster after --step percent of its pixels, row by row; default 100): "
+                    "ray caster after --step percent of its pixels, row by row; default: the preset's, else 100): "
                     "the window's OpenGL renderer through OSMesa. Without a preset or camera "
                     "flags, structure/gui frame the scene like the window does")
         ->check(CLI::IsMember(all_views()))

@@ -126,7 +126,7 @@ void handle_view_input(AppState& state, Session& session, const Layout& layout) 
             else if (session.loader.busy()) session.loader.cancel();
         }
         if (ImGui::IsKeyPressed(GLFW_KEY_S, false)) state.view.mode = state.view.mode == ViewMode::Split ? ViewMode::View3D : ViewMode::Split;
-        // Space plays the split view's fill order (the ray stepper, when open, owns it).
+        // Space plays the split view's fill order (the ray stepper, when open, owns Space).
         if (state.view.mode == ViewMode::Split && state.view.fill_order && !state.stepper.open &&
             ImGui::IsKeyPressed(GLFW_KEY_SPACE, false))
             session.view_panel.play_or_pause_fill(state.view);
@@ -273,7 +273,7 @@ FramePlan plan_frame(AppState& state, Session& session, const FrameInput& input)
     }
     if (input.draw_ui) handle_view_input(state, session, layout);
     session.stepper.update(state, session, input.deterministic ? 0.0 : ImGui::GetIO().DeltaTime, input.deterministic);
-    if (!input.deterministic && split) session.view_panel.advance_fill(state.view, ImGui::GetIO().DeltaTime);
+    session.view_panel.advance_fill(state.view, input.deterministic ? 0.0 : ImGui::GetIO().DeltaTime, split);
     // The comparison measures the rays of the 3D view's picture, while its panel is on
     // screen (headless waits for it).
     const bool comparison_shown = (plan.ui || plan.lecture) && plan.right_panel == RightPanel::Comparison;

@@ -392,9 +392,14 @@ void ViewPanel::draw_fill_order(ViewSettings& view) {
     }
     if (ImGui::Button(fill_playing ? "Pause##fill" : "Play##fill")) play_or_pause_fill(view);
     ImGui::SameLine();
-    if (ImGui::Button("-1%##fill")) view.fill = std::max(0.0f, view.fill - 0.01f), fill_playing = false;
+    // Whole percents, so that repeated steps land on 0 and 100 exactly.
+    auto step_percent = [&](float delta) {
+        view.fill = std::clamp(std::round(view.fill * 100.0f + delta) / 100.0f, 0.0f, 1.0f);
+        fill_playing = false;
+    };
+    if (ImGui::Button("-1%##fill")) step_percent(-1.0f);
     ImGui::SameLine();
-    if (ImGui::Button("+1%##fill")) view.fill = std::min(1.0f, view.fill + 0.01f), fill_playing = false;
+    if (ImGui::Button("+1%##fill")) step_percent(+1.0f);
     float speed = fill_speed * 100.0f;
     if (ImGui::SliderFloat("Speed", &speed, 1.0f, 100.0f, "%.0f %%/s", ImGuiSliderFlags_Logarithmic))
         fill_speed = speed / 100.0f;
@@ -405,8 +410,9 @@ void ViewPanel::play_or_pause_fill(ViewSettings& view) {
     fill_playing = !fill_playing;
 }
 
-void ViewPanel::advance_fill(ViewSettings& view, double seconds) {
-    if (!fill_playing || !view.fill_order) return;
+void ViewPanel::advance_fill(ViewSettings& view, double seconds, bool split) {
+    if (!split || !view.fill_order) fill_playing = false;
+    if (!fill_playing) return;
     view.fill = std::min(1.0f, view.fill + float(seconds) * fill_speed);
     if (view.fill >= 1.0f) fill_playing = false;
 }
@@ -522,7 +528,7 @@ void HelpWindow::draw(AppState& state) {
             {"Click (ray stepper open)", "step the ray of that pixel"},
             {"Right / Left, Home / End (a stepper open)", "next / previous, first / last step"},
             {"Space (ray stepper open)", "play / pause"},
-            {"Space (split view's fill order)", "play / pause both loops"},
+            {"Space (split view's fill order, no ray stepper)", "play / pause both loops"},
             {"F1", "this help"},
             {"Esc", "close this help; cancel a load or build"},
             {"L", "lecture mode: full screen, no sidebar"},

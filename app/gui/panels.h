@@ -45,8 +45,9 @@ struct ViewPanel {
     std::string state_path = "accelviz-state.json";      ///< save / load the whole state
     std::string screenshot_path = "accelviz-screenshot.png";
     void draw(AppState& state, Session& session, double view_aspect);
-    /// Playing: moves the fill order on by `seconds` x speed (stops at the end).
-    void advance_fill(ViewSettings& view, double seconds);
+    /// Playing: moves the fill order on by `seconds` x speed (stops at the end, and when
+    /// the fill order or the split view is off).
+    void advance_fill(ViewSettings& view, double seconds, bool split);
     /// Play (from the start when at the end) or pause the fill order (its button, Space).
     void play_or_pause_fill(ViewSettings& view);
 

@@ -20,6 +20,8 @@ bool RayCastView::Key::operator==(const Key& o) const {
 void RayCastView::request(const std::shared_ptr<const LoadedScene>& scene, const CameraParams& camera, int width,
                           int height, bool wait, bool raster, bool history) {
     if (!scene || width <= 0 || height <= 0) return;
+    // The fill order's history only for the lecture's small scenes (kFillOrderMaxTriangles).
+    history = history && scene->mesh->triangle_count() <= kFillOrderMaxTriangles;
     const Key key{scene.get(), camera, width, height, raster || history, history};
     if (key == requested_) {
         if (wait) job_.wait();
@@ -87,15 +89,17 @@ void RayCastView::update_texture(const ViewSettings& view) {
 
     // The fill order: both loops stopped at the same share of their work.
     if (view.fill_order && have_raster && shown_->key.history) {
-        if (changed || !fill_shown_ || view.fill != fill_of_textures_ || !texture_ || !left_texture_) {
+        // Made again only when a loop has got further (a frame while playing may not).
+        const uint64_t triangles = fill_amount(view.fill, shown_->scene->mesh->triangle_count());
+        const uint64_t pixels = fill_amount(view.fill, f.colour.pixels.size());
+        if (changed || !fill_shown_ || triangles != raster_fill_.triangles || pixels != ray_fill_.pixels ||
+            !texture_ || !left_texture_) {
             if (!texture_) texture_ = std::make_unique<Texture>();
             if (!left_texture_) left_texture_ = std::make_unique<Texture>();
             const Camera camera(shown_->key.camera, shown_->key.width, shown_->key.height);
-            const uint64_t triangles = shown_->scene->mesh->triangle_count();
-            left_texture_->upload(raster_fill_image(shown_->raster_history, *shown_->scene->mesh, camera,
-                                                    fill_amount(view.fill, triangles), &raster_fill_));
-            texture_->upload(ray_cast_fill_image(f, fill_amount(view.fill, f.colour.pixels.size()), &ray_fill_));
-            fill_of_textures_ = view.fill;
+            left_texture_->upload(
+                raster_fill_image(shown_->raster_history, *shown_->scene->mesh, camera, triangles, &raster_fill_));
+            texture_->upload(ray_cast_fill_image(f, pixels, &ray_fill_));
         }
         fill_shown_ = true;
         left_view_ = LeftView::Raster;

@@ -101,8 +101,7 @@ private:
     DepthAgreement agreement_;   ///< right_view depth-diff: the figures of the texture
     LeftView left_view_ = LeftView::OpenGl;  ///< the left_view left_texture_ was made for
     bool fill_shown_ = false;   ///< the textures are the fill order's
-    float fill_of_textures_ = -1;  ///< the fraction they show
-    RasterFillCounts raster_fill_;
+    RasterFillCounts raster_fill_;  ///< what the fill order's textures show (their amounts)
     RayFillCounts ray_fill_;
     std::unique_ptr<Texture> left_texture_;
     // Same scale for all structures: the largest counts since this mesh loaded.

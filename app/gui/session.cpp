@@ -44,6 +44,7 @@ void Session::set_scene(AppState& state, std::shared_ptr<const LoadedScene> load
 }
 
 void Session::apply_state(AppState& state, const AppState& loaded) {
+    view_panel.fill_playing = false;  // a saved state shows its own moment of the fill order
     const bool new_scene = !scene || loaded.scene != scene->source;
     const bool new_structure =
         !scene || accel_config_json(loaded.accel) != accel_config_json(scene->accel_config);

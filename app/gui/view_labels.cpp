@@ -247,6 +247,11 @@ void draw_raster_label(const AppState& state, const Session& session, LabelStack
                       (unsigned long long)c.overwrites);
         titled_label(stack, "##raster_label", LabelStack::Edge::Top, "Rasterization: for each triangle (CPU z-buffer)",
                      text);
+    } else if (state.view.fill_order && session.scene &&
+               session.scene->mesh->triangle_count() > kFillOrderMaxTriangles) {
+        std::snprintf(text, sizeof text, "the fill order replays scenes of up to %llu triangles; this one has %zu",
+                      (unsigned long long)kFillOrderMaxTriangles, session.scene->mesh->triangle_count());
+        titled_label(stack, "##raster_label", LabelStack::Edge::Top, "Fill order: too many triangles", text);
     } else if (session.ray_cast.left_texture() != nullptr) {
         const RasterStats& r = shown_cast->raster_work;
         std::snprintf(text, sizeof text,

@@ -11,7 +11,9 @@ namespace accelviz {
 uint64_t fill_amount(double fraction, uint64_t total) {
     if (!(fraction > 0)) return 0;
     if (fraction >= 1) return total;
-    return std::min(total, uint64_t(std::floor(fraction * double(total))));
+    // A thousandth of a unit of slack: a share given in float (0.29f is 0.28999999...)
+    // still reaches the whole number it stands for.
+    return std::min(total, uint64_t(std::floor(fraction * double(total) + 1e-3)));
 }
 
 Image raster_fill_image(const RasterHistory& history, const Mesh& mesh, const Camera& camera, uint64_t triangles,

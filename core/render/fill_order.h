@@ -17,6 +17,10 @@
 
 namespace accelviz {
 
+/// The largest mesh whose rasterization the fill order records (its history takes 24
+/// bytes per triangle and 8 per z-buffer write): the lecture's small scenes, not 10M.
+inline constexpr uint64_t kFillOrderMaxTriangles = 2'000'000;
+
 /// The rasterizer's work after its first `triangles` triangles.
 struct RasterFillCounts {
     uint64_t triangles = 0, triangle_count = 0;
@@ -40,7 +44,8 @@ Image raster_fill_image(const RasterHistory& history, const Mesh& mesh, const Ca
 Image ray_cast_fill_image(const Frame& frame, uint64_t pixels, RayFillCounts* counts = nullptr);
 
 /// How far each loop has got at `fraction` (0 to 1) of its work: the same share of
-/// the triangles and of the pixels, rounded down (all of them at 1).
+/// the triangles and of the pixels, rounded down (all of them at 1; a share within a
+/// thousandth of a unit below a whole number counts as that number).
 uint64_t fill_amount(double fraction, uint64_t total);
 
 }  // namespace accelviz

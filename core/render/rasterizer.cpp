@@ -284,7 +284,11 @@ Frame rasterize(const Mesh& mesh, const Camera& camera, RasterStats* stats_out, 
         }
 
     RasterTarget target{frame, ray_length, stats, history};
-    if (history) *history = RasterHistory{};
+    if (history) {
+        *history = RasterHistory{};
+        for (auto* counts : {&history->writes_before, &history->fragments_before, &history->overwrites_before})
+            counts->reserve(mesh.triangle_count() + 1);
+    }
     auto note_counts = [&] {
         if (!history) return;
         history->writes_before.push_back(stats.depth_writes);

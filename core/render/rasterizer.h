@@ -48,7 +48,7 @@ struct RasterHistory {
 
 /// Rasterizes `mesh` as seen by `camera`. Frame::depth holds the ray distance t
 /// (+inf where nothing is drawn); Frame::tests counts fragments per pixel.
-/// `history` (if given) records the writes (memory: 8 bytes per write).
+/// `history` (if given) records the writes (memory: 8 bytes per write and 24 per triangle).
 Frame rasterize(const Mesh& mesh, const Camera& camera, RasterStats* stats = nullptr,
                 RasterHistory* history = nullptr);
 

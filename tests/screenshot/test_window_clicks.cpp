@@ -463,6 +463,14 @@ TEST(WindowClicks, TheFillOrderPlaysWithSpaceAndStopsAtTheEnd) {
     w.wait_for("the end", [](const json& snap) {
         return snap["state"]["view"]["fill"].get<double>() == 1.0 && !snap["busy"].get<bool>();
     });
+    // Playing again (from the start), then S leaves the split view: it stops playing,
+    // and the window goes idle.
+    w.key("space");
+    w.wait_for("playing from the start", [](const json& snap) { return snap["state"]["view"]["fill"].get<double>() < 0.5; });
+    w.key("s");
+    w.wait_for("stopped with the split view", [](const json& snap) {
+        return snap["state"]["view"]["mode"] == "3d" && !snap["busy"].get<bool>();
+    });
 }
 
 TEST(WindowClicks, DraggingTheLeafSizeSliderRebuildsOnRelease) {

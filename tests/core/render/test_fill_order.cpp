@@ -86,4 +86,6 @@ TEST(FillOrder, AmountsAreTheShareRoundedDownAndAllAtTheEnd) {
     EXPECT_EQ(fill_amount(0.333, 100), 33u);
     EXPECT_EQ(fill_amount(1.0, 100), 100u);
     EXPECT_EQ(fill_amount(2.0, 100), 100u);
+    EXPECT_EQ(fill_amount(0.29f, 100), 29u) << "0.29f is 0.28999999...: still 29";
+    EXPECT_EQ(fill_amount(0.29f, 3552), 1030u);
 }
