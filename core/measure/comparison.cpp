@@ -73,7 +73,9 @@ Expected<StructureComparison> measure_structures(const Mesh& mesh, const Camera&
     tbb::task_arena one_thread(1);
     const auto structures = comparison_structures();
     for (size_t i = 0; i < structures.size(); ++i) {
-        const auto& [label, config] = structures[i];
+        // Named references, not a structured binding: the build's lambda captures them.
+        const std::string& label = structures[i].first;
+        const AccelConfig& config = structures[i].second;
         if (options.current_row) options.current_row->store(int(i));
         if (cancelled(options.progress)) return WorkProgress::cancelled_error();
         StructureMeasurement row;
