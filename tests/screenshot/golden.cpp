@@ -87,9 +87,13 @@ std::string screenshot_out_dir() {
     return matches_golden(*image, name);
 }
 
-void use_ticking_clock(Session& session) {
+MeasureClock ticking_clock() {
     auto now = std::make_shared<double>(0.0);
-    session.comparison.options.clock = [now] { return *now += 1e-3; };
+    return [now] { return *now += 1e-3; };
+}
+
+void use_ticking_clock(Session& session) {
+    session.comparison.options.clock = ticking_clock();
     session.comparison.options.naive_test_budget = 1;
 }
 

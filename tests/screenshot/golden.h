@@ -47,6 +47,8 @@ void set_update_golden_mode(bool on);
 /// traces 16 rays, so it is the slowest per ray and the chart has its break-even
 /// points. (core's tests check the measuring itself.)
 void use_ticking_clock(Session& session);
+/// The clock use_ticking_clock gives the panel: 1 ms more each time it is read.
+MeasureClock ticking_clock();
 
 /// Where the tests write what they rendered (created on demand).
 std::string screenshot_out_dir();

@@ -168,11 +168,7 @@ TEST(Presets, ABadPresetFileIsAMessageAndChangesNothing) {
 
 // [SECTION] The lecture's sequence
 
-/// A clock that moves one millisecond each time it is read.
-MeasureClock ticking_clock() {
-    auto now = std::make_shared<double>(0.0);
-    return [now] { return *now += 1e-3; };
-}
+using testing::ticking_clock;
 
 TEST(GoldenImage, EveryShippedPresetLoadsRendersAndMatchesItsGolden) {
     // The window's frame for the preset (without the caption, whose "N/M" changes
