@@ -65,12 +65,6 @@ ComparisonPanel::~ComparisonPanel() {
     if (progress_) progress_->cancel();
 }
 
-bool ComparisonPanel::Key::operator==(const Key& o) const {
-    auto same = [](const Vec3d& a, const Vec3d& b) { return a.x == b.x && a.y == b.y && a.z == b.z; };
-    return mesh == o.mesh && width == o.width && height == o.height && same(camera.eye, o.camera.eye) &&
-           same(camera.target, o.camera.target) && same(camera.up, o.camera.up) && camera.fov_deg == o.camera.fov_deg;
-}
-
 void ComparisonPanel::start(const Key& key, std::shared_ptr<const LoadedScene> scene) {
     if (progress_) progress_->cancel();  // an older measurement still running is not wanted
     requested_mesh_ = scene->mesh;

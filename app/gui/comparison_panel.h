@@ -57,7 +57,7 @@ private:
         const Mesh* mesh = nullptr;
         CameraParams camera;
         int width = 0, height = 0;
-        bool operator==(const Key& o) const;
+        bool operator==(const Key&) const = default;
     };
     struct Result {
         Key key;

@@ -10,13 +10,6 @@
 
 namespace accelviz {
 
-bool RayCastView::Key::operator==(const Key& o) const {
-    auto same = [](Vec3d a, Vec3d b) { return a.x == b.x && a.y == b.y && a.z == b.z; };
-    return scene == o.scene && width == o.width && height == o.height && raster == o.raster && history == o.history &&
-           same(camera.eye, o.camera.eye) &&
-           same(camera.target, o.camera.target) && same(camera.up, o.camera.up) && camera.fov_deg == o.camera.fov_deg;
-}
-
 void RayCastView::request(const std::shared_ptr<const LoadedScene>& scene, const CameraParams& camera, int width,
                           int height, bool wait, bool raster, bool history) {
     if (!scene || width <= 0 || height <= 0) return;

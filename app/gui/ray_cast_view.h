@@ -35,7 +35,7 @@ public:
         int width = 0, height = 0;
         bool raster = false;   ///< the core CPU rasterizer runs too
         bool history = false;  ///< and records its writes (the fill-order replay)
-        bool operator==(const Key& o) const;
+        bool operator==(const Key&) const = default;
     };
     struct Result {
         Key key;

@@ -47,6 +47,7 @@ struct Vec3d {
     constexpr Vec3d operator+(Vec3d b) const { return {x + b.x, y + b.y, z + b.z}; }
     constexpr Vec3d operator-(Vec3d b) const { return {x - b.x, y - b.y, z - b.z}; }
     constexpr Vec3d operator*(double s) const { return {x * s, y * s, z * s}; }
+    constexpr bool operator==(const Vec3d&) const = default;
 };
 constexpr double dot(Vec3d a, Vec3d b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 constexpr Vec3d cross(Vec3d a, Vec3d b) {

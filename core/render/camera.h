@@ -21,6 +21,7 @@ struct CameraParams {
     Vec3d target{0, 0, 0};
     Vec3d up{0, 1, 0};
     double fov_deg = 45.0;
+    bool operator==(const CameraParams&) const = default;
 };
 
 /// The default view of a scene with bounds lo, hi: c = (lo+hi)/2, d = |hi-lo|,
