@@ -545,6 +545,36 @@ Mesh make_single(const Params&) {
     return mesh;
 }
 
+/// The lecture's slide "two BVHs over the same 22 triangles: which is better?": 22
+/// small triangles near the z = 0 plane in three clusters, 9 on the left, 8 upper
+/// right and 5 lower right. A split at the median triangle along x (the longest axis)
+/// cuts the lower-right cluster in two, so the halves' boxes overlap; the surface area
+/// heuristic separates the clusters. Each triangle is tilted a little out of the plane
+/// (corners at z = 0 and +-0.05), so no box is flat.
+Mesh make_twenty_two(const Params&) {
+    struct Centre {
+        float x, y;
+    };
+    static constexpr Centre kCentres[22] = {
+        // left: a jittered 3 x 3 block
+        {-3.8f, -0.8f}, {-3.0f, -0.9f}, {-2.2f, -0.7f}, {-3.9f, 0.1f}, {-3.1f, 0.0f}, {-2.3f, 0.2f},
+        {-3.7f, 0.9f}, {-2.9f, 0.8f}, {-2.1f, 1.0f},
+        // upper right: two rows of 4
+        {1.9f, 1.4f}, {2.5f, 1.3f}, {3.1f, 1.5f}, {3.7f, 1.4f}, {2.0f, 2.2f}, {2.6f, 2.3f}, {3.2f, 2.1f},
+        {3.8f, 2.2f},
+        // lower right: a row of 5
+        {1.2f, -2.0f}, {1.8f, -2.2f}, {2.4f, -1.9f}, {3.0f, -2.1f}, {3.6f, -2.0f},
+    };
+    Mesh mesh;
+    for (int i = 0; i < 22; ++i) {
+        const Centre c = kCentres[i];
+        const float s = 0.26f, flip = i % 2 ? -1.0f : 1.0f;  // alternate up- and down-pointing
+        mesh.add_triangle({c.x - s, c.y - flip * 0.5f * s, 0.0f}, {c.x + s, c.y - flip * 0.5f * s, 0.05f},
+                          {c.x, c.y + flip * s, -0.05f});
+    }
+    return mesh;
+}
+
 /// The lecture's KD-tree challenge (slide "KD 树划分的挑战"), for a ray along +x
 /// through the origin's y and z: b, a long sliver, reaches from x = -2 to x = 2.5
 /// and meets the ray at x = 2; a, small, meets it at x of about 1.1. A plane between
@@ -650,6 +680,11 @@ const std::vector<BuiltinDef>& registry() {
          "the lecture's KD-tree challenge: a ray along +x meets b in the first cell, but a, in the second, is nearer",
          {},
          always<make_kd_challenge>},
+        {"twenty-two",
+         "the lecture's 22 triangles in three clusters near the z = 0 plane (two BVHs over the same triangles: "
+         "which is better?)",
+         {},
+         always<make_twenty_two>},
         {"instances",
          "a mesh repeated nx x nz times on a grid in the x-z plane (a 10M-triangle scene from one scan: "
          "builtin:instances?mesh=armadillo.obj&nx=6&nz=5)",

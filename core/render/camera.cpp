@@ -64,6 +64,17 @@ Vec3d Camera::plane_direction(double px, double py) const {
     return forward_ + right_ * sx + true_up_ * sy;
 }
 
+Camera::ImagePoint Camera::project(Vec3d point) const {
+    const Vec3d d = point - params_.eye;
+    ImagePoint out;
+    out.depth = dot(d, forward_);
+    if (!(out.depth > 0)) return out;
+    const double sx = dot(d, right_) / out.depth, sy = dot(d, true_up_) / out.depth;
+    out.x = (sx / (tan_half_ * aspect_) + 1.0) * 0.5 * width_;
+    out.y = (1.0 - sy / tan_half_) * 0.5 * height_;
+    return out;
+}
+
 Ray Camera::ray(int x, int y) const {
     const Vec3d d = normalize(plane_direction(x + 0.5, y + 0.5));
     return Ray{to_float(params_.eye), to_float(d), 0.0f, kInfinity};

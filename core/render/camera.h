@@ -55,6 +55,14 @@ public:
     /// The primary ray through the centre of pixel (x, y).
     Ray ray(int x, int y) const;
 
+    /// Where a point appears in the image: the inverse of plane_direction, in pixels
+    /// (x right, y down; the pixel (x, y) covers [x, x+1) x [y, y+1)), and its depth
+    /// along forward. Only meaningful when depth > 0 (the point is before the eye).
+    struct ImagePoint {
+        double x = 0, y = 0, depth = 0;
+    };
+    ImagePoint project(Vec3d point) const;
+
 private:
     CameraParams params_;
     int width_, height_;

@@ -88,6 +88,7 @@ TEST(BuiltinScenes, TriangleCounts) {
         {"empty", 0},
         {"single", 1},
         {"kd-challenge", 2},
+        {"twenty-two", 22},
     };
     for (const auto& [spec, count] : expected) {
         const Mesh mesh = make(spec);
@@ -97,7 +98,7 @@ TEST(BuiltinScenes, TriangleCounts) {
 }
 
 TEST(BuiltinScenes, EveryListedSceneBuildsWithItsDefaultsAndIsWellFormed) {
-    ASSERT_EQ(builtin_scenes().size(), 12u);
+    ASSERT_EQ(builtin_scenes().size(), 13u);
     for (const BuiltinInfo& info : builtin_scenes()) {
         SCOPED_TRACE(info.name);
         EXPECT_FALSE(info.description.empty());

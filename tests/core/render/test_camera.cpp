@@ -48,6 +48,21 @@ TEST(CameraContract, MatchesTheFormulasExactly) {
         }
 }
 
+TEST(CameraContract, ProjectIsTheInverseOfThePixelRays) {
+    const CameraParams p{{1, 2, 3}, {-2, 0.5, 1}, {0, 1, 0.2}, 37};
+    const Camera cam(p, 64, 48);
+    for (int y : {0, 17, 47})
+        for (int x : {0, 31, 63})
+            for (double distance : {0.5, 3.0, 40.0}) {
+                const Vec3d d = normalize(cam.plane_direction(x + 0.5, y + 0.5));
+                const Camera::ImagePoint q = cam.project(p.eye + d * distance);
+                EXPECT_NEAR(q.x, x + 0.5, 1e-9);
+                EXPECT_NEAR(q.y, y + 0.5, 1e-9);
+                EXPECT_NEAR(q.depth, distance * dot(d, cam.forward()), 1e-9);
+            }
+    EXPECT_LT(cam.project(p.eye - cam.forward()).depth, 0);  // behind the eye
+}
+
 TEST(CameraContract, DefaultViewFramesTheBounds) {
     const Aabb box{{-1, -2, -3}, {1, 2, 3}};
     const CameraParams p = default_camera(box);
