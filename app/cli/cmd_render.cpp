@@ -76,7 +76,7 @@ double ms_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-/// A window view (structure, gui, build-step, comparison, fill-order): draw_frame() through OSMesa, as the window draws it.
+/// A window view (structure, gui, build-step, comparison, fill-order, two-bvhs): draw_frame() through OSMesa, as the window draws it.
 int run_window_view(const RenderOptions& opt, WindowView view, AppState state) {
     auto loaded = load_and_build(state.scene, state.accel);
     if (!loaded) return fail(loaded.error());
@@ -260,7 +260,7 @@ Command register_render(CLI::App& app) {
     // options were added, so the flags given apply on top of the preset's structure.
     add_preset_flag(
         *sub, opt->preset, opt->accel,
-        "Start from this saved window state (a JSON file, or a shipped preset's name, e.g. 29-grid-stadium): "
+        "Start from this saved window state (a JSON file, or a shipped preset's name, e.g. 30-grid-stadium): "
         "scene, structure, camera, "
         "overlay and view settings. SCENE, the structure flags and the camera flags given replace its values. "
         "A relative OBJ path in it is relative to the preset's directory if the file is there",
@@ -276,7 +276,9 @@ Command register_render(CLI::App& app) {
                     "times its distance) | comparison (the window with the comparison panel: every structure built "
                     "and traced on one thread over this view's rays, measured now, and the amortization chart) | "
                     "fill-order (the window split: the CPU rasterizer after --step percent of its triangles, the "
-                    "ray caster after --step percent of its pixels, row by row; default: the preset's, else 100): "
+                    "ray caster after --step percent of its pixels, row by row; default: the preset's, else 100) | "
+                    "two-bvhs (the window with the two-BVHs panel: the scene's BVH by two builders, median and "
+                    "sah-binned unless the preset says, side by side with their SAH costs and nodes per ray): "
                     "the window's OpenGL renderer through OSMesa. Without a preset or camera "
                     "flags, structure/gui frame the scene like the window does")
         ->check(CLI::IsMember(all_views()))

@@ -13,7 +13,7 @@ std::shared_ptr<WindowOptions> add_window_flags(CLI::App& app, const std::string
                        "; with --preset, replaces the preset's scene)");
     add_preset_flag(app, opt->preset, opt->accel,
                     "Open the window on this saved state (a JSON file, or a shipped preset's name, e.g. "
-                    "29-grid-stadium), as `accelviz render --preset` draws it; SCENE, the structure flags and the "
+                    "30-grid-stadium), as `accelviz render --preset` draws it; SCENE, the structure flags and the "
                     "camera flags given replace its values");
     add_accel_flags(app, opt->accel);
     opt->accel.type = AppState{}.accel.type;  // the window's default structure (add_accel_flags sets the commands')

@@ -252,6 +252,8 @@ nlohmann::json to_json(const AppState& s) {
     if (s.stepper.pixel) stepper["pixel"] = {(*s.stepper.pixel)[0], (*s.stepper.pixel)[1]};
     j["stepper"] = stepper;
     j["comparison"] = {{"open", s.comparison.open}};
+    j["two_bvhs"] = {{"open", s.two_bvhs.open},
+                     {"builders", {to_string(s.two_bvhs.builders[0]), to_string(s.two_bvhs.builders[1])}}};
     return j;
 }
 
@@ -346,6 +348,16 @@ Expected<AppState> app_state_from_json(const nlohmann::json& j) {
             }
         }
         if (j.contains("comparison")) s.comparison.open = read(j["comparison"], "open", s.comparison.open, "comparison");
+        if (j.contains("two_bvhs")) {
+            const auto& t = j["two_bvhs"];
+            s.two_bvhs.open = read(t, "open", s.two_bvhs.open, "two_bvhs");
+            if (t.contains("builders")) {
+                const auto& b = t["builders"];
+                if (!b.is_array() || b.size() != 2) throw std::runtime_error("two_bvhs.builders: expected two builder names");
+                for (size_t i = 0; i < 2; ++i)
+                    s.two_bvhs.builders[i] = read_enum(b[i], "two_bvhs.builders", parse_bvh_builder);
+            }
+        }
     } catch (const std::exception& e) {  // ours name the field; nlohmann's do not
         return Error{without_json_tag(e.what())};
     }

@@ -137,6 +137,15 @@ struct ComparisonSettings {
     bool operator==(const ComparisonSettings&) const = default;
 };
 
+/// The lecture's "two BVHs over the same triangles: which is better?": a panel
+/// with the current scene's BVH made by two builders side by side (every other
+/// build parameter from the structure's), their boxes, SAH costs and work per ray.
+struct TwoBvhsSettings {
+    bool open = false;
+    std::array<BvhBuilder, 2> builders{BvhBuilder::Median, BvhBuilder::SahBinned};  ///< left, right
+    bool operator==(const TwoBvhsSettings&) const = default;
+};
+
 struct AppState {
     std::string scene = "builtin:cube";  ///< "builtin:NAME?k=v" or an OBJ path
     /// The structure and its build parameters; the window starts with a BVH
@@ -151,6 +160,7 @@ struct AppState {
     BuildStepSettings build_step;
     StepperSettings stepper;
     ComparisonSettings comparison;
+    TwoBvhsSettings two_bvhs;
 };
 
 /// The structure part of the JSON form (what AppState's "structure" holds).

@@ -48,7 +48,6 @@ public:
     /// How the panel measures (its progress and row are set per measurement). Tests
     /// put a clock that ticks here, for golden images.
     MeasureOptions options;
-    bool was_open = false;  ///< open in the previous frame (draw_frame keeps one right panel)
 
 private:
     /// What a measurement is of: the mesh (not the scene: a new structure over the same

@@ -31,11 +31,12 @@ struct Layout {
     ViewRect view;      ///< the whole area of the view (mouse and keys act here)
     ViewRect gl_view;   ///< where OpenGL draws the scene: `view`, or its left half when split
     ViewRect ray_view;  ///< split: the right half, the ray caster's picture (same size as gl_view)
-    float right_panel_width = 0;  ///< a stepper's panel or the comparison, right of the view (0: none)
+    float right_panel_width = 0;  ///< a stepper's panel, the comparison or the two BVHs, right of the view (0: none)
 };
 
-/// Which panel sits right of the view (one at a time): a stepper's, or the comparison.
-enum class RightPanel { None, Build, Stepper, Comparison };
+/// Which panel sits right of the view (one at a time): a stepper's, the comparison, or
+/// the two BVHs.
+enum class RightPanel { None, Build, Stepper, Comparison, TwoBvhs };
 
 /// `ui`: the sidebar and the status bar; `bottom_bar`: the height of lecture mode's
 /// caption bar (instead of them). `right_panel`: a stepper's panel or the comparison, with or
@@ -53,7 +54,8 @@ Layout compute_layout(int width, int height, bool ui, bool split, RightPanel rig
             std::floor(std::min(30.0f * font, 0.6f * std::max(0.0f, float(width) - layout.sidebar_width)));
     else if (right_panel == RightPanel::Stepper)
         layout.right_panel_width = std::floor(std::min(26.0f * font, 0.4f * float(width)));
-    else if (right_panel == RightPanel::Comparison)  // a table of 8 columns and a chart: most of the width
+    else if (right_panel == RightPanel::Comparison || right_panel == RightPanel::TwoBvhs)
+        // a table of 8 columns and a chart, or two pictures side by side: most of the width
         layout.right_panel_width =
             std::floor(std::min(42.0f * font, 0.65f * std::max(0.0f, float(width) - layout.sidebar_width)));
     const int left = int(layout.sidebar_width);
@@ -224,6 +226,25 @@ void draw_opengl_depth_as_grey(Session& session, Renderer& renderer, const View3
 }
 
 /// What a frame settles before it draws: the layout and the modes that shape it.
+/// One right panel at a time: of the panels switched on, the one switched on in this
+/// frame wins (the others are switched off); of several switched on at once (a preset),
+/// the first in this order: the two BVHs, the comparison, the ray stepper, the
+/// construction stepper.
+void keep_one_right_panel(AppState& state, Session& session) {
+    const std::array<bool*, 4> open = {&state.two_bvhs.open, &state.comparison.open, &state.stepper.open,
+                                       &state.build_step.active};
+    std::array<bool, 4>& was_open = session.right_panel_was_open;
+    int keep = -1;
+    for (int i = 0; i < 4 && keep < 0; ++i)
+        if (*open[i] && !was_open[i]) keep = i;
+    for (int i = 0; i < 4 && keep < 0; ++i)
+        if (*open[i]) keep = i;
+    for (int i = 0; i < 4; ++i) {
+        if (i != keep) *open[i] = false;
+        was_open[i] = *open[i];
+    }
+}
+
 struct FramePlan {
     Layout layout;
     RightPanel right_panel = RightPanel::None;
@@ -241,24 +262,15 @@ FramePlan plan_frame(AppState& state, Session& session, const FrameInput& input)
     plan.ui = input.draw_ui && state.view.show_ui && !plan.lecture;
     plan.split = state.view.mode == ViewMode::Split;
     const bool split = plan.split;
-    // One right panel at a time: the one switched on last wins.
-    if (state.stepper.open && state.build_step.active) {
-        if (session.stepper.was_open) state.stepper.open = false;
-        else state.build_step.active = false;
-    }
-    if (state.comparison.open && (state.stepper.open || state.build_step.active)) {
-        if (session.comparison.was_open) state.comparison.open = false;  // a stepper was just switched on
-        else state.stepper.open = state.build_step.active = false;
-    }
-    session.stepper.was_open = state.stepper.open;
-    session.comparison.was_open = state.comparison.open;
+    keep_one_right_panel(state, session);
     // The construction stepper: its recorded build and chart (on workers; headless waits).
     session.build_stepper.update(state, session.scene, input.deterministic);
     const bool build_panel = state.build_step.active && state.accel.type == AccelType::Bvh;
-    plan.right_panel = build_panel            ? RightPanel::Build
-                       : state.stepper.open   ? RightPanel::Stepper
-                       : state.comparison.open ? RightPanel::Comparison
-                                              : RightPanel::None;
+    plan.right_panel = build_panel              ? RightPanel::Build
+                       : state.stepper.open     ? RightPanel::Stepper
+                       : state.comparison.open  ? RightPanel::Comparison
+                       : state.two_bvhs.open    ? RightPanel::TwoBvhs
+                                                : RightPanel::None;
     const float caption_bar =
         plan.lecture && session.lecture.caption && !session.lecture.blank ? lecture_caption_height(session, input.width) : 0.0f;
     // Lecture mode keeps the right panel: a preset that steps a ray or a build, or compares
@@ -279,6 +291,9 @@ FramePlan plan_frame(AppState& state, Session& session, const FrameInput& input)
     const bool comparison_shown = (plan.ui || plan.lecture) && plan.right_panel == RightPanel::Comparison;
     session.comparison.update(state, session.scene, layout.gl_view.width, layout.gl_view.height, comparison_shown,
                               input.deterministic);
+    const bool two_bvhs_shown = (plan.ui || plan.lecture) && plan.right_panel == RightPanel::TwoBvhs;
+    session.two_bvhs.update(state, session.scene, layout.gl_view.width, layout.gl_view.height, two_bvhs_shown,
+                            input.deterministic);
 
     // Split view: the ray caster's picture of this frame's camera (on the worker;
     // headless waits for it so the frame is complete).
@@ -325,6 +340,11 @@ void draw_sidebar(AppState& state, Session& session, const Layout& layout, int h
                 ImGui::SetTooltip("Builds naive, grid, KD tree, octree and BVH on one thread and traces the same\n"
                                   "rays of this view through each: the lecture's comparison table, and when each\n"
                                   "build pays off.");
+            ImGui::Checkbox("Two BVHs side by side", &state.two_bvhs.open);
+            if (ImGui::IsItemHovered())
+                ImGui::SetTooltip("The scene's BVH made by two builders (median and SAH to start with), drawn side\n"
+                                  "by side with their SAH costs and the nodes this view's rays visit: the lecture's\n"
+                                  "\"two BVHs over the same triangles: which is better?\"");
         }
         session.view_panel.draw(state, session,
                                 layout.view.height > 0 ? double(layout.view.width) / layout.view.height : 1.0);
@@ -342,14 +362,18 @@ void draw_right_panel(AppState& state, Session& session, const FrameInput& input
                                          layout.right_panel_width, float(layout.view.height),
                                          layout.gl_view.height > 0 ? double(layout.gl_view.width) / layout.gl_view.height
                                                                    : 1.0);
-    if (plan.right_panel == RightPanel::Stepper || plan.right_panel == RightPanel::Comparison) {
+    if (plan.right_panel == RightPanel::Stepper || plan.right_panel == RightPanel::Comparison ||
+        plan.right_panel == RightPanel::TwoBvhs) {
         ImGui::SetNextWindowPos(ImVec2(float(input.width) - layout.right_panel_width, 0), ImGuiCond_Always);
         ImGui::SetNextWindowSize(ImVec2(layout.right_panel_width, float(input.height) - layout.status_height),
                                  ImGuiCond_Always);
         if (plan.right_panel == RightPanel::Stepper) {
             if (ImGui::Begin("##stepper", nullptr, kFixedPanel)) session.stepper.draw(state, session, plan.lecture);
-        } else if (ImGui::Begin("##comparison", nullptr, kFixedPanel)) {
-            session.comparison.draw(ImGui::GetContentRegionAvail().x, plan.lecture);
+        } else if (plan.right_panel == RightPanel::Comparison) {
+            if (ImGui::Begin("##comparison", nullptr, kFixedPanel))
+                session.comparison.draw(ImGui::GetContentRegionAvail().x, plan.lecture);
+        } else if (ImGui::Begin("##two_bvhs", nullptr, kFixedPanel)) {
+            session.two_bvhs.draw(state, ImGui::GetContentRegionAvail().x, plan.lecture);
         }
         ImGui::End();
     }
@@ -374,7 +398,8 @@ void draw_panels(AppState& state, Session& session, const FrameInput& input, con
     ImGui::End();
     ImGui::PopStyleVar();
 
-    if (plan.right_panel == RightPanel::Stepper || plan.right_panel == RightPanel::Comparison)
+    if (plan.right_panel == RightPanel::Stepper || plan.right_panel == RightPanel::Comparison ||
+        plan.right_panel == RightPanel::TwoBvhs)
         draw_right_panel(state, session, input, plan);
     // The overlay's legend: not over the CPU rasterizer's picture in the left half (it draws no overlay).
     const bool structure_legend =

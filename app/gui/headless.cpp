@@ -106,7 +106,7 @@ Expected<HeadlessRender> render_headless(const AppState& state, std::shared_ptr<
     if (view == WindowView::Step) {
         frame_state.stepper.open = true;
         frame_state.build_step.active = false;  // one right panel at a time
-        frame_state.comparison.open = false;
+        frame_state.comparison.open = frame_state.two_bvhs.open = false;
     }
     if (view == WindowView::FillOrder) {
         frame_state.view.mode = ViewMode::Split;
@@ -114,7 +114,11 @@ Expected<HeadlessRender> render_headless(const AppState& state, std::shared_ptr<
     }
     if (view == WindowView::Comparison) {
         frame_state.comparison.open = true;
-        frame_state.stepper.open = frame_state.build_step.active = false;
+        frame_state.stepper.open = frame_state.build_step.active = frame_state.two_bvhs.open = false;
+    }
+    if (view == WindowView::TwoBvhs) {
+        frame_state.two_bvhs.open = true;
+        frame_state.stepper.open = frame_state.build_step.active = frame_state.comparison.open = false;
     }
     // gui: auto-sized windows appear on the second frame; step: the event list
     // scrolls to the current event on the frame after it is laid out.

@@ -33,13 +33,15 @@ enum class WindowView {
     Step,       ///< the whole frame with the traversal stepper open on state.stepper.ray
     Comparison, ///< the whole frame with the comparison panel open (every structure measured)
     FillOrder,  ///< the whole frame, split, with the fill order at state.view.fill
+    TwoBvhs,    ///< the whole frame with the two-BVHs panel open (the scene's BVH by two builders)
 };
-inline constexpr EnumNames<WindowView, 6> kWindowViewNames{{{{WindowView::Structure, "structure"},
+inline constexpr EnumNames<WindowView, 7> kWindowViewNames{{{{WindowView::Structure, "structure"},
                                                               {WindowView::Gui, "gui"},
                                                               {WindowView::BuildStep, "build-step"},
                                                               {WindowView::Step, "step"},
                                                               {WindowView::Comparison, "comparison"},
-                                                              {WindowView::FillOrder, "fill-order"}}}};
+                                                              {WindowView::FillOrder, "fill-order"},
+                                                              {WindowView::TwoBvhs, "two-bvhs"}}}};
 constexpr std::string_view to_string(WindowView v) { return kWindowViewNames.name(v); }
 
 /// Renders `view` of `state` at width x height through an OSMesa context

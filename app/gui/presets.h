@@ -28,7 +28,7 @@ struct PresetInfo {
 /// binary or one or two directories up. Empty if none exists.
 std::string find_presets_dir();
 
-/// A preset given by name ("29-grid-stadium", with or without ".json") as its file
+/// A preset given by name ("30-grid-stadium", with or without ".json") as its file
 /// in find_presets_dir(); anything that is a file, or has a '/', is returned as it is.
 std::string resolve_preset(const std::string& name_or_path);
 

@@ -79,6 +79,7 @@ std::vector<const char*> Session::pending_work() const {
     if (build_stepper.busy() || build_stepper.has_result()) names.push_back("build_stepper");
     if (stepper.has_pending_work()) names.push_back("stepper");
     if (comparison.busy() || comparison.has_result()) names.push_back("comparison");
+    if (two_bvhs.busy() || two_bvhs.has_result()) names.push_back("two_bvhs");
     if (view_panel.fill_playing) names.push_back("fill_order");
     return names;
 }

@@ -14,6 +14,7 @@
 #include "app/gui/app_state.h"
 #include "app/gui/build_stepper.h"
 #include "app/gui/comparison_panel.h"
+#include "app/gui/two_bvhs_panel.h"
 #include "app/gui/panels.h"
 #include "app/gui/presets.h"
 #include "app/gui/ray_cast_view.h"
@@ -70,6 +71,11 @@ struct Session {
 
     /// The comparison panel: every structure measured on the scene (on a worker).
     ComparisonPanel comparison;
+    /// The two-BVHs panel: the scene's BVH by two builders, side by side (on a worker).
+    TwoBvhsPanel two_bvhs;
+    /// Which right panels were open in the previous frame (two BVHs, comparison, ray
+    /// stepper, construction stepper): draw_frame keeps the one switched on last.
+    std::array<bool, 4> right_panel_was_open{};
 
     UiStyle style;
     bool dragging_view = false;  ///< a mouse drag that started in the 3D view
@@ -112,7 +118,7 @@ struct Session {
     /// is up (the window keeps drawing frames until then).
     bool has_pending_work() const { return !pending_work().empty(); }
     /// What has_pending_work() waits for, by name ("loader", "caption", "ray_cast",
-    /// "build_stepper", "stepper", "comparison", "fill_order" while it plays): the UI
+    /// "build_stepper", "stepper", "comparison", "two_bvhs", "fill_order" while it plays): the UI
     /// snapshot lists them.
     std::vector<const char*> pending_work() const;
     /// Makes the GPU copies match `scene` and the overlay match `settings`

@@ -60,7 +60,6 @@ struct StepperPanel {
     float speed = 4.0f;       ///< events per second
     double play_clock = 0;    ///< seconds accumulated towards the next step
     bool scroll_to_current = true;
-    bool was_open = false;    ///< open in the previous frame (draw_frame keeps one stepper at a time)
 
     // The typed ray.
     float origin_edit[3] = {0, 0, 0};

@@ -160,6 +160,14 @@ public:
                 rows.push_back({{"label", row.label}, {"rays", row.rays}, {"mismatches", row.mismatches}});
             j["comparison"] = {{"width", c->width}, {"height", c->height}, {"rows", rows}};
         }
+        if (const TwoBvhs* t = session.two_bvhs.measured()) {
+            nlohmann::json trees = nlohmann::json::array();
+            for (const BvhTreeSummary& tree : t->trees)
+                trees.push_back({{"builder", to_string(tree.builder)},
+                                 {"sah_cost", tree.stats.sah_cost},
+                                 {"nodes_per_ray", tree.nodes_per_ray}});
+            j["two_bvhs"] = {{"width", t->width}, {"height", t->height}, {"trees", trees}};
+        }
         j["status"] = session.stats_bar.last_line;
         j["lecture"] = {{"on", session.lecture.on}, {"caption", session.lecture.caption}, {"blank", session.lecture.blank},
                         {"preset", session.presets.current()}, {"font_size", ImGui::GetFontSize()}};
@@ -255,6 +263,7 @@ int run_window(AppState state, const std::string& preset_path, bool lecture, boo
             session.ray_cast.set_on_finished([] { GlfwWindow::wake_up(); });
             session.build_stepper.set_on_finished([] { GlfwWindow::wake_up(); });
             session.comparison.set_on_finished([] { GlfwWindow::wake_up(); });
+            session.two_bvhs.set_on_finished([] { GlfwWindow::wake_up(); });
             if (first_preset && !session.presets.entries().empty()) {
                 session.presets.load(0, state, session);
             } else {
@@ -315,7 +324,8 @@ int run_window(AppState state, const std::string& preset_path, bool lecture, boo
             // would keep a closed window's process alive. Nothing is left to save, so the
             // process ends here.
             if (session.loader.busy() || session.build_stepper.busy() || session.ray_cast.busy() ||
-                session.stepper.has_pending_work() || session.comparison.busy()) {
+                session.stepper.has_pending_work() || session.comparison.busy() ||
+                session.two_bvhs.busy()) {
                 std::cout.flush();
                 std::cerr.flush();
                 std::_Exit(exit_code);

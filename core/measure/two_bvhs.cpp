@@ -50,13 +50,17 @@ Expected<TwoBvhs> measure_two_bvhs(const Mesh& mesh, const Camera& camera, const
         tree.stats = bvh.build_stats;
         describe_tree(bvh, mesh.triangle_count(), tree);
         Counters counters;
+        uint64_t meeting_root = 0;
         for (size_t r = 0; r < rays.size(); ++r) {
             if (r % 256 == 0 && cancelled(options.progress)) return WorkProgress::cancelled_error();
             CountingObserver counter;
             hits[i].push_back(bvh.intersect_closest(rays[r], counter));
+            if (counter.counters.nodes_visited == 0) continue;  // missed the root's box: no work in the tree
+            ++meeting_root;
             counters += counter.counters;
         }
-        const double n = double(std::max<uint64_t>(1, out.rays));
+        out.rays_meeting_root = meeting_root;  // the same for both trees: one root box
+        const double n = double(std::max<uint64_t>(1, meeting_root));
         tree.nodes_per_ray = double(counters.nodes_visited) / n;
         tree.box_tests_per_ray = double(counters.box_tests) / n;
         tree.triangle_tests_per_ray = double(counters.triangle_tests) / n;

@@ -5,7 +5,8 @@
 /// cost of a ray that meets the root's box (MacDonald & Booth 1990: each node
 /// weighted by the chance S_node / S_root that such a ray meets it); nodes visited
 /// and triangle tests per ray are measured over a seeded sample of the camera's
-/// pixels, so they say what this view's rays pay.
+/// pixels, averaged over the rays that meet the root's box as the SAH cost is, so
+/// they say what this view's rays pay once they reach the tree.
 
 #include <array>
 #include <cstdint>
@@ -30,7 +31,8 @@ struct BvhTreeSummary {
     };
     std::vector<Box> boxes;                  ///< every node, in the tree's node order (root first)
     std::vector<uint32_t> leaf_of_triangle;  ///< [triangle id] = its leaf's number, counting leaves in node order
-    double nodes_per_ray = 0;                ///< nodes visited
+    // Per ray that meets the root's box:
+    double nodes_per_ray = 0;  ///< nodes visited
     double box_tests_per_ray = 0;
     double triangle_tests_per_ray = 0;
 };
@@ -38,8 +40,9 @@ struct BvhTreeSummary {
 struct TwoBvhs {
     std::array<BvhTreeSummary, 2> trees;
     int width = 0, height = 0;  ///< the image whose pixels the rays sample
-    uint64_t rays = 0;          ///< rays traced through each tree
-    uint64_t rays_that_hit = 0;  ///< of them, rays that hit a triangle
+    uint64_t rays = 0;             ///< rays traced through each tree
+    uint64_t rays_meeting_root = 0;  ///< of them, rays that meet the root's box (the same box in both trees)
+    uint64_t rays_that_hit = 0;    ///< of them, rays that hit a triangle
     /// Rays whose closest hit differs between the trees (0: both answer exactly, as
     /// they must; the panel says so).
     uint64_t disagreements = 0;

@@ -4,6 +4,7 @@
 
 #include <cstdlib>
 
+#include "app/gui/app_state.h"
 #include "app/gui/headless.h"
 #include "app/gui/session.h"
 #include "core/accel/factory.h"
@@ -221,6 +222,13 @@ TEST(GoldenImage, ComparisonPanelInLectureModeAtProjectorScale) {
     state.accel.type = AccelType::Grid;
     state.comparison.open = true;
     EXPECT_TRUE(comparison_matches_golden(state, WindowView::Gui, 1920, 1080, true, "comparison_lecture_1920x1080"));
+}
+
+TEST(GoldenImage, TwoBvhsPanelInLectureModeAtProjectorScale) {
+    // The lecture's 22 triangles, median against binned SAH, as a lecturer shows them.
+    auto state = load_app_state_file(std::string(ACCELVIZ_SOURCE_DIR) + "/assets/presets/15-bvh-two-trees.json");
+    ASSERT_TRUE(state) << state.error();
+    EXPECT_TRUE(comparison_matches_golden(*state, WindowView::Gui, 1920, 1080, true, "two_bvhs_lecture_1920x1080"));
 }
 
 TEST(HeadlessRender, WindowViewNamesParseBackToTheirViews) {

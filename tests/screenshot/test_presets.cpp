@@ -15,12 +15,14 @@
 
 #include "app/gui/headless.h"
 #include "app/gui/comparison_panel.h"
+#include "app/gui/two_bvhs_panel.h"
 #include "app/gui/presets.h"
 #include "app/gui/scene_loader.h"
 #include "app/gui/session.h"
 #include "core/accel/factory.h"
 #include "core/geometry/scene.h"
 #include "core/measure/comparison.h"
+#include "core/measure/two_bvhs.h"
 #include "core/render/camera.h"
 #include "core/stepper/stepper.h"
 #include "golden.h"
@@ -198,7 +200,7 @@ TEST(Presets, TheComparisonPresetsMeasureWhatTheirCaptionsSay) {
     // the cell structures meet triangles again, the BVH never; in the stadium the grid,
     // which cannot adapt, tests many times the triangles per ray the trees do.
     std::vector<StructureComparison> measured;
-    for (const char* name : {"34-comparison-table", "35-amortization"}) {
+    for (const char* name : {"35-comparison-table", "36-amortization"}) {
         SCOPED_TRACE(name);
         auto state = load_app_state_file(kPresetDir + "/" + name + ".json");
         ASSERT_TRUE(state) << state.error();
@@ -221,8 +223,55 @@ TEST(Presets, TheComparisonPresetsMeasureWhatTheirCaptionsSay) {
     for (size_t tree : {2, 3, 4}) EXPECT_GT(stadium[1].triangle_tests_per_ray, 10 * stadium[tree].triangle_tests_per_ray);
 }
 
+TEST(Presets, TheTwoTreesPresetShowsTheSahTreeBetter) {
+    // Its caption: the median split overlaps, the SAH tree is cheaper and its rays
+    // visit fewer nodes; at the window's shapes from a desk to lecture mode.
+    auto state = load_app_state_file(kPresetDir + "/15-bvh-two-trees.json");
+    ASSERT_TRUE(state) << state.error();
+    EXPECT_TRUE(state->two_bvhs.open);
+    EXPECT_EQ(state->two_bvhs.builders, (std::array<BvhBuilder, 2>{BvhBuilder::Median, BvhBuilder::SahBinned}));
+    auto mesh = load_scene(state->scene);
+    ASSERT_TRUE(mesh) << mesh.error();
+    EXPECT_EQ(mesh->triangle_count(), 22u);
+    ASSERT_TRUE(state->camera);
+    for (const auto& [w, h] : {std::pair{624, 872}, std::pair{160, 300}, std::pair{1114, 944}}) {
+        SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h));
+        auto measured = measure_two_bvhs(*mesh, Camera(*state->camera, w, h), state->accel.bvh, state->two_bvhs.builders);
+        ASSERT_TRUE(measured) << measured.error();
+        EXPECT_EQ(measured->disagreements, 0u);
+        const auto& [median, sah] = measured->trees;
+        EXPECT_LT(sah.stats.sah_cost, median.stats.sah_cost);
+        EXPECT_LT(sah.nodes_per_ray, median.nodes_per_ray);
+        EXPECT_LT(sah.triangle_tests_per_ray, median.triangle_tests_per_ray);
+        // The whole scene is in view: every triangle is hit by some sampled ray's box.
+        EXPECT_GT(measured->rays_meeting_root, measured->rays / 20);
+    }
+}
+
+TEST(TwoBvhsPanel, MeasuresAgainWhenTheBuildersChange) {
+    auto loaded = load_and_build("builtin:twenty-two", AccelConfig{});
+    ASSERT_TRUE(loaded) << loaded.error();
+    AppState state;
+    state.two_bvhs.open = true;
+    state.camera = default_camera((*loaded)->bounds);
+    TwoBvhsPanel panel;
+    panel.update(state, *loaded, 320, 240, /*shown=*/true, /*wait=*/true);
+    ASSERT_NE(panel.measured(), nullptr);
+    EXPECT_EQ(panel.measured()->trees[0].builder, BvhBuilder::Median);
+    state.two_bvhs.builders = {BvhBuilder::SahSweep, BvhBuilder::Midpoint};
+    panel.update(state, *loaded, 320, 240, /*shown=*/true, /*wait=*/true);
+    EXPECT_EQ(panel.measured()->trees[0].builder, BvhBuilder::SahSweep);
+    EXPECT_EQ(panel.measured()->trees[1].builder, BvhBuilder::Midpoint);
+    // Hidden while measuring, then shown: measured again, no error left behind.
+    state.two_bvhs.builders = {BvhBuilder::Median, BvhBuilder::SahBinned};
+    panel.update(state, *loaded, 320, 240, /*shown=*/true, /*wait=*/false);
+    panel.update(state, *loaded, 320, 240, /*shown=*/false, /*wait=*/false);
+    panel.update(state, *loaded, 320, 240, /*shown=*/true, /*wait=*/true);
+    EXPECT_EQ(panel.measured()->trees[0].builder, BvhBuilder::Median);
+}
+
 TEST(Presets, TheTwoLoopsPresetStopsBothPartWay) {
-    auto state = load_app_state_file(kPresetDir + "/36-raster-vs-raycast-loops.json");
+    auto state = load_app_state_file(kPresetDir + "/37-raster-vs-raycast-loops.json");
     ASSERT_TRUE(state) << state.error();
     EXPECT_EQ(state->view.mode, ViewMode::Split);
     EXPECT_TRUE(state->view.fill_order);
@@ -382,7 +431,7 @@ TEST(Presets, OneBoxCostsOneTestOnAMissAndEveryTriangleOnAHit) {
 TEST(Presets, OverlappingSiblingsAreBothEntered) {
     // The root's two children: their boxes overlap, the ray tests both, enters the
     // nearer (2) first and finds nothing, then the other (1), where its hit is.
-    const PresetRay r = preset_ray("18-bvh-overlapping-siblings");
+    const PresetRay r = preset_ray("19-bvh-overlapping-siblings");
     ASSERT_EQ(r.shown.kind, EventKind::VisitNode);
     EXPECT_EQ(r.shown.node, 1u);
     EXPECT_FALSE(intersection(*r.boxes.node(1), *r.boxes.node(2)).empty()) << "the sibling boxes overlap";
@@ -402,8 +451,8 @@ TEST(Presets, OverlappingSiblingsAreBothEntered) {
 }
 
 TEST(Presets, AlgorithmTwoFindsTheSameHitWithLessWork) {
-    const PresetRay one = preset_ray("21-bvh-algorithm-1");
-    const PresetRay two = preset_ray("22-bvh-algorithm-2");
+    const PresetRay one = preset_ray("22-bvh-algorithm-1");
+    const PresetRay two = preset_ray("23-bvh-algorithm-2");
     ASSERT_EQ(one.shown.kind, EventKind::Done);
     ASSERT_EQ(two.shown.kind, EventKind::Done);
     ASSERT_TRUE(one.shown.hit);
@@ -421,7 +470,7 @@ TEST(Presets, RaySteppingPresetsStopWhereTheirCaptionsSay) {
     ASSERT_EQ(watertight.shown.kind, EventKind::Done);
     EXPECT_FALSE(watertight.shown.hit) << "Moller-Trumbore lets the ray from inside slip out";
 
-    const PresetRay walk = preset_ray("28-grid-cell-walk");
+    const PresetRay walk = preset_ray("29-grid-cell-walk");
     EXPECT_EQ(walk.shown.kind, EventKind::EnterCell);
     EXPECT_GE(walk.count(EventKind::EnterCell), 3u) << "a walk through several cells";
     EXPECT_TRUE(walk.trace.hit.found()) << "and it ends on a hit";
@@ -451,10 +500,10 @@ TEST(Presets, ConstructionPresetsShowASplitThenAChildsSplitThenALeaf) {
         EXPECT_TRUE(trace && size_t(state->build_step.step) < trace->steps.size()) << name;
         return std::make_pair(trace, trace->steps[size_t(state->build_step.step)]);
     };
-    const auto [root_trace, root] = decision("15-bvh-construction");
+    const auto [root_trace, root] = decision("16-bvh-construction");
     EXPECT_EQ(root.depth, 0u);
     EXPECT_GT(root.left_count, 0u);
-    const auto [child_trace, child] = decision("16-bvh-construction-recurse");
+    const auto [child_trace, child] = decision("17-bvh-construction-recurse");
     EXPECT_EQ(child.depth, 1u);
     ASSERT_GT(child.left_count, 0u) << "a split";
     // The panel's S_A/S_N and S_B/S_N, put into the lecture's formula, give the split's cost.
@@ -467,7 +516,7 @@ TEST(Presets, ConstructionPresetsShowASplitThenAChildsSplitThenALeaf) {
     EXPECT_LE(p_b, 1.0f);
     EXPECT_NEAR(1.0f + p_a * float(child.left_count) + p_b * float(child.count - child.left_count), child.split_cost,
                 1e-4f * child.split_cost);
-    const auto [leaf_trace, leaf] = decision("17-bvh-construction-leaf");
+    const auto [leaf_trace, leaf] = decision("18-bvh-construction-leaf");
     EXPECT_TRUE(leaf_trace->bvh.nodes[leaf.node].is_leaf());
     EXPECT_EQ(leaf.decision, BuildDecision::LeafFits);
     EXPECT_LE(leaf.count, 5u);
@@ -477,12 +526,12 @@ TEST(Presets, ConstructionPresetsShowASplitThenAChildsSplitThenALeaf) {
 TEST(Presets, TheKdChallengeIsWrongWithoutTheInCellRuleAndRightWithIt) {
     // builtin:kd-challenge: triangle 0 is b (hit first, in the first cell's walk, but
     // beyond that cell), 1 is a (nearer, in the second cell only).
-    const PresetRay naive_rule = preset_ray("31-kd-in-cell-rule-off");
+    const PresetRay naive_rule = preset_ray("32-kd-in-cell-rule-off");
     ASSERT_EQ(naive_rule.shown.kind, EventKind::Done);
     EXPECT_EQ(naive_rule.trace.hit.tri, 0u) << "the naive rule answers b";
     EXPECT_EQ(naive_rule.count(EventKind::HitOutsideCell), 0u);
 
-    const PresetRay in_cell = preset_ray("32-kd-in-cell-rule-on");
+    const PresetRay in_cell = preset_ray("33-kd-in-cell-rule-on");
     EXPECT_EQ(in_cell.shown.kind, EventKind::HitOutsideCell) << "b's hit lies beyond the cell it was found in";
     EXPECT_EQ(in_cell.shown.tri, 0u);
     EXPECT_EQ(in_cell.trace.hit.tri, 1u) << "a, the nearer one";

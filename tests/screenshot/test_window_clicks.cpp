@@ -236,12 +236,13 @@ public:
         ADD_FAILURE() << "the widget '" << label << "' kept moving away from the pointer";
     }
 
-    /// Opens the combo `label` and picks `entry` from its list. On a slow frame (a big
+    /// Opens the combo `label` (in `window`) and picks `entry` from its list. On a slow frame (a big
     /// scene drawn by a software renderer) the sidebar can still be moving when the
     /// click lands; then the list does not open, and the click is tried again.
-    void pick(const std::string& label, const std::string& entry, int occurrence = 0) {
+    void pick(const std::string& label, const std::string& entry, int occurrence = 0,
+              const std::string& window = "##sidebar") {
         for (int attempt = 0; attempt < 4; ++attempt) {
-            click(label, "##sidebar", occurrence);
+            click(label, window, occurrence);
             const auto start = Clock::now();
             while (Clock::now() - start < std::chrono::seconds(5)) {
                 const json s = snapshot();
@@ -437,6 +438,34 @@ TEST(WindowClicks, TheComparisonPanelMeasuresOnAClickAndGivesWayToTheStepper) {
     EXPECT_TRUE(w.snapshot()["duplicate_ids"].empty()) << w.snapshot()["duplicate_ids"].dump();
 }
 
+TEST(WindowClicks, TwoBvhsSideBySideFollowTheBuilderCombosAndGiveWayToTheComparison) {
+    Window w;
+    w.start("builtin:twenty-two");
+    w.click("Measure structures");
+    w.toggle("Two BVHs side by side", "/two_bvhs/open");
+    json s = w.wait_for("both trees measured", [](const json& snap) {
+        return !snap["busy"].get<bool>() && snap.contains("two_bvhs");
+    });
+    ASSERT_EQ(s["two_bvhs"]["trees"].size(), 2u);
+    EXPECT_EQ(s["two_bvhs"]["trees"][0]["builder"], "median");
+    EXPECT_EQ(s["two_bvhs"]["trees"][1]["builder"], "sah-binned");
+    EXPECT_LT(s["two_bvhs"]["trees"][1]["sah_cost"].get<double>(), s["two_bvhs"]["trees"][0]["sah_cost"].get<double>());
+    EXPECT_EQ(s["two_bvhs"]["width"], s["view"][2]);  // the rays are the 3D view's pixels
+    // The left combo: pick midpoint, and the left tree is built again with it.
+    w.pick("##left builder", "midpoint", 0, "##two_bvhs");
+    w.wait_for("the left tree by midpoint", [](const json& snap) {
+        return !snap["busy"].get<bool>() && snap.contains("two_bvhs") &&
+               snap["two_bvhs"]["trees"][0]["builder"] == "midpoint";
+    });
+    EXPECT_EQ(w.snapshot()["state"]["two_bvhs"]["builders"][0], "midpoint");
+    // One right panel at a time: the comparison switched on closes this one.
+    w.toggle("Measure every structure", "/comparison/open");
+    w.wait_for("the two BVHs closed", [](const json& snap) {
+        return snap["state"]["two_bvhs"]["open"] == false && snap["state"]["comparison"]["open"] == true;
+    });
+    EXPECT_TRUE(w.snapshot()["duplicate_ids"].empty()) << w.snapshot()["duplicate_ids"].dump();
+}
+
 TEST(WindowClicks, TheFillOrderPlaysWithSpaceAndStopsAtTheEnd) {
     Window w;
     w.start("builtin:teapot");
@@ -519,12 +548,12 @@ TEST(WindowFlags, TheWindowOpensOnWhatTheFlagsSay) {
     // A shipped preset by name: its caption, and PageDown goes on to the next one.
     {
         Window w;
-        w.start("builtin:teapot", {"--preset", "20-bvh-sah"}, false);
-        EXPECT_NE(w.snapshot()["status"].get<std::string>().find("Preset 20/"), std::string::npos)
+        w.start("builtin:teapot", {"--preset", "21-bvh-sah"}, false);
+        EXPECT_NE(w.snapshot()["status"].get<std::string>().find("Preset 21/"), std::string::npos)
             << w.snapshot()["status"];
         w.key("Next");
-        w.wait_for("Preset 21 on screen", [](const json& s) {
-            return s["status"].get<std::string>().find("Preset 21/") != std::string::npos;
+        w.wait_for("Preset 22 on screen", [](const json& s) {
+            return s["status"].get<std::string>().find("Preset 22/") != std::string::npos;
         });
     }
 }
@@ -609,11 +638,11 @@ TEST(WindowClicks, LectureModeGoesThroughThePresetsFullScreen) {
     }
     Window w;
     // Presets without a ray stepper (an open stepper owns Home and End).
-    w.start("builtin:teapot", {"--lecture", "--preset", "19-bvh-median"}, false);
+    w.start("builtin:teapot", {"--lecture", "--preset", "20-bvh-median"}, false);
     auto lecture = [&] { return w.snapshot()["lecture"]; };
     const json first = w.snapshot();
     EXPECT_TRUE(first["lecture"]["on"].get<bool>());
-    EXPECT_EQ(first["lecture"]["preset"], 18);
+    EXPECT_EQ(first["lecture"]["preset"], 19);
     EXPECT_GE(first["lecture"]["font_size"].get<double>(), 32.0) << "projector scale";
     EXPECT_EQ(first["size"][0].get<double>(), 1920.0) << "full screen on the 1920x1080 display";
     EXPECT_EQ(first["size"][1].get<double>(), 1080.0);
@@ -623,7 +652,7 @@ TEST(WindowClicks, LectureModeGoesThroughThePresetsFullScreen) {
         << "the caption bar takes the bottom of the screen";
 
     w.key("Next");
-    w.wait_for("preset 20", [](const json& s) { return s["lecture"]["preset"] == 19 && !s["busy"].get<bool>(); });
+    w.wait_for("preset 21", [](const json& s) { return s["lecture"]["preset"] == 20 && !s["busy"].get<bool>(); });
     w.key("Home");
     w.wait_for("the first preset", [](const json& s) { return s["lecture"]["preset"] == 0; });
     w.key("End");
