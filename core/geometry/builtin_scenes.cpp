@@ -64,6 +64,7 @@ struct ParamValue {
 struct Params {
     const std::vector<ParamSpec>* specs = nullptr;
     std::vector<ParamValue> values;  ///< parallel to *specs
+    WorkProgress* progress = nullptr;  ///< a scene that loads another (instances) reports and may cancel here
 
     const ParamValue& get(std::string_view name) const {
         for (size_t i = 0; i < specs->size(); ++i)
@@ -598,7 +599,7 @@ Mesh make_kd_challenge(const Params&) {
 Expected<Mesh> make_instances(const Params& params) {
     const std::string& source = params.text("mesh");
     if (source.starts_with("builtin:instances")) return Error{"mesh= cannot be another builtin:instances"};
-    auto loaded = load_scene(source);
+    auto loaded = load_scene(source, default_mesh_cache(), params.progress);
     if (!loaded) return Error{loaded.error()};
     const Mesh& one = *loaded;
     const uint64_t nx = params.whole("nx"), nz = params.whole("nz"), copies = nx * nz;
@@ -613,6 +614,7 @@ Expected<Mesh> make_instances(const Params& params) {
     mesh.indices.reserve(copies * one.indices.size());
     for (uint64_t k = 0; k < nz; ++k)
         for (uint64_t i = 0; i < nx; ++i) {
+            if (cancelled(params.progress)) return WorkProgress::cancelled_error();
             const Vec3 offset{float(i) * step_x, 0.0f, float(k) * step_z};
             const auto base = uint32_t(mesh.positions.size());
             for (const Vec3& p : one.positions) mesh.positions.push_back(p + offset);
@@ -702,7 +704,7 @@ std::string known_names() {
 
 }  // namespace
 
-Expected<Mesh> make_builtin(const std::string& spec) {
+Expected<Mesh> make_builtin(const std::string& spec, WorkProgress* progress) {
     const std::string full = "builtin:" + spec;
     const size_t question = spec.find('?');
     const std::string_view name = std::string_view(spec).substr(0, question);
@@ -725,9 +727,11 @@ Expected<Mesh> make_builtin(const std::string& spec) {
     };
     auto params = parse_params(def->params, query, fail);
     if (!params) return Error{params.error()};
+    params->progress = progress;
 
     try {
         auto mesh = def->make(*params);
+        if (!mesh && mesh.error() == WorkProgress::cancelled_error().message) return mesh;  // as it is: the caller knows it
         if (!mesh) return Error{full + ": " + mesh.error()};
         mesh->name = full;
         return mesh;

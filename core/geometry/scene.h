@@ -37,8 +37,9 @@ Expected<Mesh> parse_obj(std::string text, const std::string& name);
 /// not numbers or lie out of range are errors whose message lists what is accepted.
 /// Mesh.name is "builtin:" + spec. The output depends only on `spec`: identical
 /// on every machine: seeded scenes use Rng (core/util/random.h), and all arithmetic
-/// is correctly rounded IEEE (+ - * / sqrt; no sin, cos or pow).
-Expected<Mesh> make_builtin(const std::string& spec);
+/// is correctly rounded IEEE (+ - * / sqrt; no sin, cos or pow). `progress` follows
+/// (and may cancel) the load of a scene another is made from (instances' mesh=).
+Expected<Mesh> make_builtin(const std::string& spec, WorkProgress* progress = nullptr);
 
 /// The names make_builtin accepts, each with a one-line description and its parameters.
 struct BuiltinInfo {
@@ -58,8 +59,8 @@ MeshCache default_mesh_cache();
 /// load_obj_cached). Errors: an empty source, what those report, and a mesh the
 /// program cannot show faithfully: every triangle of zero area (nothing to draw), a
 /// coordinate beyond ±kMaxCoordinate or a scene less than kMinSceneSize across (mesh.h).
-/// `progress` follows (and may cancel) an OBJ's parse; a cached copy or a built-in
-/// scene is made without a check.
+/// `progress` follows (and may cancel) an OBJ's parse, also the one inside
+/// builtin:instances; a cached copy or another built-in scene is made without a check.
 Expected<Mesh> load_scene(const std::string& source, MeshCache cache, WorkProgress* progress = nullptr);
 /// load_scene with default_mesh_cache().
 Expected<Mesh> load_scene(const std::string& source);

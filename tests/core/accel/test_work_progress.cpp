@@ -110,4 +110,29 @@ TEST(WorkProgress, AnObjLoadCountsItsBytesAndCanBeCancelled) {
     std::filesystem::remove(path);
 }
 
+TEST(WorkProgress, InstancesCountTheLoadOfTheirMeshAndCanBeCancelled) {
+    // builtin:instances loads its mesh= through load_scene: the window's bar follows
+    // that load too, and its Cancel stops it.
+    const auto path = std::filesystem::temp_directory_path() / "accelviz_progress_instances.obj";
+    {
+        std::ofstream out(path);
+        for (int i = 0; i < 2000; ++i)
+            out << "v " << i << " 0 0\nv " << i << " 1 0\nv " << i << " 0 1\nf " << 3 * i + 1 << ' ' << 3 * i + 2
+                << ' ' << 3 * i + 3 << '\n';
+    }
+    const std::string source = "builtin:instances?mesh=" + path.string() + "&nx=2&nz=3";
+    WorkProgress progress;
+    const auto mesh = load_scene(source, MeshCache::Skip, &progress);
+    ASSERT_TRUE(mesh) << mesh.error();
+    EXPECT_EQ(mesh->triangle_count(), 6 * 2000u);
+    EXPECT_NEAR(progress.fraction(), 1.0, 1e-9);
+
+    WorkProgress cancelled;
+    cancelled.cancel();
+    const auto stopped = load_scene(source, MeshCache::Skip, &cancelled);
+    ASSERT_FALSE(stopped);
+    EXPECT_EQ(stopped.error(), WorkProgress::cancelled_error().message);  // not wrapped in the scene's name
+    std::filesystem::remove(path);
+}
+
 }  // namespace
