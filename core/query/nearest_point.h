@@ -1,0 +1,186 @@
+#pragma once
+/// The closest-point query (lecture: the hierarchy answers more than rays, e.g. the
+/// point on the mesh nearest to a given point), through brute force, the BVH and the
+/// KD tree. Each is one traversal templated on an observer, like the ray queries, so
+/// the events a stepper would replay and the counts come from the code that answers.
+///
+/// Exactness: every version measures a triangle with the same function on the same
+/// float corners (the mesh's), in double, keeps the nearest by is_nearer() (distance,
+/// then the lower triangle id), and skips a node only when its box is farther than the
+/// best distance by more than rounding could explain (kPruneSlack); a box holds every
+/// triangle of its subtree, so the box's distance is a lower bound of theirs and the
+/// answer is brute force's, bit for bit.
+///
+/// Events: VisitNode (node), Cull (node, reason BeyondClosestHit, t_enter = the box's
+/// distance), Leaf (node, first, count), TriangleTest (tri, t = its distance, hit = it
+/// is the nearest so far), NewClosest (tri, t), Done (tri, t, hit = found).
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "core/accel/bvh.h"
+#include "core/accel/kd_tree.h"
+#include "core/geometry/mesh.h"
+#include "core/traversal/events.h"
+
+namespace accelviz {
+
+struct NearestPoint {
+    uint32_t tri = Hit::kNoHit;
+    double distance_squared = std::numeric_limits<double>::infinity();
+    Vec3d point;  ///< the nearest point on triangle `tri`
+
+    bool found() const { return tri != Hit::kNoHit; }
+    double distance() const { return std::sqrt(distance_squared); }
+};
+
+/// The point of triangle (a, b, c) nearest to p, by the triangle's Voronoi regions
+/// (Ericson, Real-Time Collision Detection, 2005, section 5.1.5). Degenerate
+/// triangles (a segment or a point) give a point of the segment or the point.
+Vec3d closest_point_on_triangle(Vec3d p, Vec3d a, Vec3d b, Vec3d c);
+
+/// Squared distance from p to the nearest point of `box` (0 inside).
+double box_distance_squared(Vec3d p, const Aabb& box);
+
+/// A node is skipped when its box's squared distance exceeds the best by this factor:
+/// the box's and the triangle's distances are each rounded (double, relative error
+/// about 1e-15), so a box closer than the best in exact arithmetic is never skipped.
+inline constexpr double kPruneSlack = 1.0 + 1e-9;
+
+/// Triangle `tri` of `mesh` measured from q: the nearest point and its squared distance.
+inline NearestPoint measure_triangle(const Mesh& mesh, uint32_t tri, Vec3d q) {
+    NearestPoint m;
+    m.tri = tri;
+    m.point = closest_point_on_triangle(q, to_double(mesh.vertex(tri, 0)), to_double(mesh.vertex(tri, 1)),
+                                        to_double(mesh.vertex(tri, 2)));
+    const Vec3d d = m.point - q;
+    m.distance_squared = dot(d, d);
+    return m;
+}
+
+/// The order every version keeps: nearer, or as near with a lower triangle id.
+inline bool is_nearer(const NearestPoint& candidate, const NearestPoint& best) {
+    return candidate.distance_squared < best.distance_squared ||
+           (candidate.distance_squared == best.distance_squared && candidate.tri < best.tri);
+}
+
+namespace nearest_detail {
+
+/// Tests one triangle, reports it, and keeps it if it is the nearest so far.
+template <class Observer>
+void test_triangle(const Mesh& mesh, uint32_t tri, Vec3d q, NearestPoint& best, Observer& obs) {
+    const NearestPoint m = measure_triangle(mesh, tri, q);
+    const bool nearer = is_nearer(m, best);
+    obs.on({.kind = EventKind::TriangleTest, .hit = nearer, .tri = tri, .t = float(std::sqrt(m.distance_squared))});
+    if (!nearer) return;
+    best = m;
+    obs.on({.kind = EventKind::NewClosest, .tri = tri, .t = float(best.distance())});
+}
+
+template <class Observer>
+NearestPoint done(const NearestPoint& best, Observer& obs) {
+    obs.on({.kind = EventKind::Done, .hit = best.found(), .tri = best.tri,
+            .t = best.found() ? float(best.distance()) : kInfinity});
+    return best;
+}
+
+/// Whether a box at squared distance `d2` may hold something as near as `best`.
+inline bool may_hold_nearer(double d2, const NearestPoint& best) {
+    return !(d2 > best.distance_squared * kPruneSlack);
+}
+
+}  // namespace nearest_detail
+
+/// Every triangle, in id order: the oracle.
+template <class Observer>
+NearestPoint nearest_point_brute_force(const Mesh& mesh, Vec3d q, Observer& obs) {
+    NearestPoint best;
+    for (uint32_t tri = 0; tri < mesh.triangle_count(); ++tri) nearest_detail::test_triangle(mesh, tri, q, best, obs);
+    return nearest_detail::done(best, obs);
+}
+
+/// Through `bvh` (built over `mesh`): the nearer child first; a node whose box is
+/// farther than the best so far is skipped with its subtree (the lecture's early
+/// termination, with the box's distance in place of the ray's entry distance).
+template <class Observer>
+NearestPoint nearest_point(const Bvh& bvh, const Mesh& mesh, Vec3d q, Observer& obs) {
+    using nearest_detail::may_hold_nearer;
+    NearestPoint best;
+    if (bvh.nodes.empty()) return nearest_detail::done(best, obs);
+    struct Entry {
+        uint32_t node;
+        double d2;
+    };
+    Entry stack[kBvhStackSize];
+    int top = 0;
+    stack[top++] = {0, box_distance_squared(q, bvh.nodes[0].bounds)};
+    while (top > 0) {
+        const Entry e = stack[--top];
+        if (!may_hold_nearer(e.d2, best)) {
+            obs.on({.kind = EventKind::Cull, .reason = CullReason::BeyondClosestHit, .node = e.node,
+                    .t_enter = float(std::sqrt(e.d2))});
+            continue;
+        }
+        const BvhNode& node = bvh.nodes[e.node];
+        obs.on({.kind = EventKind::VisitNode, .node = e.node, .t_enter = float(std::sqrt(e.d2))});
+        if (node.is_leaf()) {
+            obs.on({.kind = EventKind::Leaf, .node = e.node, .first = node.first, .count = node.count});
+            for (uint32_t k = node.first; k < node.first + node.count; ++k)
+                nearest_detail::test_triangle(mesh, bvh.prim_ids[k], q, best, obs);
+            continue;
+        }
+        // Both children's distances; the farther is pushed first, so the nearer is next.
+        Entry a{node.first, box_distance_squared(q, bvh.nodes[node.first].bounds)};
+        Entry b{node.first + 1, box_distance_squared(q, bvh.nodes[node.first + 1].bounds)};
+        if (b.d2 < a.d2) std::swap(a, b);
+        stack[top++] = b;
+        stack[top++] = a;
+    }
+    return nearest_detail::done(best, obs);
+}
+
+/// Through `kd` (built over `mesh`): the cell holding q's side of each plane first; the
+/// far cell only if its box is no farther than the best so far. A triangle in several
+/// cells is measured in each it is met in (the same distance each time).
+template <class Observer>
+NearestPoint nearest_point(const KdTree& kd, const Mesh& mesh, Vec3d q, Observer& obs) {
+    using nearest_detail::may_hold_nearer;
+    NearestPoint best;
+    if (kd.nodes.empty()) return nearest_detail::done(best, obs);
+    struct Entry {
+        uint32_t node;
+        Aabb box;
+        double d2;
+    };
+    std::vector<Entry> stack;
+    stack.push_back({0, kd.bounds, box_distance_squared(q, kd.bounds)});
+    while (!stack.empty()) {
+        const Entry e = stack.back();
+        stack.pop_back();
+        if (!may_hold_nearer(e.d2, best)) {
+            obs.on({.kind = EventKind::Cull, .reason = CullReason::BeyondClosestHit, .node = e.node,
+                    .t_enter = float(std::sqrt(e.d2))});
+            continue;
+        }
+        const KdNode& node = kd.nodes[e.node];
+        obs.on({.kind = EventKind::VisitNode, .node = e.node, .t_enter = float(std::sqrt(e.d2))});
+        if (node.is_leaf()) {
+            obs.on({.kind = EventKind::Leaf, .node = e.node, .first = node.first, .count = node.count});
+            for (uint32_t k = node.first; k < node.first + node.count; ++k)
+                nearest_detail::test_triangle(mesh, kd.prim_ids[k], q, best, obs);
+            continue;
+        }
+        Aabb lower = e.box, upper = e.box;
+        lower.hi[node.axis] = node.split;
+        upper.lo[node.axis] = node.split;
+        Entry near{node.lower_child(), lower, box_distance_squared(q, lower)};
+        Entry far{node.upper_child(), upper, box_distance_squared(q, upper)};
+        if (double(node.split) < (node.axis == 0 ? q.x : node.axis == 1 ? q.y : q.z)) std::swap(near, far);
+        stack.push_back(far);
+        stack.push_back(near);
+    }
+    return nearest_detail::done(best, obs);
+}
+
+}  // namespace accelviz

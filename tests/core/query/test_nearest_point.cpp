@@ -1,0 +1,136 @@
+// The closest-point query: the point-triangle distance against its regions, and the
+// BVH and KD tree against brute force (the same triangle, the same distance, bit for
+// bit) for seeded points near, on, inside and far from the tricky built-ins.
+#include <gtest/gtest.h>
+
+#include "core/accel/bvh_build.h"
+#include "core/accel/kd_tree.h"
+#include "core/geometry/scene.h"
+#include "core/query/nearest_point.h"
+#include "core/traversal/observers.h"
+#include "core/util/random.h"
+
+using namespace accelviz;
+
+namespace {
+
+void expect_near_point(Vec3d got, Vec3d want) {
+    EXPECT_NEAR(got.x, want.x, 1e-12);
+    EXPECT_NEAR(got.y, want.y, 1e-12);
+    EXPECT_NEAR(got.z, want.z, 1e-12);
+}
+
+/// Seeded query points: random in the scene's box grown to three times its size,
+/// every 7th corner exactly, every 5th centroid, and a few far away on each axis.
+std::vector<Vec3d> query_points(const Mesh& mesh, int count, uint64_t seed) {
+    Rng rng(seed);
+    const Aabb box = mesh.bounds();
+    const Vec3 c = box.center(), e = box.extent();
+    std::vector<Vec3d> points;
+    for (int i = 0; i < count; ++i) {
+        const uint32_t tri = uint32_t(rng.next_u64() % std::max<size_t>(1, mesh.triangle_count()));
+        if (i % 7 == 0 && mesh.triangle_count() > 0) {
+            points.push_back(to_double(mesh.vertex(tri, i % 3)));
+        } else if (i % 5 == 0 && mesh.triangle_count() > 0) {
+            const Vec3d a = to_double(mesh.vertex(tri, 0)), b = to_double(mesh.vertex(tri, 1)),
+                        d = to_double(mesh.vertex(tri, 2));
+            points.push_back((a + b + d) * (1.0 / 3.0));
+        } else {
+            points.push_back({c.x + 1.5 * e.x * rng.uniform(-1.0f, 1.0f), c.y + 1.5 * e.y * rng.uniform(-1.0f, 1.0f),
+                              c.z + 1.5 * e.z * rng.uniform(-1.0f, 1.0f)});
+        }
+    }
+    for (int a = 0; a < 3; ++a) {
+        Vec3d far = to_double(c);
+        (a == 0 ? far.x : a == 1 ? far.y : far.z) += 100.0 * std::max({e.x, e.y, e.z, 1.0f});
+        points.push_back(far);
+    }
+    return points;
+}
+
+void expect_same(const NearestPoint& got, const NearestPoint& want, Vec3d q) {
+    EXPECT_EQ(got.tri, want.tri) << "at " << q.x << ", " << q.y << ", " << q.z;
+    EXPECT_EQ(got.distance_squared, want.distance_squared) << "at " << q.x << ", " << q.y << ", " << q.z;
+}
+
+}  // namespace
+
+TEST(NearestPoint, ClosestPointOnATriangleInEachRegion) {
+    const Vec3d a{0, 0, 0}, b{2, 0, 0}, c{0, 2, 0};
+    expect_near_point(closest_point_on_triangle({0.5, 0.5, 3}, a, b, c), {0.5, 0.5, 0});  // face
+    expect_near_point(closest_point_on_triangle({-1, -1, 1}, a, b, c), a);                // vertex a
+    expect_near_point(closest_point_on_triangle({3, -1, 0}, a, b, c), b);                 // vertex b
+    expect_near_point(closest_point_on_triangle({-1, 3, 0}, a, b, c), c);                 // vertex c
+    expect_near_point(closest_point_on_triangle({1, -2, 0}, a, b, c), {1, 0, 0});         // edge ab
+    expect_near_point(closest_point_on_triangle({-2, 1, 0}, a, b, c), {0, 1, 0});         // edge ac
+    expect_near_point(closest_point_on_triangle({2, 2, 0}, a, b, c), {1, 1, 0});          // edge bc
+    // Degenerate: a segment, and a point.
+    expect_near_point(closest_point_on_triangle({1, 1, 0}, a, b, {1, 0, 0}), {1, 0, 0});
+    expect_near_point(closest_point_on_triangle({1, 1, 1}, b, b, b), b);
+    expect_near_point(closest_point_on_triangle({5, 1, 0}, a, a, b), b);
+}
+
+TEST(NearestPoint, BoxDistanceIsZeroInsideAndEuclideanOutside) {
+    const Aabb box{{0, 0, 0}, {1, 2, 3}};
+    EXPECT_EQ(box_distance_squared({0.5, 1, 1}, box), 0.0);
+    EXPECT_EQ(box_distance_squared({2, 1, 1}, box), 1.0);
+    EXPECT_EQ(box_distance_squared({-1, -2, 5}, box), 1.0 + 4.0 + 4.0);
+}
+
+TEST(NearestPoint, BvhAndKdTreeAnswerAsBruteForce) {
+    for (const char* scene : {"builtin:teapot?n=4", "builtin:soup?n=600&seed=5", "builtin:same-centroid?n=120",
+                              "builtin:same-box?n=80", "builtin:single", "builtin:twenty-two", "builtin:cornell",
+                              "builtin:kd-challenge"}) {
+        SCOPED_TRACE(scene);
+        const Mesh mesh = *load_scene(scene);
+        std::vector<Bvh> bvhs;
+        for (BvhBuilder builder : {BvhBuilder::SahBinned, BvhBuilder::Median}) {
+            BvhConfig config;
+            config.builder = builder;
+            bvhs.push_back(*build_bvh(mesh, config));
+        }
+        const KdTree kd = *build_kd_tree(mesh, KdConfig{});
+        for (const Vec3d& q : query_points(mesh, 300, 11)) {
+            NoObserver none;
+            const NearestPoint want = nearest_point_brute_force(mesh, q, none);
+            ASSERT_TRUE(want.found());
+            for (const Bvh& bvh : bvhs) expect_same(nearest_point(bvh, mesh, q, none), want, q);
+            expect_same(nearest_point(kd, mesh, q, none), want, q);
+        }
+    }
+}
+
+TEST(NearestPoint, TheHierarchiesMeasureFewTrianglesAndReportWhatTheyDid) {
+    const Mesh mesh = *load_scene("builtin:teapot");
+    const Bvh bvh = *build_bvh(mesh, BvhConfig{});
+    const KdTree kd = *build_kd_tree(mesh, KdConfig{});
+    uint64_t bvh_tests = 0, kd_tests = 0;
+    const std::vector<Vec3d> points = query_points(mesh, 100, 3);
+    for (const Vec3d& q : points) {
+        RecordingObserver bvh_events, kd_events;
+        const NearestPoint b = nearest_point(bvh, mesh, q, bvh_events);
+        const NearestPoint k = nearest_point(kd, mesh, q, kd_events);
+        for (const auto* events : {&bvh_events.events, &kd_events.events}) {
+            ASSERT_FALSE(events->empty());
+            EXPECT_EQ(events->back().kind, EventKind::Done);
+            EXPECT_EQ(events->back().tri, b.tri);
+            EXPECT_EQ(events->back().t, float(b.distance()));
+        }
+        EXPECT_EQ(k.tri, b.tri);
+        bvh_tests += bvh_events.counters().triangle_tests;
+        kd_tests += kd_events.counters().triangle_tests;
+    }
+    // Brute force measures all 3,552 triangles for every point.
+    EXPECT_LT(bvh_tests, points.size() * mesh.triangle_count() / 20);
+    EXPECT_LT(kd_tests, points.size() * mesh.triangle_count() / 20);
+}
+
+TEST(NearestPoint, AnEmptySceneHasNoNearestPoint) {
+    const Mesh mesh;
+    NoObserver none;
+    EXPECT_FALSE(nearest_point_brute_force(mesh, {0, 0, 0}, none).found());
+    const Bvh bvh = *build_bvh(mesh, BvhConfig{});
+    EXPECT_FALSE(nearest_point(bvh, mesh, {0, 0, 0}, none).found());
+    const KdTree kd = *build_kd_tree(mesh, KdConfig{});
+    EXPECT_FALSE(nearest_point(kd, mesh, {0, 0, 0}, none).found());
+}
