@@ -19,5 +19,6 @@ Command register_render(CLI::App& app);
 Command register_trace(CLI::App& app);
 Command register_bench(CLI::App& app);
 Command register_bench_view(CLI::App& app);
+Command register_query(CLI::App& app);
 
 }  // namespace accelviz::cli
