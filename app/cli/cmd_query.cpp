@@ -12,6 +12,7 @@
 #include "app/cli/commands.h"
 #include "app/cli/progress.h"
 #include "app/cli/scene_input.h"
+#include "core/query/inside.h"
 #include "core/query/nearest_point.h"
 #include "core/render/camera.h"
 #include "core/traversal/event_json.h"
@@ -24,6 +25,7 @@ namespace {
 struct QueryOptions {
     std::string scene;
     std::string nearest;
+    std::string inside;
     int random = 0;  ///< instead of --nearest: this many seeded points, averaged
     uint64_t seed = 1;
     bool json = false;
@@ -85,15 +87,60 @@ int run_random_queries(const QueryOptions& opt, const Mesh& mesh, const Accelera
     return 0;
 }
 
+/// --inside: the three voting rays' crossings, counted through the BVH or brute force.
+int run_inside(const QueryOptions& opt, const Mesh& mesh, const Accelerator& accel, Vec3d point) {
+    const Vec3 q = to_float(point);
+    const Bvh* bvh = structure_if<Bvh>(accel);
+    const TriangleArray triangles = bvh ? TriangleArray{} : make_triangles(mesh);
+    Counters counters;
+    const InsideTest result = inside_by_parity(q, [&](const Ray& ray) {
+        CountingObserver counter;
+        const uint32_t n = bvh ? count_crossings(*bvh, ray, counter) : count_crossings_brute_force(triangles, ray, counter);
+        counters += counter.counters;
+        return n;
+    });
+    const auto directions = parity_directions();
+    if (opt.json) {
+        nlohmann::ordered_json out;
+        out["scene"] = opt.scene;
+        out["triangles"] = mesh.triangle_count();
+        out["accel"] = accel.name();
+        out["query"] = {{"inside", {q.x, q.y, q.z}}};
+        nlohmann::json rays = nlohmann::json::array();
+        for (size_t i = 0; i < 3; ++i)
+            rays.push_back({{"dir", {directions[i].x, directions[i].y, directions[i].z}},
+                            {"crossings", result.crossings[i]}});
+        out["rays"] = rays;
+        out["votes_inside"] = result.votes_inside;
+        out["inside"] = result.inside;
+        out["counters"] = to_json(counters);
+        std::cout << out.dump(1) << "\n";
+        return 0;
+    }
+    std::printf("%s, %zu triangles, %s\n", opt.scene.c_str(), mesh.triangle_count(), accel.name().c_str());
+    for (size_t i = 0; i < 3; ++i)
+        std::printf("ray along (%.4f, %.4f, %.4f): %u crossings (%s)\n", directions[i].x, directions[i].y,
+                    directions[i].z, result.crossings[i], result.crossings[i] % 2 ? "odd: inside" : "even: outside");
+    std::printf("(%.9g, %.9g, %.9g) is %s (%d of 3 rays say inside)\n", q.x, q.y, q.z,
+                result.inside ? "inside" : "outside", result.votes_inside);
+    std::printf("work: %llu nodes visited, %llu triangles tested\n", (unsigned long long)counters.nodes_visited,
+                (unsigned long long)counters.triangle_tests);
+    return 0;
+}
+
 int run_query(const QueryOptions& opt) {
     auto fail = [](const std::string& message) {
         std::cerr << "accelviz query: " << message << "\n";
         return 1;
     };
-    if (opt.nearest.empty() == (opt.random == 0)) return fail("give one of --nearest X,Y,Z and --random N");
-    auto point = opt.nearest.empty() ? Expected<Vec3d>(Vec3d{}) : parse_vec3(opt.nearest);
-    if (!point) return fail("--nearest: " + point.error());
+    const int asked = (opt.nearest.empty() ? 0 : 1) + (opt.inside.empty() ? 0 : 1) + (opt.random > 0 ? 1 : 0);
+    if (asked != 1) return fail("give one of --nearest X,Y,Z, --inside X,Y,Z and --random N");
+    const std::string& text = !opt.nearest.empty() ? opt.nearest : opt.inside;
+    auto point = text.empty() ? Expected<Vec3d>(Vec3d{}) : parse_vec3(text);
+    if (!point) return fail(std::string(opt.nearest.empty() ? "--inside: " : "--nearest: ") + point.error());
     const AccelType type = opt.accel.type;
+    if (!opt.inside.empty() && type != AccelType::Naive && type != AccelType::Bvh)
+        return fail("--inside counts crossings through naive or bvh: use --accel naive or bvh");
     if (type != AccelType::Naive && type != AccelType::Bvh && type != AccelType::Kd)
         return fail("--nearest goes through naive, bvh or kd (the " + std::string(to_string(type)) +
                     " answers rays only): use --accel naive, bvh or kd");
@@ -106,6 +153,7 @@ int run_query(const QueryOptions& opt) {
     if (!accel) return fail(accel.error());
     print_memory_budget_note(**accel, "query");
     if (opt.random > 0) return run_random_queries(opt, *mesh, **accel);
+    if (!opt.inside.empty()) return run_inside(opt, *mesh, **accel, *point);
 
     const Vec3d q = *point;
     RecordingObserver recorder;
@@ -153,9 +201,13 @@ Command register_query(CLI::App& app) {
     auto opt = std::make_shared<QueryOptions>();
     CLI::App* sub = app.add_subcommand(
         "query", "The point on the mesh nearest to a point (--nearest X,Y,Z), through naive, the BVH or the KD tree, "
-                 "with every event of the search; or the average work and time over --random N points");
+                 "with every event of the search; or the average work and time over --random N points; or whether a point "
+                 "is inside a closed mesh (--inside X,Y,Z, by ray parity)");
     sub->add_option("scene", opt->scene, "OBJ file, or builtin:NAME (e.g. builtin:teapot)")->required();
     sub->add_option("--nearest", opt->nearest, "The query point X,Y,Z");
+    sub->add_option("--inside", opt->inside,
+                    "Is X,Y,Z inside the (closed) mesh? Three rays from it count their crossings (odd: "
+                    "inside) and vote");
     sub->add_option("--random", opt->random,
                     "Instead of --nearest: N seeded points in twice the scene's box; prints the nodes visited, "
                     "triangles measured and microseconds per query (one thread)")
