@@ -13,9 +13,9 @@ namespace {
 
 /// Drawing more boxes than this (as whole levels, shallow first) would make a
 /// big scene's panel slow and unreadable; the panel says which levels it shows.
-constexpr size_t kMaxBoxesDrawn = 4000;
+constexpr size_t kMaxBoxesDrawn = 600;
 /// Triangles filled in a picture at most (a scan's are finer than a pixel anyway).
-constexpr uint64_t kMaxTrianglesDrawn = 50000;
+constexpr uint64_t kMaxTrianglesDrawn = 20000;
 
 constexpr ImU32 kCanvasBg = IM_COL32(24, 26, 32, 255);
 constexpr ImU32 kCanvasFrame = IM_COL32(110, 110, 120, 255);
@@ -109,15 +109,26 @@ void TwoBvhsPanel::start(const Key& key, std::shared_ptr<const LoadedScene> scen
     requested_mesh_ = scene->mesh;
     error_.clear();
     progress_ = std::make_shared<WorkProgress>();
-    job_.submit([key, scene = std::move(scene), progress = progress_]() {
+    // Trees built for the same mesh and parameters are traced again, not rebuilt.
+    std::shared_ptr<const BvhPair> built = result_ && result_->key.same_trees(key) ? result_->pair : nullptr;
+    job_.submit([key, scene = std::move(scene), progress = progress_, built = std::move(built)]() {
         Result result;
         result.key = key;
         result.scene = scene;
+        result.pair = built;
+        if (!result.pair) {
+            auto pair = build_bvh_pair(*scene->mesh, key.config, key.builders, progress.get());
+            if (!pair) {
+                result.error = pair.error();
+                return result;
+            }
+            result.pair = std::make_shared<const BvhPair>(std::move(*pair));
+        }
         TwoBvhsOptions options;
         options.traversal = key.traversal;
         options.progress = progress.get();
         auto measured =
-            measure_two_bvhs(*scene->mesh, Camera(key.camera, key.width, key.height), key.config, key.builders, options);
+            measure_two_bvhs(*result.pair, *scene->mesh, Camera(key.camera, key.width, key.height), options);
         if (!measured) {
             result.error = measured.error();
             return result;
@@ -251,7 +262,9 @@ void TwoBvhsPanel::draw(AppState& state, float width, bool lecture) {
             levels += "; " + std::string(to_string(tree.builder)) + ": levels 0-" +
                       std::to_string(result_->drawn_depth[i]) + " of " + std::to_string(tree.stats.max_depth);
     }
-    ImGui::TextDisabled("Boxes by depth (root dark, deepest bright), triangles by leaf%s.", levels.c_str());
+    const bool filled = result_->scene->mesh->triangle_count() <= kMaxTrianglesDrawn;
+    ImGui::TextDisabled("Boxes by depth (root dark, deepest bright), %s%s.",
+                        filled ? "triangles by leaf" : "triangles not drawn (too many to fill)", levels.c_str());
     draw_table(*m, lecture);
     ImGui::PopTextWrapPos();
 }

@@ -54,10 +54,13 @@ private:
         CameraParams camera;
         int width = 0, height = 0;
         bool operator==(const Key&) const = default;
+        /// The same trees (a new camera or view size only traces the rays again).
+        bool same_trees(const Key& o) const { return mesh == o.mesh && config == o.config && builders == o.builders; }
     };
     struct Result {
         Key key;
         std::shared_ptr<const LoadedScene> scene;  ///< keeps key.mesh alive
+        std::shared_ptr<const BvhPair> pair;       ///< the trees, kept for the next camera
         std::optional<TwoBvhs> trees;
         /// Per tree: the node indices drawn, shallow levels first (as many whole levels
         /// as kMaxBoxesDrawn allows), and the deepest level among them.

@@ -1,5 +1,7 @@
 #include "core/measure/two_bvhs.h"
 
+#include <optional>
+
 #include "core/accel/bvh_build.h"
 #include "core/measure/comparison.h"
 #include "core/traversal/observers.h"
@@ -29,8 +31,22 @@ void describe_tree(const Bvh& bvh, uint32_t triangles, BvhTreeSummary& out) {
 
 }  // namespace
 
-Expected<TwoBvhs> measure_two_bvhs(const Mesh& mesh, const Camera& camera, const BvhConfig& base,
-                                   const std::array<BvhBuilder, 2>& builders, const TwoBvhsOptions& options) {
+Expected<BvhPair> build_bvh_pair(const Mesh& mesh, const BvhConfig& base, const std::array<BvhBuilder, 2>& builders,
+                                 WorkProgress* progress) {
+    std::array<std::optional<Bvh>, 2> built;
+    for (size_t i = 0; i < 2; ++i) {
+        BvhConfig config = base;
+        config.builder = builders[i];
+        // Node indices do not depend on the threads (bvh_build.h), so neither does the picture.
+        Expected<Bvh> bvh = build_bvh(mesh, config, nullptr, progress);
+        if (!bvh) return Error{bvh.error()};
+        built[i] = std::move(*bvh);
+    }
+    return BvhPair{{std::move(*built[0]), std::move(*built[1])}};
+}
+
+Expected<TwoBvhs> measure_two_bvhs(const BvhPair& pair, const Mesh& mesh, const Camera& camera,
+                                   const TwoBvhsOptions& options) {
     TwoBvhs out;
     out.width = camera.width();
     out.height = camera.height();
@@ -38,23 +54,19 @@ Expected<TwoBvhs> measure_two_bvhs(const Mesh& mesh, const Camera& camera, const
     out.rays = rays.size();
     std::array<std::vector<Hit>, 2> hits;
     for (size_t i = 0; i < 2; ++i) {
-        BvhConfig config = base;
-        config.builder = builders[i];
-        // Node indices do not depend on the threads (bvh_build.h), so neither does the picture.
-        Expected<Bvh> built = build_bvh(mesh, config, nullptr, options.progress);
-        if (!built) return Error{built.error()};
-        Bvh& bvh = *built;
-        bvh.traversal = options.traversal;
+        Bvh const& built = pair.trees[i];
         BvhTreeSummary& tree = out.trees[i];
-        tree.builder = builders[i];
-        tree.stats = bvh.build_stats;
-        describe_tree(bvh, mesh.triangle_count(), tree);
+        tree.builder = built.build_config.builder;
+        tree.stats = built.build_stats;
+        describe_tree(built, mesh.triangle_count(), tree);
         Counters counters;
         uint64_t meeting_root = 0;
         for (size_t r = 0; r < rays.size(); ++r) {
             if (r % 256 == 0 && cancelled(options.progress)) return WorkProgress::cancelled_error();
             CountingObserver counter;
-            hits[i].push_back(bvh.intersect_closest(rays[r], counter));
+            hits[i].push_back(options.traversal == BvhTraversal::Ordered
+                                  ? built.intersect_ordered(rays[r], counter)
+                                  : built.intersect_unordered(rays[r], counter));
             if (counter.counters.nodes_visited == 0) continue;  // missed the root's box: no work in the tree
             ++meeting_root;
             counters += counter.counters;
@@ -70,6 +82,13 @@ Expected<TwoBvhs> measure_two_bvhs(const Mesh& mesh, const Camera& camera, const
         if (hits[0][r].tri != hits[1][r].tri || hits[0][r].t != hits[1][r].t) ++out.disagreements;
     }
     return out;
+}
+
+Expected<TwoBvhs> measure_two_bvhs(const Mesh& mesh, const Camera& camera, const BvhConfig& base,
+                                   const std::array<BvhBuilder, 2>& builders, const TwoBvhsOptions& options) {
+    auto pair = build_bvh_pair(mesh, base, builders, options.progress);
+    if (!pair) return Error{pair.error()};
+    return measure_two_bvhs(*pair, mesh, camera, options);
 }
 
 }  // namespace accelviz

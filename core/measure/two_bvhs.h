@@ -55,9 +55,22 @@ struct TwoBvhsOptions {
     WorkProgress* progress = nullptr;  ///< hears both builds (one stage each) and may cancel
 };
 
-/// Builds `base` twice over `mesh`, once with each of `builders`, and traces the same
-/// sample of `camera`'s pixels (comparison_rays) through both. Errors: an invalid
+/// The two trees, built once: a new camera only traces its rays through them again.
+struct BvhPair {
+    std::array<Bvh, 2> trees;
+};
+
+/// Builds `base` twice over `mesh`, once with each of `builders`. Errors: an invalid
 /// config, or WorkProgress::cancelled_error().
+Expected<BvhPair> build_bvh_pair(const Mesh& mesh, const BvhConfig& base, const std::array<BvhBuilder, 2>& builders,
+                                 WorkProgress* progress = nullptr);
+
+/// Traces the same sample of `camera`'s pixels (comparison_rays) through both trees of
+/// `pair` (built over `mesh`). Errors: WorkProgress::cancelled_error().
+Expected<TwoBvhs> measure_two_bvhs(const BvhPair& pair, const Mesh& mesh, const Camera& camera,
+                                   const TwoBvhsOptions& options = {});
+
+/// build_bvh_pair, then measure_two_bvhs.
 Expected<TwoBvhs> measure_two_bvhs(const Mesh& mesh, const Camera& camera, const BvhConfig& base,
                                    const std::array<BvhBuilder, 2>& builders, const TwoBvhsOptions& options = {});
 
