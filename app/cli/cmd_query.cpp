@@ -2,6 +2,7 @@
 // on the mesh nearest to a point, through the chosen structure, with every event of
 // the search and its counters (core/query/nearest_point.h), like `trace` for a ray.
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -137,7 +138,12 @@ int run_query(const QueryOptions& opt) {
     if (asked != 1) return fail("give one of --nearest X,Y,Z, --inside X,Y,Z and --random N");
     const std::string& text = !opt.nearest.empty() ? opt.nearest : opt.inside;
     auto point = text.empty() ? Expected<Vec3d>(Vec3d{}) : parse_vec3(text);
-    if (!point) return fail(std::string(opt.nearest.empty() ? "--inside: " : "--nearest: ") + point.error());
+    const std::string flag = opt.nearest.empty() ? "--inside: " : "--nearest: ";
+    if (!point) return fail(flag + point.error());
+    for (double c : {point->x, point->y, point->z})
+        if (!(std::abs(c) <= kMaxCoordinate))
+            return fail(flag + "each coordinate must be within +-" + std::to_string(int64_t(kMaxCoordinate)) +
+                        " (the meshes' own limit)");
     const AccelType type = opt.accel.type;
     if (!opt.inside.empty() && type != AccelType::Naive && type != AccelType::Bvh)
         return fail("--inside counts crossings through naive or bvh: use --accel naive or bvh");

@@ -93,6 +93,7 @@ Expected<HeadlessRender> render_headless(const AppState& state, std::shared_ptr<
         // the step against the recorded build first (the stepper would clamp it).
         if (state.accel.type != AccelType::Bvh) return Error{"the build-step view needs a BVH (--accel bvh)"};
         frame_state.build_step.active = true;
+        frame_state.stepper.open = frame_state.comparison.open = frame_state.two_bvhs.open = false;  // one right panel
         Session& session = (*app)->session();
         session.build_stepper.update(frame_state, session.scene, true);
         const BuildTrace* trace = session.build_stepper.trace();

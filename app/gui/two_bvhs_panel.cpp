@@ -5,6 +5,7 @@
 
 #include <imgui.h>
 
+#include "core/accel/memory_budget.h"
 #include "core/render/colormap.h"
 
 namespace accelviz {
@@ -117,6 +118,18 @@ void TwoBvhsPanel::start(const Key& key, std::shared_ptr<const LoadedScene> scen
         result.scene = scene;
         result.pair = built;
         if (!result.pair) {
+            // Two BVHs beside the scene's own structure: refused, not an out-of-memory kill.
+            AccelConfig bvh;
+            bvh.type = AccelType::Bvh;
+            bvh.bvh = key.config;
+            const uint64_t need = 2 * fixed_build_bytes(bvh, scene->mesh->triangle_count());
+            const uint64_t budget = scene->accel_config.memory_budget ? scene->accel_config.memory_budget
+                                                                      : default_memory_budget();
+            if (need > budget) {
+                result.error = "two BVHs of this mesh need " + format_bytes(need) + ", over the memory budget (" +
+                               format_bytes(budget) + ")";
+                return result;
+            }
             auto pair = build_bvh_pair(*scene->mesh, key.config, key.builders, progress.get());
             if (!pair) {
                 result.error = pair.error();
@@ -153,11 +166,22 @@ void TwoBvhsPanel::update(const AppState& state, const std::shared_ptr<const Loa
         if (job_.busy() && progress_) progress_->cancel();
         requested_.reset();  // the next showing measures again
         take_finished();
+        if (result_) result_->pair.reset();  // two trees of a big mesh are not kept for a hidden panel
         return;
     }
-    const Key key{scene->mesh.get(), state.accel.bvh, state.accel.bvh_traversal, state.two_bvhs.builders,
+    BvhConfig config = state.accel.bvh;
+    config.builder = BvhBuilder::SahBinned;  // not used: the two builders are the panel's
+    const Key key{scene->mesh.get(), config, state.accel.bvh_traversal, state.two_bvhs.builders,
                   *state.camera, view_width, view_height};
-    if (!requested_ || !(*requested_ == key) || requested_mesh_.lock() != scene->mesh) start(key, scene);
+    take_finished();  // a finished build's trees serve this view
+    const bool new_mesh = requested_mesh_.lock() != scene->mesh;
+    if (!requested_ || !(*requested_ == key) || new_mesh) {
+        // A moved camera while the trees are being built: let the build finish (this view
+        // is measured next, through those trees) rather than start it again each frame.
+        const bool building_these_trees = job_.busy() && requested_ && requested_->same_trees(key) && !new_mesh &&
+                                          !(result_ && result_->pair && result_->key.same_trees(key));
+        if (!building_these_trees) start(key, scene);
+    }
     if (wait) job_.wait();
     take_finished();
 }
@@ -207,7 +231,7 @@ void TwoBvhsPanel::draw(AppState& state, float width, bool lecture) {
     ImGui::PushTextWrapPos(0.0f);
     const TwoBvhs* m = measured();
     if (m && result_->scene)
-        ImGui::Text("Two BVHs over the same %u triangles: which is better?", result_->scene->mesh->triangle_count());
+        ImGui::Text("Two BVHs over the same %zu triangles: which is better?", result_->scene->mesh->triangle_count());
     else
         ImGui::TextUnformatted("Two BVHs over the same triangles: which is better?");
     if (job_.busy()) {

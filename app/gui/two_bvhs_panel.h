@@ -43,6 +43,8 @@ public:
     void set_on_finished(const std::function<void()>& callback) { job_.on_finished = callback; }
     /// The last measurement (null before the first finishes).
     const TwoBvhs* measured() const { return result_ ? &*result_->trees : nullptr; }
+    /// The last measurement's error ("" when it succeeded or was cancelled).
+    const std::string& error() const { return error_; }
 
 private:
     /// What a measurement is of.

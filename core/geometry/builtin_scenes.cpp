@@ -65,6 +65,7 @@ struct Params {
     const std::vector<ParamSpec>* specs = nullptr;
     std::vector<ParamValue> values;  ///< parallel to *specs
     WorkProgress* progress = nullptr;  ///< a scene that loads another (instances) reports and may cancel here
+    MeshCache cache = MeshCache::Skip;  ///< and reads the mesh cache so
 
     const ParamValue& get(std::string_view name) const {
         for (size_t i = 0; i < specs->size(); ++i)
@@ -599,7 +600,7 @@ Mesh make_kd_challenge(const Params&) {
 Expected<Mesh> make_instances(const Params& params) {
     const std::string& source = params.text("mesh");
     if (source.starts_with("builtin:instances")) return Error{"mesh= cannot be another builtin:instances"};
-    auto loaded = load_scene(source, default_mesh_cache(), params.progress);
+    auto loaded = load_scene(source, params.cache, params.progress);
     if (!loaded) return Error{loaded.error()};
     const Mesh& one = *loaded;
     const uint64_t nx = params.whole("nx"), nz = params.whole("nz"), copies = nx * nz;
@@ -705,6 +706,10 @@ std::string known_names() {
 }  // namespace
 
 Expected<Mesh> make_builtin(const std::string& spec, WorkProgress* progress) {
+    return make_builtin(spec, progress, default_mesh_cache());
+}
+
+Expected<Mesh> make_builtin(const std::string& spec, WorkProgress* progress, MeshCache cache) {
     const std::string full = "builtin:" + spec;
     const size_t question = spec.find('?');
     const std::string_view name = std::string_view(spec).substr(0, question);
@@ -728,6 +733,7 @@ Expected<Mesh> make_builtin(const std::string& spec, WorkProgress* progress) {
     auto params = parse_params(def->params, query, fail);
     if (!params) return Error{params.error()};
     params->progress = progress;
+    params->cache = cache;
 
     try {
         auto mesh = def->make(*params);

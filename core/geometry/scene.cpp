@@ -73,7 +73,7 @@ Expected<Mesh> load_scene(const std::string& source, MeshCache cache, WorkProgre
     if (source.empty()) return Error{"no scene given (want an OBJ file or builtin:NAME)"};
     const std::optional<std::filesystem::path> cache_dir =
         cache == MeshCache::Use ? default_mesh_cache_dir() : std::nullopt;
-    Expected<Mesh> mesh = source.starts_with(kBuiltinPrefix) ? make_builtin(source.substr(kBuiltinPrefix.size()), progress)
+    Expected<Mesh> mesh = source.starts_with(kBuiltinPrefix) ? make_builtin(source.substr(kBuiltinPrefix.size()), progress, cache)
                           : cache_dir                        ? load_obj_cached(source, *cache_dir, nullptr, progress)
                                                              : load_obj(source, progress);
     if (!mesh) return mesh;

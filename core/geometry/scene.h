@@ -38,7 +38,8 @@ Expected<Mesh> parse_obj(std::string text, const std::string& name);
 /// Mesh.name is "builtin:" + spec. The output depends only on `spec`: identical
 /// on every machine: seeded scenes use Rng (core/util/random.h), and all arithmetic
 /// is correctly rounded IEEE (+ - * / sqrt; no sin, cos or pow). `progress` follows
-/// (and may cancel) the load of a scene another is made from (instances' mesh=).
+/// (and may cancel) the load of a scene another is made from (instances' mesh=), which
+/// reads the mesh cache as default_mesh_cache() says (the overload below: as `cache`).
 Expected<Mesh> make_builtin(const std::string& spec, WorkProgress* progress = nullptr);
 
 /// The names make_builtin accepts, each with a one-line description and its parameters.
@@ -54,6 +55,9 @@ const std::vector<BuiltinInfo>& builtin_scenes();
 enum class MeshCache { Skip, Use };
 void set_default_mesh_cache(MeshCache cache);
 MeshCache default_mesh_cache();
+
+/// make_builtin, with the mesh cache of a scene made from another (instances) as `cache`.
+Expected<Mesh> make_builtin(const std::string& spec, WorkProgress* progress, MeshCache cache);
 
 /// "builtin:..." → make_builtin, anything else → load_obj (or its cached copy, see
 /// load_obj_cached). Errors: an empty source, what those report, and a mesh the

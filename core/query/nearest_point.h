@@ -7,9 +7,13 @@
 /// Exactness: every version measures a triangle with the same function on the same
 /// float corners (the mesh's), in double, keeps the nearest by is_nearer() (distance,
 /// then the lower triangle id), and skips a node only when its box is farther than the
-/// best distance by more than rounding could explain (kPruneSlack); a box holds every
-/// triangle of its subtree, so the box's distance is a lower bound of theirs and the
-/// answer is brute force's, bit for bit.
+/// best distance (with a relative slack, kPruneSlack). The nearest point computed is
+/// clamped into the corners' box: rounding can put it a little outside (3e-18 beyond
+/// a face at x = 0 on the teapot), where it would be nearer than the boxes around the
+/// triangle. Inside the corners' box, and so inside every node box above the triangle,
+/// its distance to q is at least the box's, coordinate by coordinate in the same
+/// rounded arithmetic; the box's distance is a lower bound of every triangle's below
+/// it, and the answer is brute force's, bit for bit.
 ///
 /// Events: VisitNode (node), Cull (node, reason BeyondClosestHit, t_enter = the box's
 /// distance), Leaf (node, first, count), TriangleTest (tri, t = its distance, hit = it
@@ -52,8 +56,12 @@ inline constexpr double kPruneSlack = 1.0 + 1e-9;
 inline NearestPoint measure_triangle(const Mesh& mesh, uint32_t tri, Vec3d q) {
     NearestPoint m;
     m.tri = tri;
-    m.point = closest_point_on_triangle(q, to_double(mesh.vertex(tri, 0)), to_double(mesh.vertex(tri, 1)),
-                                        to_double(mesh.vertex(tri, 2)));
+    const Vec3 a = mesh.vertex(tri, 0), b = mesh.vertex(tri, 1), c = mesh.vertex(tri, 2);
+    m.point = closest_point_on_triangle(q, to_double(a), to_double(b), to_double(c));
+    // Into the corners' box (see "Exactness" above).
+    m.point.x = std::clamp(m.point.x, double(std::min({a.x, b.x, c.x})), double(std::max({a.x, b.x, c.x})));
+    m.point.y = std::clamp(m.point.y, double(std::min({a.y, b.y, c.y})), double(std::max({a.y, b.y, c.y})));
+    m.point.z = std::clamp(m.point.z, double(std::min({a.z, b.z, c.z})), double(std::max({a.z, b.z, c.z})));
     const Vec3d d = m.point - q;
     m.distance_squared = dot(d, d);
     return m;

@@ -243,7 +243,7 @@ TEST(Presets, TheTwoTreesPresetShowsTheSahTreeBetter) {
         EXPECT_LT(sah.stats.sah_cost, median.stats.sah_cost);
         EXPECT_LT(sah.nodes_per_ray, median.nodes_per_ray);
         EXPECT_LT(sah.triangle_tests_per_ray, median.triangle_tests_per_ray);
-        // The whole scene is in view: every triangle is hit by some sampled ray's box.
+        // The scene is in view: a good share of the sampled rays reach the trees.
         EXPECT_GT(measured->rays_meeting_root, measured->rays / 20);
     }
 }
@@ -268,6 +268,14 @@ TEST(TwoBvhsPanel, MeasuresAgainWhenTheBuildersChange) {
     panel.update(state, *loaded, 320, 240, /*shown=*/false, /*wait=*/false);
     panel.update(state, *loaded, 320, 240, /*shown=*/true, /*wait=*/true);
     EXPECT_EQ(panel.measured()->trees[0].builder, BvhBuilder::Median);
+    EXPECT_EQ(panel.error(), "");
+    // Another camera: measured again (through the same trees).
+    state.camera->eye = state.camera->eye * 1.5;
+    panel.update(state, *loaded, 320, 240, /*shown=*/true, /*wait=*/true);
+    panel.update(state, *loaded, 320, 240, /*shown=*/true, /*wait=*/true);
+    ASSERT_NE(panel.measured(), nullptr);
+    EXPECT_EQ(panel.measured()->trees[0].builder, BvhBuilder::Median);
+    EXPECT_EQ(panel.error(), "");
 }
 
 TEST(Presets, TheTwoLoopsPresetStopsBothPartWay) {

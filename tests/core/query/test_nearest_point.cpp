@@ -100,6 +100,29 @@ TEST(NearestPoint, BvhAndKdTreeAnswerAsBruteForce) {
     }
 }
 
+TEST(NearestPoint, PointsOnTheTeapotsSeamsWhereRoundingLeftTheTriangle) {
+    // Found by fuzzing: the nearest point computed for triangle 95 (120) lay 3e-18
+    // beyond its box's face at x = 0 (z = 0), nearer than the boxes around it, and the
+    // BVH answered another triangle. Points just on or off the mesh near axis planes.
+    const Mesh mesh = *load_scene("builtin:teapot?n=4");
+    const Bvh bvh = *build_bvh(mesh, BvhConfig{});
+    std::vector<Vec3d> points = {{3.1855800266323224e-18, 0.56610184879476821, 0.3728023019162392},
+                                 {0.8510759960169012, 0.57540916249008101, 3.9147244815462832e-18}};
+    Rng rng(5);
+    for (int i = 0; i < 400; ++i) {
+        const uint32_t tri = uint32_t(rng.next_u64() % mesh.triangle_count());
+        const Vec3d p{rng.uniform(-1.0f, 1.0f), rng.uniform(0.0f, 0.8f), rng.uniform(-1.0f, 1.0f)};
+        Vec3d on = closest_point_on_triangle(p, to_double(mesh.vertex(tri, 0)), to_double(mesh.vertex(tri, 1)),
+                                             to_double(mesh.vertex(tri, 2)));
+        (i % 2 ? on.x : on.z) *= 1e-17;  // pulled onto an axis plane, where the teapot's seams are
+        points.push_back(on);
+    }
+    for (const Vec3d& q : points) {
+        NoObserver none;
+        expect_same(nearest_point(bvh, mesh, q, none), nearest_point_brute_force(mesh, q, none), q);
+    }
+}
+
 TEST(NearestPoint, TheHierarchiesMeasureFewTrianglesAndReportWhatTheyDid) {
     const Mesh mesh = *load_scene("builtin:teapot");
     const Bvh bvh = *build_bvh(mesh, BvhConfig{});
