@@ -12,6 +12,7 @@
 #include <imgui.h>
 
 #include "app/gui/camera_control.h"
+#include "app/gui/panel_widgets.h"
 #include "core/accel/accelerator.h"
 #include "core/accel/sah.h"
 
@@ -45,14 +46,10 @@ constexpr ImU32 kAxisText = IM_COL32(220, 220, 225, 255);
 
 const char* kAxisNames[3] = {"x", "y", "z"};
 
-std::string fmt(const char* format, double value) {
-    char text[64];
-    std::snprintf(text, sizeof text, format, value);
-    return text;
-}
-
 /// A cost for a label: whole numbers from 1000 on (no exponents on a projector).
-std::string cost_text(double cost) { return std::abs(cost) >= 1000.0 ? fmt("%.0f", cost) : fmt("%.4g", cost); }
+std::string cost_text(double cost) {
+    return std::abs(cost) >= 1000.0 ? text_of("%.0f", cost) : text_of("%.4g", cost);
+}
 
 bool is_sah(BvhBuilder b) { return b == BvhBuilder::SahBinned || b == BvhBuilder::SahSweep; }
 
@@ -396,8 +393,8 @@ void draw_axis_chart(const SahChart& chart, const BuildStep& step, int axis, flo
     auto x_of = [&](float pos) { return p0.x + (pos - x_lo) / (x_hi - x_lo) * (p1.x - p0.x); };
     // Position labels under the plot: the centroid bounds.
     const float text_y = p1.y + 0.1f * font;
-    draw->AddText(ImVec2(p0.x, text_y), label_colour, fmt("%.4g", double(x_lo)).c_str());
-    const std::string hi_text = fmt("%.4g", double(x_hi));
+    draw->AddText(ImVec2(p0.x, text_y), label_colour, text_of("%.4g", double(x_lo)).c_str());
+    const std::string hi_text = text_of("%.4g", double(x_hi));
     draw->AddText(ImVec2(p1.x - ImGui::CalcTextSize(hi_text.c_str()).x, text_y), label_colour, hi_text.c_str());
     // Heuristic cuts: vertical lines on the axis they would cut.
     auto vline = [&](const HeuristicCut& cut, ImU32 colour, const char* label, float label_row) {

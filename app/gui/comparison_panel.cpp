@@ -8,6 +8,8 @@
 
 #include <imgui.h>
 
+#include "app/gui/panel_widgets.h"
+
 namespace accelviz {
 
 namespace {
@@ -21,12 +23,6 @@ constexpr ImU32 kRowColours[] = {IM_COL32(170, 170, 175, 255), IM_COL32(245, 160
                                  IM_COL32(110, 210, 110, 255), IM_COL32(200, 130, 235, 255),
                                  IM_COL32(80, 200, 245, 255)};
 ImU32 row_colour(size_t i) { return kRowColours[i % std::size(kRowColours)]; }
-
-std::string text_of(const char* format, double value) {
-    char text[64];
-    std::snprintf(text, sizeof text, format, value);
-    return text;
-}
 
 /// A count for a projector: 940, 3.1k, 2.4M, 1.1G.
 std::string count_text(double n) {
@@ -122,17 +118,9 @@ void ComparisonPanel::draw(float width, bool lecture) {
         const auto structures = comparison_structures();
         const int row = std::clamp(row_ ? row_->load() : 0, 0, int(structures.size()) - 1);
         ImGui::Text("Measuring %s (%d of %zu) ...", structures[size_t(row)].first.c_str(), row + 1, structures.size());
-        const float button = ImGui::CalcTextSize("Cancel").x + 2.0f * ImGui::GetStyle().FramePadding.x;
-        ImGui::ProgressBar(progress_ ? float(progress_->fraction()) : 0.0f,
-                           ImVec2(std::max(1.0f, width - button - ImGui::GetStyle().ItemSpacing.x), 0.0f));
-        ImGui::SameLine();
-        if (ImGui::Button("Cancel") && progress_) progress_->cancel();
+        progress_with_cancel(progress_.get(), width);
     }
-    if (!error_.empty() && !job_.busy()) {
-        ImGui::PushStyleColor(ImGuiCol_Text, IM_COL32(255, 120, 100, 255));
-        ImGui::TextWrapped("Could not measure: %s", error_.c_str());
-        ImGui::PopStyleColor();
-    }
+    if (!error_.empty() && !job_.busy()) error_line("Could not measure", error_);
     const StructureComparison* c = measured();
     if (!c) {
         if (!job_.busy() && ImGui::Button("Measure")) measure_again_ = true;

@@ -5,6 +5,8 @@
 
 #include <imgui.h>
 
+#include "app/gui/panel_widgets.h"
+
 #include "core/accel/memory_budget.h"
 #include "core/render/colormap.h"
 
@@ -26,12 +28,6 @@ constexpr ImU32 kLeafColours[] = {IM_COL32(230, 120, 110, 210), IM_COL32(120, 17
                                   IM_COL32(240, 200, 100, 210), IM_COL32(160, 220, 140, 210),
                                   IM_COL32(210, 140, 230, 210), IM_COL32(120, 220, 220, 210),
                                   IM_COL32(240, 160, 200, 210), IM_COL32(200, 200, 200, 210)};
-
-std::string text_of(const char* format, double value) {
-    char text[64];
-    std::snprintf(text, sizeof text, format, value);
-    return text;
-}
 
 ImU32 depth_colour(uint32_t depth, uint32_t deepest) {
     // From 0.2 up: the map's darkest purple would vanish into the background.
@@ -236,17 +232,9 @@ void TwoBvhsPanel::draw(AppState& state, float width, bool lecture) {
         ImGui::TextUnformatted("Two BVHs over the same triangles: which is better?");
     if (job_.busy()) {
         ImGui::TextUnformatted("Building both trees ...");
-        const float button = ImGui::CalcTextSize("Cancel").x + 2.0f * ImGui::GetStyle().FramePadding.x;
-        ImGui::ProgressBar(progress_ ? float(progress_->fraction()) : 0.0f,
-                           ImVec2(std::max(1.0f, width - button - ImGui::GetStyle().ItemSpacing.x), 0.0f));
-        ImGui::SameLine();
-        if (ImGui::Button("Cancel") && progress_) progress_->cancel();
+        progress_with_cancel(progress_.get(), width);
     }
-    if (!error_.empty() && !job_.busy()) {
-        ImGui::PushStyleColor(ImGuiCol_Text, IM_COL32(255, 120, 100, 255));
-        ImGui::TextWrapped("Could not build: %s", error_.c_str());
-        ImGui::PopStyleColor();
-    }
+    if (!error_.empty() && !job_.busy()) error_line("Could not build", error_);
     // Which tree is which: the builder combos, or in lecture mode their names.
     const float half = 0.5f * (width - ImGui::GetStyle().ItemSpacing.x);
     const float second_x = ImGui::GetCursorPosX() + half + ImGui::GetStyle().ItemSpacing.x;

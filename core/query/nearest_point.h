@@ -98,6 +98,25 @@ inline bool may_hold_nearer(double d2, const NearestPoint& best) {
     return !(d2 > best.distance_squared * kPruneSlack);
 }
 
+/// A node taken off a search's stack, its box `d2` from q: skipped (with its subtree)
+/// when farther than the best so far, else visited; a leaf's triangles,
+/// prim_ids[first .. first + count), are measured. True: an interior node was
+/// visited, and the caller pushes its children.
+template <class Observer>
+bool enter_node(uint32_t node, double d2, bool leaf, uint32_t first, uint32_t count, const uint32_t* prim_ids,
+                const Mesh& mesh, Vec3d q, NearestPoint& best, Observer& obs) {
+    if (!may_hold_nearer(d2, best)) {
+        obs.on({.kind = EventKind::Cull, .reason = CullReason::BeyondClosestHit, .node = node,
+                .t_enter = float(std::sqrt(d2))});
+        return false;
+    }
+    obs.on({.kind = EventKind::VisitNode, .node = node, .t_enter = float(std::sqrt(d2))});
+    if (!leaf) return true;
+    obs.on({.kind = EventKind::Leaf, .node = node, .first = first, .count = count});
+    for (uint32_t k = first; k < first + count; ++k) test_triangle(mesh, prim_ids[k], q, best, obs);
+    return false;
+}
+
 }  // namespace nearest_detail
 
 /// Every triangle, in id order: the oracle.
@@ -113,7 +132,6 @@ NearestPoint nearest_point_brute_force(const Mesh& mesh, Vec3d q, Observer& obs)
 /// termination, with the box's distance in place of the ray's entry distance).
 template <class Observer>
 NearestPoint nearest_point(const Bvh& bvh, const Mesh& mesh, Vec3d q, Observer& obs) {
-    using nearest_detail::may_hold_nearer;
     NearestPoint best;
     if (bvh.nodes.empty()) return nearest_detail::done(best, obs);
     struct Entry {
@@ -125,19 +143,10 @@ NearestPoint nearest_point(const Bvh& bvh, const Mesh& mesh, Vec3d q, Observer& 
     stack[top++] = {0, box_distance_squared(q, bvh.nodes[0].bounds)};
     while (top > 0) {
         const Entry e = stack[--top];
-        if (!may_hold_nearer(e.d2, best)) {
-            obs.on({.kind = EventKind::Cull, .reason = CullReason::BeyondClosestHit, .node = e.node,
-                    .t_enter = float(std::sqrt(e.d2))});
-            continue;
-        }
         const BvhNode& node = bvh.nodes[e.node];
-        obs.on({.kind = EventKind::VisitNode, .node = e.node, .t_enter = float(std::sqrt(e.d2))});
-        if (node.is_leaf()) {
-            obs.on({.kind = EventKind::Leaf, .node = e.node, .first = node.first, .count = node.count});
-            for (uint32_t k = node.first; k < node.first + node.count; ++k)
-                nearest_detail::test_triangle(mesh, bvh.prim_ids[k], q, best, obs);
+        if (!nearest_detail::enter_node(e.node, e.d2, node.is_leaf(), node.first, node.count, bvh.prim_ids.data(),
+                                        mesh, q, best, obs))
             continue;
-        }
         // Both children's distances; the farther is pushed first, so the nearer is next.
         Entry a{node.first, box_distance_squared(q, bvh.nodes[node.first].bounds)};
         Entry b{node.first + 1, box_distance_squared(q, bvh.nodes[node.first + 1].bounds)};
@@ -153,7 +162,6 @@ NearestPoint nearest_point(const Bvh& bvh, const Mesh& mesh, Vec3d q, Observer& 
 /// cells is measured in each it is met in (the same distance each time).
 template <class Observer>
 NearestPoint nearest_point(const KdTree& kd, const Mesh& mesh, Vec3d q, Observer& obs) {
-    using nearest_detail::may_hold_nearer;
     NearestPoint best;
     if (kd.nodes.empty()) return nearest_detail::done(best, obs);
     struct Entry {
@@ -166,19 +174,10 @@ NearestPoint nearest_point(const KdTree& kd, const Mesh& mesh, Vec3d q, Observer
     while (!stack.empty()) {
         const Entry e = stack.back();
         stack.pop_back();
-        if (!may_hold_nearer(e.d2, best)) {
-            obs.on({.kind = EventKind::Cull, .reason = CullReason::BeyondClosestHit, .node = e.node,
-                    .t_enter = float(std::sqrt(e.d2))});
-            continue;
-        }
         const KdNode& node = kd.nodes[e.node];
-        obs.on({.kind = EventKind::VisitNode, .node = e.node, .t_enter = float(std::sqrt(e.d2))});
-        if (node.is_leaf()) {
-            obs.on({.kind = EventKind::Leaf, .node = e.node, .first = node.first, .count = node.count});
-            for (uint32_t k = node.first; k < node.first + node.count; ++k)
-                nearest_detail::test_triangle(mesh, kd.prim_ids[k], q, best, obs);
+        if (!nearest_detail::enter_node(e.node, e.d2, node.is_leaf(), node.first, node.count, kd.prim_ids.data(), mesh,
+                                        q, best, obs))
             continue;
-        }
         Aabb lower = e.box, upper = e.box;
         lower.hi[node.axis] = node.split;
         upper.lo[node.axis] = node.split;
