@@ -39,6 +39,11 @@ void add_accel_flags(CLI::App& command, AccelConfig& config) {
                "bvh: closest-hit algorithm: 2 = nearest child first, skip nodes beyond the closest hit; "
                "1 = left then right, no pruning (ordered|unordered, default ordered)")
         ->check(CLI::IsMember(bvh_traversal_names()));
+    command.add_option("--bvh-width", config.bvh.width,
+                       "bvh: children per node: 2 = the lecture's binary tree; 4 or 8 = the binary tree collapsed, "
+                       "its children's boxes tested together by SIMD instructions")
+        ->check(CLI::IsMember({2, 4, 8}))
+        ->capture_default_str();
 
     command.add_option_function<std::string>(
                "--triangle-test", [&config](const std::string& v) { config.triangle_test = *parse_triangle_test(v); },

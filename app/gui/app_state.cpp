@@ -139,6 +139,7 @@ nlohmann::json accel_config_json(const AccelConfig& a) {
                 {"max_leaf_size", a.bvh.max_leaf_size},
                 {"cost_trav", a.bvh.cost_trav},
                 {"cost_isect", a.bvh.cost_isect},
+                {"width", a.bvh.width},
                 {"traversal", std::string(to_string(a.bvh_traversal))}};
     j["grid"] = {{"density", a.grid.density},
                  {"insert", std::string(to_string(a.grid.insert))},
@@ -175,6 +176,7 @@ void read_accel(const nlohmann::json& j, AccelConfig& a) {
         a.bvh.max_leaf_size = read(b, "max_leaf_size", a.bvh.max_leaf_size, "structure.bvh");
         a.bvh.cost_trav = read(b, "cost_trav", a.bvh.cost_trav, "structure.bvh");
         a.bvh.cost_isect = read(b, "cost_isect", a.bvh.cost_isect, "structure.bvh");
+        a.bvh.width = read(b, "width", a.bvh.width, "structure.bvh");
         if (b.contains("traversal"))
             a.bvh_traversal = read_enum(b["traversal"], "structure.bvh.traversal", parse_bvh_traversal);
     }

@@ -170,9 +170,7 @@ private:
         return box;
     }
 
-    /// Tests the triangles of `leaf` against `ray` (whose t_max is the closest hit
-    /// so far, inclusive), updating `best` and `ray.t_max`. Any-hit: true at the
-    /// first hit (in `best`), which ends the walk.
+    /// Reports `leaf` and tests its triangles (intersect_leaf_triangles, below).
     template <StopAt kStop, class Entry, class Tester, class Observer>
     bool intersect_leaf(const Entry& leaf, Ray& ray, const Tester& tester, Hit& best, Observer& obs) const;
 
@@ -199,13 +197,15 @@ private:
 // The traversal. Written once; NoObserver's empty on() makes it the fast path.
 // ---------------------------------------------------------------------------
 
-template <StopAt kStop, class Entry, class Tester, class Observer>
-[[gnu::always_inline]] inline bool Bvh::intersect_leaf(const Entry& leaf, Ray& ray, const Tester& tester,
-                                                      Hit& best, Observer& obs) const {
-    obs.on({.kind = EventKind::Leaf, .node = leaf.node, .first = leaf.first, .count = leaf.count,
-            .t_enter = leaf.t_enter, .t_exit = leaf.t_exit});
-    const uint32_t end = leaf.first + leaf.count;
-    for (uint32_t k = leaf.first; k < end; ++k) {
+/// Tests the triangles [first, first + count) of a leaf-ordered triangle array against
+/// `ray` (whose t_max is the closest hit so far, inclusive), updating `best` and
+/// `ray.t_max`; prim_ids[k] is the id of triangle k. Any-hit: true at the first hit
+/// (in `best`), which ends the walk. Every BVH's leaves (binary and wide) run this.
+template <StopAt kStop, class Tester, class Observer>
+[[gnu::always_inline]] inline bool intersect_leaf_triangles(uint32_t first, uint32_t count, const uint32_t* prim_ids,
+                                                           Ray& ray, const Tester& tester, Hit& best, Observer& obs) {
+    const uint32_t end = first + count;
+    for (uint32_t k = first; k < end; ++k) {
         const TriangleTest test = tester.test(k, ray);
         obs.on({.kind = EventKind::TriangleTest, .hit = test.hit, .tri = prim_ids[k], .t = test.t, .u = test.u,
                 .v = test.v});
@@ -221,6 +221,14 @@ template <StopAt kStop, class Entry, class Tester, class Observer>
         }
     }
     return false;
+}
+
+template <StopAt kStop, class Entry, class Tester, class Observer>
+[[gnu::always_inline]] inline bool Bvh::intersect_leaf(const Entry& leaf, Ray& ray, const Tester& tester,
+                                                      Hit& best, Observer& obs) const {
+    obs.on({.kind = EventKind::Leaf, .node = leaf.node, .first = leaf.first, .count = leaf.count,
+            .t_enter = leaf.t_enter, .t_exit = leaf.t_exit});
+    return intersect_leaf_triangles<kStop>(leaf.first, leaf.count, prim_ids.data(), ray, tester, best, obs);
 }
 
 template <ChildOrder kOrder, StopAt kStop, bool kMayStartBehind, TriangleTestKind kTest, class Observer>

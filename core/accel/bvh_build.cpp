@@ -432,6 +432,7 @@ Expected<Bvh> build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecor
     const auto start = std::chrono::steady_clock::now();
     Bvh bvh;
     bvh.build_config = requested;
+    bvh.build_config.width = 2;  // this is the binary tree; build_accelerator() collapses it when asked
     const BvhConfig& config = bvh.build_config;
     BvhBuildStats& stats = bvh.build_stats;
     const auto n = uint32_t(mesh.triangle_count());

@@ -71,6 +71,8 @@ std::optional<Error> validate(const BvhConfig& config) {
         return Error{"--cost-trav must be a finite number >= 0 (got " + std::to_string(config.cost_trav) + ")"};
     if (!std::isfinite(config.cost_isect) || config.cost_isect <= 0.0f)
         return Error{"--cost-isect must be a finite number > 0 (got " + std::to_string(config.cost_isect) + ")"};
+    if (config.width != 2 && config.width != 4 && config.width != 8)
+        return Error{"--bvh-width must be 2, 4 or 8 (got " + std::to_string(config.width) + ")"};
     return std::nullopt;
 }
 
@@ -79,7 +81,8 @@ nlohmann::json to_json(const BvhConfig& config) {
             {"bins", config.bins},
             {"max_leaf_size", config.max_leaf_size},
             {"cost_trav", config.cost_trav},
-            {"cost_isect", config.cost_isect}};
+            {"cost_isect", config.cost_isect},
+            {"width", config.width}};
 }
 
 nlohmann::json to_json(const BvhBuildStats& stats) {

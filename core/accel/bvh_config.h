@@ -56,6 +56,10 @@ struct BvhConfig {
     int max_leaf_size = 4;                       ///< a leaf holds at most this many triangles, 1..kBvhMaxLeafSize
     float cost_trav = 1.0f;                      ///< SAH: C_trav, cost of stepping through an interior node, >= 0
     float cost_isect = 1.0f;                     ///< SAH: C_isect, cost of one ray–triangle test, > 0
+    /// Children per node: 2 (the lecture's binary tree), or 4 or 8: the binary tree
+    /// collapsed into a wide one whose children are tested together (wide_bvh.h).
+    /// build_bvh() always builds the binary tree; build_accelerator() collapses it.
+    int width = 2;
 
     bool operator==(const BvhConfig&) const = default;
 };

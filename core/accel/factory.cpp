@@ -3,6 +3,7 @@
 #include "core/accel/brute_force.h"
 #include "core/accel/bvh_build.h"
 #include "core/accel/memory_budget.h"
+#include "core/accel/wide_bvh.h"
 
 namespace accelviz {
 
@@ -34,6 +35,14 @@ KdConfig kd_config_of(const AccelConfig& config) {
 }
 OctreeConfig octree_config_of(const AccelConfig& config) {
     return with_shared_flags(config.octree, config, &OctreeConfig::leaf_size);
+}
+
+/// The binary tree collapsed into a W-wide one.
+template <int W>
+Expected<std::shared_ptr<const Accelerator>> wide_accelerator(Bvh&& binary, WorkProgress* progress) {
+    auto wide = collapse_bvh<W>(std::move(binary), progress);
+    if (!wide) return Error{wide.error()};
+    return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<WideBvh<W>>>(std::move(*wide)));
 }
 
 }  // namespace
@@ -70,6 +79,11 @@ Expected<std::shared_ptr<const Accelerator>> build_accelerator(const Mesh& mesh,
             if (!bvh) return Error{bvh.error()};
             bvh->traversal = config.bvh_traversal;
             use_triangle_test(*bvh, config.triangle_test, mesh, bvh->prim_ids);
+            switch (bvh_config_of(config).width) {
+                case 4: return wide_accelerator<4>(std::move(*bvh), progress);
+                case 8: return wide_accelerator<8>(std::move(*bvh), progress);
+                default: break;
+            }
             return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<Bvh>>(std::move(*bvh)));
         }
         case AccelType::Grid: {

@@ -38,6 +38,12 @@ inline std::vector<std::pair<std::string, AccelConfig>> all_configurations() {
     unordered.type = AccelType::Bvh;
     unordered.bvh_traversal = BvhTraversal::Unordered;
     out.push_back({"bvh unordered", unordered});
+    for (int width : {4, 8}) {
+        AccelConfig wide;
+        wide.type = AccelType::Bvh;
+        wide.bvh.width = width;
+        out.push_back({"bvh width " + std::to_string(width), wide});
+    }
     for (GridInsert insert : {GridInsert::Box, GridInsert::Exact})
         for (bool mailbox : {true, false}) {
             AccelConfig c;
