@@ -150,6 +150,9 @@ int run_query(const QueryOptions& opt) {
     if (type != AccelType::Naive && type != AccelType::Bvh && type != AccelType::Kd)
         return fail("--nearest goes through naive, bvh or kd (the " + std::string(to_string(type)) +
                     " answers rays only): use --accel naive, bvh or kd");
+    if (type == AccelType::Bvh && opt.accel.bvh.width != 2)
+        return fail("the nearest-point and inside queries walk the binary BVH: --bvh-width " +
+                    std::to_string(opt.accel.bvh.width) + " is for rays (render, trace, bench)");
     auto mesh = load_scene_noting(opt.scene, "query");
     if (!mesh) return fail(mesh.error());
     auto accel = [&] {

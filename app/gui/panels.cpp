@@ -145,6 +145,13 @@ void StructurePanel::draw(AppState& state, Session& session) {
             rebuild |= float_slider("C_isect", a.bvh.cost_isect, 0.1f, 10.0f);
         }
         rebuild |= enum_combo("Traversal", a.bvh_traversal, bvh_traversal_names(), parse_bvh_traversal);
+        // The binary tree, or the same tree collapsed into nodes of 4 or 8 children whose
+        // boxes are tested together (core/accel/wide_bvh.h).
+        std::string width = std::to_string(a.bvh.width);
+        if (name_combo("Children per node", width, {"2", "4", "8"})) {
+            a.bvh.width = std::stoi(width);
+            rebuild = true;
+        }
     } else if (a.type == AccelType::Grid) {
         rebuild |= float_slider("Density C", a.grid.density, 0.5f, 100.0f, "%.1f", ImGuiSliderFlags_Logarithmic);
         rebuild |= enum_combo("Insert", a.grid.insert, grid_insert_names(), parse_grid_insert);
@@ -265,9 +272,15 @@ void StatsPanel::draw(const AppState&, const Session& session) {
     const nlohmann::json stats = scene->accel->stats();
     if (!ImGui::BeginTable("stats", 2, ImGuiTableFlags_RowBg | ImGuiTableFlags_SizingStretchProp)) return;
     for (const auto& [key, value] : stats.items()) {
-        if (key == "build_ms") continue;  // not deterministic; the status line has the build time
+        if (key.ends_with("_ms")) continue;  // not deterministic; the status line has the build time
         std::string text;
-        if (value.is_number_float()) {
+        if (value.is_object() && value.contains("nodes") && value.contains("max_depth")) {
+            // A structure it was made from (the wide BVH's binary tree), in one line.
+            char line[128];
+            std::snprintf(line, sizeof line, "%s nodes, depth %s, SAH cost %.4g", value["nodes"].dump().c_str(),
+                          value["max_depth"].dump().c_str(), value.value("sah_cost", 0.0));
+            text = line;
+        } else if (value.is_number_float()) {
             char number[32];
             std::snprintf(number, sizeof number, "%.4g", value.get<double>());
             text = number;

@@ -7,6 +7,7 @@
 #include "core/accel/kd_tree.h"
 #include "core/accel/octree.h"
 #include "core/accel/uniform_grid.h"
+#include "core/accel/wide_bvh.h"
 #include "core/render/colormap.h"
 
 namespace accelviz {
@@ -92,6 +93,30 @@ void bvh_overlay(const Bvh& bvh, const OverlaySettings& s, StructureOverlay& out
         out.boxes.push_back({n.bounds.lo, n.bounds.hi, level_colour(level_position(depth[i], levels.lo, levels.hi))});
     }
     out.legend = range_legend(s.leaves_only ? "BVH leaves" : "BVH nodes", shown, out.deepest_level, s.max_boxes);
+}
+
+/// A wide BVH's boxes by depth: each level is a node's 4 or 8 children, so the tree
+/// has about half (4-wide) or a third (8-wide) of the binary tree's levels.
+template <class Wide>
+void wide_bvh_overlay(const Wide& bvh, const OverlaySettings& s, StructureOverlay& out) {
+    std::vector<size_t> per_level;
+    bvh.for_each_box([&](uint32_t, const Aabb&, uint32_t depth, uint32_t leaf_count) {
+        out.deepest_level = std::max(out.deepest_level, int(depth));
+        if (!s.leaves_only || leaf_count > 0) count_level(per_level, int(depth));
+    });
+    const ShownLevels shown = shown_levels(s, out.deepest_level, per_level);
+    const LevelRange levels = shown.range;
+    bvh.for_each_box([&](uint32_t, const Aabb& box, uint32_t depth, uint32_t leaf_count) {
+        if (!levels.contains(int(depth)) || (s.leaves_only && leaf_count == 0)) return;
+        out.boxes.push_back({box.lo, box.hi, level_colour(level_position(int(depth), levels.lo, levels.hi))});
+    });
+    char what[64];
+    std::snprintf(what, sizeof what, "%d-wide BVH %s", Wide::kWidth, s.leaves_only ? "leaves" : "nodes");
+    out.legend = range_legend(what, shown, out.deepest_level, s.max_boxes);
+    char levels_note[128];
+    std::snprintf(levels_note, sizeof levels_note, "; %d levels below the root where the binary tree has %u",
+                  out.deepest_level, bvh.binary_stats.max_depth);
+    out.legend += levels_note;
 }
 
 // [SECTION] Space-partitioning trees: nodes with their depths
@@ -228,10 +253,20 @@ LeafHistogram leaf_histogram(const Accelerator& accel) {
         if (out.counts.size() <= triangles) out.counts.resize(triangles + 1, 0);
         ++out.counts[triangles];
     };
+    auto add_wide_leaves = [&](const auto& wide) {
+        out.what = "BVH leaves";
+        wide.for_each_box([&](uint32_t, const Aabb&, uint32_t, uint32_t leaf_count) {
+            if (leaf_count > 0) add(leaf_count);
+        });
+    };
     if (const Bvh* bvh = structure_if<Bvh>(accel)) {
         out.what = "BVH leaves";
         for (const BvhNode& n : bvh->nodes)
             if (n.is_leaf()) add(n.count);
+    } else if (const auto* wide4 = structure_if<WideBvh<4>>(accel)) {
+        add_wide_leaves(*wide4);
+    } else if (const auto* wide8 = structure_if<WideBvh<8>>(accel)) {
+        add_wide_leaves(*wide8);
     } else if (const Octree* octree = structure_if<Octree>(accel)) {
         out.what = "octree leaves";
         for (const OctreeNode& n : octree->nodes)
@@ -252,6 +287,10 @@ StructureOverlay make_structure_overlay(const Accelerator& accel, const OverlayS
     StructureOverlay out;
     if (const Bvh* bvh = structure_if<Bvh>(accel))
         bvh_overlay(*bvh, settings, out);
+    else if (const auto* wide4 = structure_if<WideBvh<4>>(accel))
+        wide_bvh_overlay(*wide4, settings, out);
+    else if (const auto* wide8 = structure_if<WideBvh<8>>(accel))
+        wide_bvh_overlay(*wide8, settings, out);
     else if (const Octree* octree = structure_if<Octree>(accel))
         octree_overlay(*octree, settings, out);
     else if (const KdTree* kd = structure_if<KdTree>(accel))

@@ -11,6 +11,7 @@
 #include "core/accel/kd_tree.h"
 #include "core/accel/octree.h"
 #include "core/accel/uniform_grid.h"
+#include "core/accel/wide_bvh.h"
 
 namespace accelviz {
 
@@ -45,6 +46,10 @@ NodeBoxes::NodeBoxes(const Accelerator& accel) {
     if (const Bvh* bvh = structure_if<Bvh>(accel)) {
         boxes_.reserve(bvh->nodes.size());
         for (const BvhNode& n : bvh->nodes) boxes_.push_back(n.bounds);
+    } else if (const auto* wide4 = structure_if<WideBvh<4>>(accel)) {
+        boxes_by_slot(*wide4);
+    } else if (const auto* wide8 = structure_if<WideBvh<8>>(accel)) {
+        boxes_by_slot(*wide8);
     } else if (const KdTree* kd = structure_if<KdTree>(accel)) {
         boxes_ = kd->node_boxes();
     } else if (const Octree* octree = structure_if<Octree>(accel)) {

@@ -71,6 +71,13 @@ public:
     bool is_grid() const { return grid_; }
 
 private:
+    /// A wide BVH's boxes, indexed by slot (wide_bvh.h: the root 0, lane i of node n 1 + n·W + i).
+    template <class Wide>
+    void boxes_by_slot(const Wide& wide) {
+        boxes_.assign(1 + wide.nodes.size() * size_t(Wide::kWidth), Aabb{});
+        wide.for_each_box([&](uint32_t slot, const Aabb& box, uint32_t, uint32_t) { boxes_[slot] = box; });
+    }
+
     std::vector<Aabb> boxes_;  ///< per tree node
     bool grid_ = false;
     Aabb grid_bounds_;
