@@ -161,6 +161,19 @@ private:
     /// kBvhMaxDepth deep, so the wide one is too.
     static constexpr int kStackSize = (W - 1) * (int(kBvhMaxDepth) + 1) + 1;
 
+    /// A hint to the memory system: child i of `node` will be needed (its wide node's
+    /// cache lines, or its leaf's triangles). Changes nothing but when memory arrives.
+    [[gnu::always_inline]] void prefetch_child(const Node& node, int i) const {
+        if (node.is_leaf(i)) {
+            const Triangle* first = triangles.data() + node.first[i];
+            prefetch(first);
+            prefetch(reinterpret_cast<const char*>(first + node.count[i]) - 1);
+        } else {
+            const char* line = reinterpret_cast<const char*>(&nodes[node.first[i]]);
+            for (size_t offset = 0; offset < sizeof(Node); offset += 64) prefetch(line + offset);
+        }
+    }
+
     template <class Observer>
     static Hit done(const Hit& best, Observer& obs) {
         obs.on({.kind = EventKind::Done, .hit = best.found(), .tri = best.tri, .t = best.t, .u = best.u, .v = best.v});
@@ -228,10 +241,8 @@ Hit WideBvh<W, Lanes>::walk(const Ray& ray, Observer& obs) const {
                 node.boxes, box_ray, ray.t_min, ray.t_max, t_enter, t_exit) & ((1u << node.child_count) - 1);
             uint32_t kept = entered;
             if constexpr (kClosest && kNearestFirst) {
-                for (uint32_t m = entered; m; m &= m - 1) {
-                    const int i = __builtin_ctz(m);
-                    if (t_enter[i] > best.t) kept &= ~(1u << i);
-                }
+                // Not beyond the closest hit: !(t_enter > best.t), that is t_enter <= best.t (t_enter is never NaN).
+                kept &= Lanes::less_equal(Lanes::load(t_enter), Lanes::splat(best.t));
             }
             if constexpr (kWatched) {
                 for (int i = 0; i < node.child_count; ++i)
@@ -247,9 +258,28 @@ Hit WideBvh<W, Lanes>::walk(const Ray& ray, Observer& obs) const {
                 auto entry_of = [&](int i) {
                     return Entry{node.first[i], node.count[i], t_enter[i], slot_of(current.first, i), t_exit[i]};
                 };
+                auto push = [&](int i) {
+                    *top++ = entry_of(i);
+                    obs.on({.kind = EventKind::Push, .node = top[-1].slot, .t_enter = top[-1].t_enter,
+                            .t_exit = top[-1].t_exit});
+                };
                 // The kept children in visiting order: nearest first (the lower lane on a
                 // tie), or lane order. The first becomes current; the rest go on the
-                // stack last-first, so they come back off it in this order.
+                // stack last-first, so they come back off it in this order. One and two
+                // children, the common cases, take no sorting loop.
+                const int a = __builtin_ctz(kept);
+                const uint32_t rest = kept & (kept - 1);
+                if (rest == 0) {
+                    current = entry_of(a);
+                    continue;
+                }
+                if ((rest & (rest - 1)) == 0) {
+                    const int b = __builtin_ctz(rest);
+                    const bool b_first = kNearestFirst && t_enter[b] < t_enter[a];
+                    push(b_first ? a : b);
+                    current = entry_of(b_first ? b : a);
+                    continue;
+                }
                 int order[W];
                 int n = 0;
                 for (uint32_t m = kept; m; m &= m - 1) {
@@ -259,13 +289,8 @@ Hit WideBvh<W, Lanes>::walk(const Ray& ray, Observer& obs) const {
                         for (; k > 0 && t_enter[i] < t_enter[order[k - 1]]; --k) order[k] = order[k - 1];
                     order[k] = i;
                 }
-                for (int k = n - 1; k > 0; --k) {
-                    *top++ = entry_of(order[k]);
-                    obs.on({.kind = EventKind::Push, .node = top[-1].slot, .t_enter = top[-1].t_enter,
-                            .t_exit = top[-1].t_exit});
-                }
+                for (int k = n - 1; k > 0; --k) push(order[k]);
                 current = entry_of(order[0]);
-                if (!current.is_leaf()) prefetch(&nodes[current.first]);
                 continue;
             }
         }
