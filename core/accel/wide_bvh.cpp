@@ -3,6 +3,8 @@
 #include <chrono>
 #include <limits>
 
+#include <tbb/parallel_for.h>
+
 #include "core/accel/sah.h"
 
 namespace accelviz {
@@ -35,6 +37,38 @@ nlohmann::json WideBvh<W, Lanes>::stats() const {
     return j;
 }
 
+namespace {
+
+/// The triangles of binary node n's whole subtree ([first, first + count) in leaf
+/// order: a subtree's leaves are contiguous) if there are at most `limit`, else
+/// nothing. Stops as soon as it has counted more: at most 2·limit nodes are read.
+struct SmallSubtree {
+    uint32_t first = 0, count = 0;
+    bool small = false;
+};
+SmallSubtree small_subtree(const std::vector<BvhNode, BvhNodeAllocator>& bin, uint32_t n, uint32_t limit) {
+    SmallSubtree out{UINT32_MAX, 0, true};
+    uint32_t stack[2 * kBvhStackSize];
+    int top = 0;
+    stack[top++] = n;
+    while (top > 0) {
+        const BvhNode& node = bin[stack[--top]];
+        if (node.is_leaf()) {
+            out.first = std::min(out.first, node.first);
+            out.count += node.count;
+            if (out.count > limit) return {};
+        } else if (top + 2 <= int(std::size(stack))) {
+            stack[top++] = node.first + 1;
+            stack[top++] = node.first;
+        } else {
+            return {};
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
 template <int W, class Lanes>
 Expected<WideBvh<W, Lanes>> collapse_bvh_with(Bvh&& binary, WorkProgress* progress) {
     const auto start = std::chrono::steady_clock::now();
@@ -48,89 +82,119 @@ Expected<WideBvh<W, Lanes>> collapse_bvh_with(Bvh&& binary, WorkProgress* progre
     WideBvhStats& stats = wide.build_stats;
     stats.width = W;
     stats.bytes_per_node = sizeof(Node);
-    stats.leaves = binary.build_stats.leaves;
 
     const auto& bin = binary.nodes;
+    constexpr uint32_t kMaxLeaf = std::numeric_limits<uint16_t>::max();
     for (const BvhNode& n : bin)
-        if (n.is_leaf() && n.count > std::numeric_limits<uint16_t>::max())
+        if (n.is_leaf() && n.count > kMaxLeaf)
             return Error{"a BVH leaf of " + std::to_string(n.count) + " triangles is too large for a wide node (at most " +
-                         std::to_string(std::numeric_limits<uint16_t>::max()) + ")"};
+                         std::to_string(kMaxLeaf) + ")"};
 
     const SahCostModel model{binary.build_config.cost_trav, binary.build_config.cost_isect};
-    double sah = 0;
-    uint64_t children = 0;
     if (!bin.empty()) {
+        // A subtree of at most max_leaf_size triangles becomes one leaf: below that size
+        // the binary tree's last splits cost a wide node (W box tests) to save a triangle
+        // test or two.
+        const uint32_t leaf_limit = uint32_t(binary.build_config.max_leaf_size);
+        auto as_leaf = [&](uint32_t n) -> SmallSubtree {
+            if (bin[n].is_leaf()) return {bin[n].first, bin[n].count, true};
+            return small_subtree(bin, n, leaf_limit);
+        };
+        auto is_leaf = [&](uint32_t n) { return as_leaf(n).small; };
+        auto area = [&](uint32_t n) { return bin[n].bounds.area(); };
+        const float root_area = area(0);
+        auto p = [&](uint32_t n) { return double(SahCostModel::hit_probability(area(n), root_area)); };
         wide.root_bounds = bin[0].bounds;
-        const float root_area = bin[0].bounds.area();
-        auto p = [&](const Aabb& box) { return double(SahCostModel::hit_probability(box.area(), root_area)); };
-        if (bin[0].is_leaf()) {
-            wide.root_first = bin[0].first;
-            wide.root_count = bin[0].count;
-            sah = p(bin[0].bounds) * bin[0].count * model.cost_isect;
+        double sah = 0;
+        if (const SmallSubtree root = as_leaf(0); root.small) {
+            wide.root_first = root.first;
+            wide.root_count = root.count;
+            sah = p(0) * root.count * model.cost_isect;
+            stats.leaves = 1;
         } else {
-            // Wide node `wide_id` is made of binary interior node `binary_id`, at `depth`.
+            // Pass 1: each wide node's children (binary node ids), wide nodes numbered
+            // depth first with a node's interior children consecutive.
+            struct Children {
+                uint32_t binary[W];
+                uint32_t wide[W];  ///< an interior child's wide node; UINT32_MAX for a leaf
+                uint32_t n = 0;
+            };
             struct Work {
                 uint32_t binary_id, wide_id, depth;
             };
+            std::vector<Children, LargeArrayAllocator<Children>> lists(1);
+            lists.reserve(bin.size() / 2 + 1);  // at most one wide node per binary interior node
             std::vector<Work> work{{0, 0, 0}};
-            wide.nodes.reserve(bin.size() / (2 * (W - 1)) + 1);
-            wide.nodes.emplace_back();
+            uint64_t children = 0;
             while (!work.empty()) {
                 const Work w = work.back();
                 work.pop_back();
-                if ((wide.nodes.size() & 4095) == 0 && cancelled(progress)) return WorkProgress::cancelled_error();
-                sah += p(bin[w.binary_id].bounds) * model.cost_trav;
-
+                if ((lists.size() & 4095) == 0 && cancelled(progress)) return WorkProgress::cancelled_error();
+                sah += p(w.binary_id) * model.cost_trav;
                 // Open the interior child of largest area until there are W children (or only leaves).
-                uint32_t child[W] = {bin[w.binary_id].first, bin[w.binary_id].first + 1};
-                int n = 2;
-                while (n < W) {
+                Children c;
+                c.binary[0] = bin[w.binary_id].first;
+                c.binary[1] = bin[w.binary_id].first + 1;
+                c.n = 2;
+                while (c.n < W) {
                     int widest = -1;
                     float widest_area = -1.0f;
-                    for (int i = 0; i < n; ++i)
-                        if (!bin[child[i]].is_leaf() && bin[child[i]].bounds.area() > widest_area) {
+                    for (int i = 0; i < int(c.n); ++i)
+                        if (area(c.binary[i]) > widest_area && !is_leaf(c.binary[i])) {
                             widest = i;
-                            widest_area = bin[child[i]].bounds.area();
+                            widest_area = area(c.binary[i]);
                         }
                     if (widest < 0) break;
-                    const uint32_t opened = child[widest];
-                    for (int i = n; i > widest + 1; --i) child[i] = child[i - 1];  // keep left-to-right order
-                    child[widest] = bin[opened].first;
-                    child[widest + 1] = bin[opened].first + 1;
-                    ++n;
+                    const uint32_t opened = c.binary[widest];
+                    for (int i = int(c.n); i > widest + 1; --i) c.binary[i] = c.binary[i - 1];  // keep left-to-right order
+                    c.binary[widest] = bin[opened].first;
+                    c.binary[widest + 1] = bin[opened].first + 1;
+                    ++c.n;
                 }
-
-                Node node;
-                node.child_count = uint8_t(n);
-                children += uint64_t(n);
-                for (int i = 0; i < W; ++i) {
-                    if (i >= n) {  // an empty lane: a box no ray enters, and the child count masks it anyway
-                        node.boxes.set(i, Aabb{});
-                        node.first[i] = 0;
-                        node.count[i] = 0;
-                        continue;
-                    }
-                    const BvhNode& c = bin[child[i]];
-                    node.boxes.set(i, c.bounds);
-                    if (c.is_leaf()) {
-                        node.first[i] = c.first;
-                        node.count[i] = uint16_t(c.count);
-                        sah += p(c.bounds) * c.count * model.cost_isect;
+                children += c.n;
+                for (uint32_t i = 0; i < c.n; ++i) {
+                    const uint32_t b = c.binary[i];
+                    if (const SmallSubtree leaf = as_leaf(b); leaf.small) {
+                        c.wide[i] = UINT32_MAX;
+                        sah += p(b) * leaf.count * model.cost_isect;
                         stats.max_depth = std::max(stats.max_depth, w.depth + 1);
+                        ++stats.leaves;
                     } else {
-                        node.first[i] = uint32_t(wide.nodes.size());
-                        node.count[i] = 0;
-                        wide.nodes.emplace_back();
-                        work.push_back({child[i], node.first[i], w.depth + 1});
+                        c.wide[i] = uint32_t(lists.size());
+                        lists.emplace_back();
+                        work.push_back({b, c.wide[i], w.depth + 1});
                     }
                 }
-                wide.nodes[w.wide_id] = node;
+                lists[w.wide_id] = c;
             }
+            stats.avg_children = double(children) / double(lists.size());
+
+            // Pass 2: the nodes, each from its list, in parallel.
+            wide.nodes.resize(lists.size());
+            tbb::parallel_for(tbb::blocked_range<size_t>(0, lists.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
+                for (size_t k = r.begin(); k < r.end(); ++k) {
+                    const Children& c = lists[k];
+                    Node& node = wide.nodes[k];
+                    node.child_count = uint8_t(c.n);
+                    for (int i = 0; i < W; ++i) {
+                        if (i >= int(c.n)) {  // an empty lane: a box no ray enters, and the child count masks it anyway
+                            node.boxes.set(i, Aabb{});
+                            node.first[i] = 0;
+                            node.count[i] = 0;
+                            continue;
+                        }
+                        const uint32_t b = c.binary[i];
+                        node.boxes.set(i, bin[b].bounds);
+                        const SmallSubtree leaf = c.wide[i] == UINT32_MAX ? as_leaf(b) : SmallSubtree{};
+                        node.first[i] = leaf.small ? leaf.first : c.wide[i];
+                        node.count[i] = leaf.small ? uint16_t(leaf.count) : uint16_t(0);
+                    }
+                }
+            });
         }
+        stats.sah_cost = sah;
     }
     stats.nodes = uint32_t(wide.nodes.size());
-    stats.avg_children = stats.nodes ? double(children) / stats.nodes : 0.0;
-    stats.sah_cost = sah;
 
     wide.prim_ids = std::move(binary.prim_ids);
     wide.triangles = std::move(binary.triangles);

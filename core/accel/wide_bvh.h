@@ -267,10 +267,15 @@ Hit WideBvh<W, Lanes>::walk(const Ray& ray, Observer& obs) const {
                 // tie), or lane order. The first becomes current; the rest go on the
                 // stack last-first, so they come back off it in this order. One and two
                 // children, the common cases, take no sorting loop.
+                // The kept leaves' triangles are the loads most likely to miss the caches:
+                // ask for all of them now, so their misses overlap.
+                for (uint32_t m = kept; m; m &= m - 1)
+                    if (node.is_leaf(__builtin_ctz(m))) prefetch_child(node, __builtin_ctz(m));
                 const int a = __builtin_ctz(kept);
                 const uint32_t rest = kept & (kept - 1);
                 if (rest == 0) {
                     current = entry_of(a);
+                    prefetch_child(node, a);
                     continue;
                 }
                 if ((rest & (rest - 1)) == 0) {
@@ -278,6 +283,7 @@ Hit WideBvh<W, Lanes>::walk(const Ray& ray, Observer& obs) const {
                     const bool b_first = kNearestFirst && t_enter[b] < t_enter[a];
                     push(b_first ? a : b);
                     current = entry_of(b_first ? b : a);
+                    prefetch_child(node, b_first ? b : a);
                     continue;
                 }
                 int order[W];
@@ -291,6 +297,7 @@ Hit WideBvh<W, Lanes>::walk(const Ray& ray, Observer& obs) const {
                 }
                 for (int k = n - 1; k > 0; --k) push(order[k]);
                 current = entry_of(order[0]);
+                prefetch_child(node, order[0]);
                 continue;
             }
         }
