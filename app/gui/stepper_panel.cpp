@@ -220,6 +220,64 @@ void StepperPanel::draw_event_list(AppState& state, int rows) {
 
 /// The lecture's picture: three number lines with each slab's interval, the
 /// intersection below them, and the verdict.
+/// The box tests of one node's children side by side, one row each on a common t axis:
+/// what a wide BVH's SIMD instructions compute at once (4 or 8 boxes), or algorithm
+/// 2's two children. The row of the event being shown is marked.
+void StepperPanel::draw_sibling_tests(const SiblingTests& run, size_t current) const {
+    ImGui::PushTextWrapPos(0.0f);
+    ImGui::Text("Tested together: %zu child boxes of one node", run.size());
+    ImGui::TextDisabled(run.size() > 2 ? "A wide BVH node: its children's slab tests are one sequence of SIMD "
+                                         "instructions, one box per lane; the walk then visits the entered ones "
+                                         "nearest first."
+                                       : "Algorithm 2 tests both children's boxes, then visits the nearer one first.");
+    ImGui::PopTextWrapPos();
+    ImDrawList* draw = ImGui::GetWindowDrawList();
+    const float font = ImGui::GetFontSize();
+    const float width = ImGui::GetContentRegionAvail().x;
+    const float label_w = 4.5f * font;
+    const float line_w = std::max(width - label_w - 0.5f * font, 4.0f * font);
+    const float row_h = 1.4f * font;
+    float lo = 0.0f, hi = 0.0f;
+    bool any = false;
+    for (size_t i = run.first; i < run.last; ++i)
+        for (float v : {trace.events[i].t_enter, trace.events[i].t_exit})
+            if (std::isfinite(v)) {
+                lo = any ? std::min(lo, v) : v;
+                hi = any ? std::max(hi, v) : v;
+                any = true;
+            }
+    if (!(hi > lo)) hi = lo + std::max(std::abs(lo), 1.0f) * 0.1f;
+    const float pad = 0.05f * (hi - lo);
+    lo -= pad;
+    hi += pad;
+    const ImVec2 origin = ImGui::GetCursorScreenPos();
+    auto x_of = [&](float t) {
+        if (std::isnan(t)) return origin.x + label_w;
+        return origin.x + label_w + std::clamp((t - lo) / (hi - lo), 0.0f, 1.0f) * line_w;
+    };
+    const ImU32 text = ImGui::GetColorU32(ImGuiCol_Text);
+    const ImU32 faint = ImGui::GetColorU32(ImGuiCol_TextDisabled);
+    for (size_t i = run.first; i < run.last; ++i) {
+        const TraversalEvent& e = trace.events[i];
+        const float y = origin.y + float(i - run.first) * row_h + 0.6f * font;
+        char label[32];
+        std::snprintf(label, sizeof label, "%s%u", i == current ? "> " : "  ", e.node);
+        draw->AddText(ImVec2(origin.x, y - 0.5f * font), i == current ? text : faint, label);
+        draw->AddLine(ImVec2(origin.x + label_w, y), ImVec2(origin.x + label_w + line_w, y), faint, 1.0f);
+        const ImU32 colour = e.hit ? im_colour(kStepColours.tested_hit) : im_colour(kStepColours.tested_miss);
+        const float a = e.t_enter, b = e.t_exit;
+        if (a <= b) {
+            draw->AddRectFilled(ImVec2(x_of(a), y - 0.3f * font), ImVec2(std::max(x_of(b), x_of(a) + 2.0f), y + 0.3f * font),
+                                colour);
+        } else {  // missed: the interval's ends crossed over
+            draw->AddLine(ImVec2(x_of(b), y - 0.3f * font), ImVec2(x_of(a), y + 0.3f * font), colour, 2.0f);
+            draw->AddLine(ImVec2(x_of(b), y + 0.3f * font), ImVec2(x_of(a), y - 0.3f * font), colour, 2.0f);
+        }
+    }
+    ImGui::Dummy(ImVec2(width, float(run.size()) * row_h));
+    ImGui::TextDisabled("t from %s to %s; this box's slabs:", number(lo).c_str(), number(hi).c_str());
+}
+
 void StepperPanel::draw_slab_inspector(const SlabInspection& s) const {
     ImDrawList* draw = ImGui::GetWindowDrawList();
     const float font = ImGui::GetFontSize();
@@ -461,6 +519,13 @@ void StepperPanel::draw_inspectors(const TraversalEvent* current) {
             return;
         const bool now = current && current->kind == EventKind::BoxTest;
         ImGui::Text("%s box test, node %u", now ? "this" : "last", step_state.last_box_test->node);
+        // The boxes tested together with it first (a wide node's lanes), then its own slabs.
+        for (size_t i = step; i-- > 0;)
+            if (trace.events[i].kind == EventKind::BoxTest) {
+                const SiblingTests run = sibling_box_tests(trace.events, i);
+                if (run.size() >= 2) draw_sibling_tests(run, i);
+                break;
+            }
         // Why the boxes are axis-aligned: this ray's box tests so far, counted both ways.
         const uint64_t box_tests = uint64_t(std::count_if(trace.events.begin(), trace.events.begin() + long(step),
                                                           [](const TraversalEvent& e) { return e.kind == EventKind::BoxTest; }));

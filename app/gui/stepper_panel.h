@@ -90,6 +90,7 @@ private:
     void draw_controls(AppState& state);
     void draw_event_list(AppState& state, int rows);
     void draw_slab_inspector(const SlabInspection& s) const;
+    void draw_sibling_tests(const SiblingTests& run, size_t current) const;
     void draw_plane_first(const TriangleInspection& t) const;
     void draw_compare();
     void draw_inspectors(const TraversalEvent* current);

@@ -304,6 +304,14 @@ void add_cross(DebugGeometry& g, Vec3 p, float size, DebugColour c) {
 
 }  // namespace
 
+SiblingTests sibling_box_tests(const std::vector<TraversalEvent>& events, size_t index) {
+    if (index >= events.size() || events[index].kind != EventKind::BoxTest) return {index, index};
+    SiblingTests run{index, index + 1};
+    while (run.first > 0 && events[run.first - 1].kind == EventKind::BoxTest) --run.first;
+    while (run.last < events.size() && events[run.last].kind == EventKind::BoxTest) ++run.last;
+    return run;
+}
+
 DebugGeometry step_geometry(const SteppedRay& r, const StepState& s, const NodeBoxes& boxes, const Mesh& mesh,
                             size_t max_triangles) {
     DebugGeometry g;
@@ -357,8 +365,12 @@ DebugGeometry step_geometry(const SteppedRay& r, const StepState& s, const NodeB
     }
     if (s.last_visit)
         if (auto b = boxes.of(*s.last_visit)) g.boxes.push_back({*b, c.current});
-    if (s.current && s.current->kind == EventKind::BoxTest)
-        if (auto b = boxes.of(*s.current)) g.boxes.push_back({*b, s.current->hit ? c.tested_hit : c.tested_miss});
+    // The box under test, with the boxes tested together with it (a wide node's children).
+    if (s.current && s.current->kind == EventKind::BoxTest && s.steps > 0) {
+        const SiblingTests run = sibling_box_tests(r.events, std::min(s.steps, r.events.size()) - 1);
+        for (size_t i = run.first; i < run.last; ++i)
+            if (auto b = boxes.of(r.events[i])) g.boxes.push_back({*b, r.events[i].hit ? c.tested_hit : c.tested_miss});
+    }
 
     // The split plane of the current node (KD tree, octree), clipped to the node's box.
     if (s.current && s.current->kind == EventKind::SplitPlane) {

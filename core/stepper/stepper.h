@@ -207,6 +207,16 @@ struct StepColours {
 };
 inline constexpr StepColours kStepColours{};
 
+/// The box tests made together with event `index` (a BoxTest): the run of
+/// consecutive BoxTest events around it, [first, last). A wide BVH node's children
+/// (4 or 8, one SIMD instruction sequence) or algorithm 2's two children; a single
+/// test elsewhere. Empty if events[index] is not a box test.
+struct SiblingTests {
+    size_t first = 0, last = 0;
+    size_t size() const { return last - first; }
+};
+SiblingTests sibling_box_tests(const std::vector<TraversalEvent>& events, size_t index);
+
 /// The geometry of the state `s` (replay(r.events, s.steps)). `mesh` gives the
 /// tested triangles' corners. At most `max_triangles` tested triangles are drawn
 /// (the most recent), so naive on a big mesh stays cheap.

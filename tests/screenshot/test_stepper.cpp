@@ -87,6 +87,27 @@ TEST(StepperGolden, BvhFirstVisit) {
                        });
 }
 
+TEST(StepperGolden, WideBvhNodeTestsItsEightChildrenTogether) {
+    // An 8-wide BVH: the root node's eight children's box tests (the fourth one current),
+    // all lit in the 3D view and charted side by side in the panel.
+    AppState state =
+        stepper_state(kTeapot, R"({"structure": {"type": "bvh", "bvh": {"width": 8}}})", 520, 400, 0);
+    {
+        auto mesh = load_scene(kTeapot);
+        auto accel = build_accelerator(*mesh, state.accel);
+        ASSERT_TRUE(accel);
+        const SteppedRay r = record_ray(**accel, *state.stepper.ray);
+        for (size_t i = 0; i + 4 < r.events.size() && state.stepper.step == 0; ++i)
+            if (r.events[i].kind == EventKind::VisitNode && r.events[i + 1].kind == EventKind::BoxTest)
+                state.stepper.step = i + 1 + 4;
+        ASSERT_GT(state.stepper.step, 0u) << "no wide node visited on this ray";
+    }
+    expect_step_golden(state, EventKind::BoxTest, "step_wide_bvh_node", [](const StepperPanel& s) {
+        const SiblingTests run = sibling_box_tests(s.trace.events, s.step_state.steps - 1);
+        EXPECT_EQ(run.size(), 8u) << "the root of an 8-wide tree over 880 triangles has eight children";
+    });
+}
+
 TEST(StepperGolden, BvhCullBeyondTheClosestHit) {
     AppState state = stepper_state(kTeapot, R"({"structure": {"type": "bvh"}})", 520, 400, 0);
     // The first cull beyond the closest hit on this ray.
