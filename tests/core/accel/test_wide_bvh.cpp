@@ -139,7 +139,7 @@ void check_scene(const Mesh& mesh, size_t ray_count, uint64_t seed) {
 
 TEST(WideBvhMatchesBruteForce, SlowBunny) {
     if (!shared_asset_exists("bunny.obj")) GTEST_SKIP() << "../shared/assets/bunny.obj is not here";
-    check_scene(scene(shared_asset("bunny.obj")), 200'000, 11);
+    check_scene(scene(shared_asset("bunny.obj")), 100'000, 11);
 }
 TEST(WideBvhMatchesBruteForce, SameCentroid) { check_scene(scene("builtin:same-centroid"), kRays, 12); }
 TEST(WideBvhMatchesBruteForce, SameBox) { check_scene(scene("builtin:same-box"), kRays, 13); }
