@@ -263,14 +263,14 @@ Hit WideBvh<W, Lanes>::walk(const Ray& ray, Observer& obs) const {
                     obs.on({.kind = EventKind::Push, .node = top[-1].slot, .t_enter = top[-1].t_enter,
                             .t_exit = top[-1].t_exit});
                 };
+                // The kept leaves' triangles are the loads most likely to miss the caches:
+                // ask for all of them now, so their misses may overlap (a hint only).
+                for (uint32_t m = kept; m; m &= m - 1)
+                    if (node.is_leaf(__builtin_ctz(m))) prefetch_child(node, __builtin_ctz(m));
                 // The kept children in visiting order: nearest first (the lower lane on a
                 // tie), or lane order. The first becomes current; the rest go on the
                 // stack last-first, so they come back off it in this order. One and two
                 // children, the common cases, take no sorting loop.
-                // The kept leaves' triangles are the loads most likely to miss the caches:
-                // ask for all of them now, so their misses overlap.
-                for (uint32_t m = kept; m; m &= m - 1)
-                    if (node.is_leaf(__builtin_ctz(m))) prefetch_child(node, __builtin_ctz(m));
                 const int a = __builtin_ctz(kept);
                 const uint32_t rest = kept & (kept - 1);
                 if (rest == 0) {
