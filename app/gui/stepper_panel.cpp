@@ -36,6 +36,43 @@ void grey_text(const char* text) {
     ImGui::PopStyleColor();
 }
 
+/// The t range a chart of intervals draws: every finite end given, padded by
+/// `pad_fraction` of the range on each side (zoomed on the intervals, as the lecture
+/// draws them), and where a t falls on a line `line_w` wide starting at `x0`.
+struct TRange {
+    float lo = 0.0f, hi = 0.0f;
+    bool any = false;
+
+    void include(float v) {
+        if (!std::isfinite(v)) return;
+        lo = any ? std::min(lo, v) : v;
+        hi = any ? std::max(hi, v) : v;
+        any = true;
+    }
+    void pad(float pad_fraction) {
+        if (!any) include(0.0f);
+        if (!(hi > lo)) hi = lo + std::max(std::abs(lo), 1.0f) * 0.1f;
+        const float p = pad_fraction * (hi - lo);
+        lo -= p;
+        hi += p;
+    }
+    float x(float t, float x0, float line_w) const {
+        if (std::isnan(t)) return x0;
+        return x0 + std::clamp((t - lo) / (hi - lo), 0.0f, 1.0f) * line_w;
+    }
+};
+
+/// The interval from x_a to x_b on the row at y: a bar `bar` high above and below the
+/// line, or, for an empty interval (a > b), its ends crossed over, `cross` high.
+void draw_interval(ImDrawList* draw, bool empty, float x_a, float x_b, float y, float bar, float cross, ImU32 colour) {
+    if (!empty) {
+        draw->AddRectFilled(ImVec2(x_a, y - bar), ImVec2(std::max(x_b, x_a + 2.0f), y + bar), colour);
+    } else {
+        draw->AddLine(ImVec2(x_b, y - cross), ImVec2(x_a, y + cross), colour, 2.0f);
+        draw->AddLine(ImVec2(x_b, y + cross), ImVec2(x_a, y - cross), colour, 2.0f);
+    }
+}
+
 }  // namespace
 
 CameraParams stepper_side_view(const CameraParams& camera, const Ray& ray) {
@@ -237,24 +274,14 @@ void StepperPanel::draw_sibling_tests(const SiblingTests& run, size_t current) c
     const float label_w = 4.5f * font;
     const float line_w = std::max(width - label_w - 0.5f * font, 4.0f * font);
     const float row_h = 1.4f * font;
-    float lo = 0.0f, hi = 0.0f;
-    bool any = false;
-    for (size_t i = run.first; i < run.last; ++i)
-        for (float v : {trace.events[i].t_enter, trace.events[i].t_exit})
-            if (std::isfinite(v)) {
-                lo = any ? std::min(lo, v) : v;
-                hi = any ? std::max(hi, v) : v;
-                any = true;
-            }
-    if (!(hi > lo)) hi = lo + std::max(std::abs(lo), 1.0f) * 0.1f;
-    const float pad = 0.05f * (hi - lo);
-    lo -= pad;
-    hi += pad;
+    TRange range;
+    for (size_t i = run.first; i < run.last; ++i) {
+        range.include(trace.events[i].t_enter);
+        range.include(trace.events[i].t_exit);
+    }
+    range.pad(0.05f);
     const ImVec2 origin = ImGui::GetCursorScreenPos();
-    auto x_of = [&](float t) {
-        if (std::isnan(t)) return origin.x + label_w;
-        return origin.x + label_w + std::clamp((t - lo) / (hi - lo), 0.0f, 1.0f) * line_w;
-    };
+    auto x_of = [&](float t) { return range.x(t, origin.x + label_w, line_w); };
     const ImU32 text = ImGui::GetColorU32(ImGuiCol_Text);
     const ImU32 faint = ImGui::GetColorU32(ImGuiCol_TextDisabled);
     for (size_t i = run.first; i < run.last; ++i) {
@@ -265,17 +292,11 @@ void StepperPanel::draw_sibling_tests(const SiblingTests& run, size_t current) c
         draw->AddText(ImVec2(origin.x, y - 0.5f * font), i == current ? text : faint, label);
         draw->AddLine(ImVec2(origin.x + label_w, y), ImVec2(origin.x + label_w + line_w, y), faint, 1.0f);
         const ImU32 colour = e.hit ? im_colour(kStepColours.tested_hit) : im_colour(kStepColours.tested_miss);
-        const float a = e.t_enter, b = e.t_exit;
-        if (a <= b) {
-            draw->AddRectFilled(ImVec2(x_of(a), y - 0.3f * font), ImVec2(std::max(x_of(b), x_of(a) + 2.0f), y + 0.3f * font),
-                                colour);
-        } else {  // missed: the interval's ends crossed over
-            draw->AddLine(ImVec2(x_of(b), y - 0.3f * font), ImVec2(x_of(a), y + 0.3f * font), colour, 2.0f);
-            draw->AddLine(ImVec2(x_of(b), y + 0.3f * font), ImVec2(x_of(a), y - 0.3f * font), colour, 2.0f);
-        }
+        draw_interval(draw, !(e.t_enter <= e.t_exit), x_of(e.t_enter), x_of(e.t_exit), y, 0.3f * font, 0.3f * font,
+                      colour);
     }
     ImGui::Dummy(ImVec2(width, float(run.size()) * row_h));
-    ImGui::TextDisabled("t from %s to %s; this box's slabs:", number(lo).c_str(), number(hi).c_str());
+    ImGui::TextDisabled("t from %s to %s; this box's slabs:", number(range.lo).c_str(), number(range.hi).c_str());
 }
 
 void StepperPanel::draw_slab_inspector(const SlabInspection& s) const {
@@ -285,32 +306,18 @@ void StepperPanel::draw_slab_inspector(const SlabInspection& s) const {
     const float label_w = 2.0f * font;
     const float line_w = std::max(width - label_w - 0.5f * font, 4.0f * font);
     const float row_h = 2.2f * font;
-    // The t range drawn: every finite end (zoomed on the intervals, as the lecture draws them).
-    float lo = 0.0f, hi = 0.0f;
-    bool any = false;
-    auto include = [&](float v) {
-        if (!std::isfinite(v)) return;
-        lo = any ? std::min(lo, v) : v;
-        hi = any ? std::max(hi, v) : v;
-        any = true;
-    };
+    // The t range drawn: every finite end of the three slabs and of their intersection.
+    TRange range;
     for (int a = 0; a < 3; ++a) {
-        include(s.axis_min[a]);
-        include(s.axis_max[a]);
+        range.include(s.axis_min[a]);
+        range.include(s.axis_max[a]);
     }
-    include(s.t_enter);
-    include(s.t_exit);
-    if (!any) include(0.0f);
-    if (!(hi > lo)) hi = lo + std::max(std::abs(lo), 1.0f) * 0.1f;
-    const float pad = 0.08f * (hi - lo);
-    lo -= pad;
-    hi += pad;
+    range.include(s.t_enter);
+    range.include(s.t_exit);
+    range.pad(0.08f);
+    const float lo = range.lo, hi = range.hi;
     const ImVec2 origin = ImGui::GetCursorScreenPos();
-    auto x_of = [&](float t) {
-        if (std::isnan(t)) return origin.x + label_w;
-        const float f = std::clamp((t - lo) / (hi - lo), 0.0f, 1.0f);
-        return origin.x + label_w + f * line_w;
-    };
+    auto x_of = [&](float t) { return range.x(t, origin.x + label_w, line_w); };
     const ImU32 text = ImGui::GetColorU32(ImGuiCol_Text);
     const ImU32 faint = ImGui::GetColorU32(ImGuiCol_TextDisabled);
     // Per-axis colours apart from the verdict's green (entered) and red (missed).
@@ -333,16 +340,9 @@ void StepperPanel::draw_slab_inspector(const SlabInspection& s) const {
             colour = s.hit ? im_colour(kStepColours.tested_hit) : im_colour(kStepColours.tested_miss);
         }
         const bool empty = !(a <= b);
-        if (!empty) {
-            draw->AddRectFilled(ImVec2(x_of(a), y - 0.3f * font), ImVec2(std::max(x_of(b), x_of(a) + 2.0f), y + 0.3f * font),
-                                colour);
-            if (std::isinf(b)) draw->AddText(ImVec2(x_of(b) - font, y - 1.3f * font), colour, "->");
-            if (std::isinf(a)) draw->AddText(ImVec2(x_of(a), y - 1.3f * font), colour, "<-");
-        } else {
-            // An empty interval: its ends drawn crossed over, in the miss colour.
-            draw->AddLine(ImVec2(x_of(b), y - 0.35f * font), ImVec2(x_of(a), y + 0.35f * font), colour, 2.0f);
-            draw->AddLine(ImVec2(x_of(b), y + 0.35f * font), ImVec2(x_of(a), y - 0.35f * font), colour, 2.0f);
-        }
+        draw_interval(draw, empty, x_of(a), x_of(b), y, 0.3f * font, 0.35f * font, colour);
+        if (!empty && std::isinf(b)) draw->AddText(ImVec2(x_of(b) - font, y - 1.3f * font), colour, "->");
+        if (!empty && std::isinf(a)) draw->AddText(ImVec2(x_of(a), y - 1.3f * font), colour, "<-");
         char numbers[96];
         std::snprintf(numbers, sizeof numbers, "[%s, %s]", number(a).c_str(), number(b).c_str());
         draw->AddText(ImVec2(origin.x + label_w, y + 0.35f * font), text, numbers);
