@@ -39,15 +39,20 @@ nlohmann::json WideBvh<W, Lanes>::stats() const {
 
 namespace {
 
-/// The triangles of binary node n's whole subtree ([first, first + count) in leaf
-/// order: a subtree's leaves are contiguous) if there are at most `limit`, else
-/// nothing. Stops as soon as it has counted more: at most 2·limit nodes are read.
+/// Binary node n's whole subtree as one leaf: its triangles ([first, first + count)
+/// in leaf order, a subtree's leaves being contiguous) if there are at most `limit`
+/// and one leaf is no dearer by the SAH than the subtree's leaves behind one wide
+/// node: N·C_isect <= C_trav + Σ (S_leaf / S_n)·N_leaf·C_isect (Wald et al. 2008
+/// decide the collapse by the same cost). Otherwise nothing. Stops as soon as it has
+/// counted more than `limit`: at most 2·limit nodes are read.
 struct SmallSubtree {
     uint32_t first = 0, count = 0;
     bool small = false;
 };
-SmallSubtree small_subtree(const std::vector<BvhNode, BvhNodeAllocator>& bin, uint32_t n, uint32_t limit) {
+SmallSubtree small_subtree(const std::vector<BvhNode, BvhNodeAllocator>& bin, uint32_t n, uint32_t limit,
+                           const SahCostModel& model) {
     SmallSubtree out{UINT32_MAX, 0, true};
+    double leaf_cost = 0;  // Σ S_leaf·N_leaf
     uint32_t stack[2 * kBvhStackSize];
     int top = 0;
     stack[top++] = n;
@@ -56,6 +61,7 @@ SmallSubtree small_subtree(const std::vector<BvhNode, BvhNodeAllocator>& bin, ui
         if (node.is_leaf()) {
             out.first = std::min(out.first, node.first);
             out.count += node.count;
+            leaf_cost += double(node.bounds.area()) * node.count;
             if (out.count > limit) return {};
         } else if (top + 2 <= int(std::size(stack))) {
             stack[top++] = node.first + 1;
@@ -64,6 +70,10 @@ SmallSubtree small_subtree(const std::vector<BvhNode, BvhNodeAllocator>& bin, ui
             return {};
         }
     }
+    const double area = bin[n].bounds.area();
+    const double as_one_leaf = area * out.count * model.cost_isect;
+    const double as_subtree = area * model.cost_trav + leaf_cost * model.cost_isect;
+    if (as_one_leaf > as_subtree) return {};
     return out;
 }
 
@@ -92,13 +102,13 @@ Expected<WideBvh<W, Lanes>> collapse_bvh_with(Bvh&& binary, WorkProgress* progre
 
     const SahCostModel model{binary.build_config.cost_trav, binary.build_config.cost_isect};
     if (!bin.empty()) {
-        // A subtree of at most max_leaf_size triangles becomes one leaf: below that size
-        // the binary tree's last splits cost a wide node (W box tests) to save a triangle
-        // test or two.
+        // A subtree of at most max_leaf_size triangles becomes one leaf where the SAH
+        // says one leaf costs no more: there the binary tree's last splits cost a wide
+        // node's box tests to save less than that in triangle tests.
         const uint32_t leaf_limit = uint32_t(binary.build_config.max_leaf_size);
         auto as_leaf = [&](uint32_t n) -> SmallSubtree {
             if (bin[n].is_leaf()) return {bin[n].first, bin[n].count, true};
-            return small_subtree(bin, n, leaf_limit);
+            return small_subtree(bin, n, leaf_limit, model);
         };
         auto is_leaf = [&](uint32_t n) { return as_leaf(n).small; };
         auto area = [&](uint32_t n) { return bin[n].bounds.area(); };
@@ -126,10 +136,10 @@ Expected<WideBvh<W, Lanes>> collapse_bvh_with(Bvh&& binary, WorkProgress* progre
             lists.reserve(bin.size() / 2 + 1);  // at most one wide node per binary interior node
             std::vector<Work> work{{0, 0, 0}};
             uint64_t children = 0;
-            while (!work.empty()) {
+            for (uint32_t listed = 0; !work.empty(); ++listed) {
                 const Work w = work.back();
                 work.pop_back();
-                if ((lists.size() & 4095) == 0 && cancelled(progress)) return WorkProgress::cancelled_error();
+                if ((listed & 1023) == 0 && cancelled(progress)) return WorkProgress::cancelled_error();
                 sah += p(w.binary_id) * model.cost_trav;
                 // Open the interior child of largest area until there are W children (or only leaves).
                 Children c;
@@ -172,6 +182,7 @@ Expected<WideBvh<W, Lanes>> collapse_bvh_with(Bvh&& binary, WorkProgress* progre
             // Pass 2: the nodes, each from its list, in parallel.
             wide.nodes.resize(lists.size());
             tbb::parallel_for(tbb::blocked_range<size_t>(0, lists.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
+                if (cancelled(progress)) return;
                 for (size_t k = r.begin(); k < r.end(); ++k) {
                     const Children& c = lists[k];
                     Node& node = wide.nodes[k];
@@ -191,6 +202,7 @@ Expected<WideBvh<W, Lanes>> collapse_bvh_with(Bvh&& binary, WorkProgress* progre
                     }
                 }
             });
+            if (cancelled(progress)) return WorkProgress::cancelled_error();
         }
         stats.sah_cost = sah;
     }
@@ -199,8 +211,9 @@ Expected<WideBvh<W, Lanes>> collapse_bvh_with(Bvh&& binary, WorkProgress* progre
     wide.prim_ids = std::move(binary.prim_ids);
     wide.triangles = std::move(binary.triangles);
     wide.corners = std::move(binary.corners);
+    // As the binary tree counts it: nodes, ids and triangles (not the watertight test's corners).
     stats.memory_bytes = wide.nodes.size() * sizeof(Node) + wide.prim_ids.size() * sizeof(uint32_t) +
-                         wide.triangles.size() * sizeof(Triangle) + wide.corners.size() * sizeof(TriangleCorners);
+                         wide.triangles.size() * sizeof(Triangle);
     stats.collapse_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     stats.build_ms = binary.build_stats.build_ms + stats.collapse_ms;
     return wide;

@@ -10,6 +10,7 @@
 #include <bit>
 #include <mutex>
 #include <algorithm>
+#include <map>
 #include <set>
 
 #include <tbb/parallel_for.h>
@@ -175,8 +176,9 @@ TEST(WideBvhCollapse, LeavesCoverTheTrianglesOnceInTheBinaryOrder) {
                     const auto& node = wide.nodes[n];
                     EXPECT_GE(node.child_count, 2);
                     EXPECT_LE(int(node.child_count), width);
-                    if (node.child_count < width)  // the collapse stops opening only when every child is a leaf
+                    if (node.child_count < width) {  // the collapse stops opening only when every child is a leaf
                         for (int i = 0; i < node.child_count; ++i) EXPECT_TRUE(node.is_leaf(i));
+                    }
                     const Aabb parent = wide.box_of(slot_to[n]);
                     for (int i = 0; i < node.child_count; ++i) {
                         const Aabb box = node.boxes.get(i);
@@ -212,6 +214,31 @@ TEST(WideBvhCollapse, LeavesCoverTheTrianglesOnceInTheBinaryOrder) {
             else check(*collapse_bvh<8>(std::move(copy)));
         }
     }
+}
+
+// A subtree becomes one leaf only where the SAH prefers it: with a large leaf size
+// allowed, merging every subtree that fits would leave leaves of dozens of triangles
+// (ten times the triangle tests per ray); the wide leaves stay about the binary
+// tree's size and the tree's SAH cost does not grow.
+TEST(WideBvhCollapse, ALargeLeafSizeMergesOnlyWhereTheSahPrefersIt) {
+    const Mesh mesh = scene("builtin:soup?n=5000&seed=3");
+    const Bvh binary = *build_bvh(mesh, {.max_leaf_size = 255});
+    std::map<std::pair<uint32_t, uint32_t>, uint32_t> binary_leaves;  // (first, count) -> node
+    for (uint32_t n = 0; n < binary.nodes.size(); ++n)
+        if (binary.nodes[n].is_leaf()) binary_leaves[{binary.nodes[n].first, binary.nodes[n].count}] = n;
+    Bvh copy = binary;
+    const auto wide = *collapse_bvh<8>(std::move(copy));
+    size_t merged = 0;
+    for (const auto& node : wide.nodes)
+        for (int i = 0; i < node.child_count; ++i) {
+            if (!node.is_leaf(i) || binary_leaves.count({node.first[i], node.count[i]})) continue;
+            ++merged;
+        }
+    const double triangles_per_leaf = double(mesh.triangle_count()) / wide.build_stats.leaves;
+    const double binary_per_leaf = double(mesh.triangle_count()) / binary.build_stats.leaves;
+    EXPECT_LT(triangles_per_leaf, 2.0 * binary_per_leaf + 1.0)
+        << merged << " leaves merged from subtrees; the binary tree's leaves hold " << binary_per_leaf;
+    EXPECT_LT(wide.build_stats.sah_cost, 1.5 * binary.build_stats.sah_cost);
 }
 
 // A wide node's events: one BoxTest per child in lane order, then the culls, then
