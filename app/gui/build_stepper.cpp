@@ -14,7 +14,9 @@
 #include "app/gui/camera_control.h"
 #include "app/gui/panel_widgets.h"
 #include "core/accel/accelerator.h"
+#include "core/accel/factory.h"
 #include "core/accel/sah.h"
+#include "core/accel/wide_bvh.h"
 
 namespace accelviz {
 
@@ -77,10 +79,13 @@ BvhConfig chart_config(const BvhConfig& built, const BuildStepSettings& settings
 
 std::shared_ptr<const BuildTrace> record_build(std::shared_ptr<const LoadedScene> scene) {
     if (!scene || !scene->accel || !scene->mesh) return nullptr;
-    const Bvh* bvh = structure_if<Bvh>(*scene->accel);
-    if (!bvh) return nullptr;
+    const std::optional<BvhConfig> config = binary_bvh_config(*scene->accel);
+    if (!config) return nullptr;
     auto trace = std::make_shared<BuildTrace>();
-    trace->config = bvh->build_config;
+    trace->config = *config;
+    trace->scene_width = structure_if<WideBvh<4>>(*scene->accel)   ? 4
+                         : structure_if<WideBvh<8>>(*scene->accel) ? 8
+                                                                   : 2;
     BuildRecorder recorder;
     recorder.record_candidates = false;  // the chart recomputes one node's (sah_chart.h)
     const auto start = std::chrono::steady_clock::now();
@@ -220,6 +225,9 @@ void BuildStepper::draw_panel(AppState& state, float x, float y, float w, float 
     ImGui::SameLine();
     // Deep nodes are small: bring the camera to this one (F brings back the whole scene).
     if (ImGui::Button("frame node") && state.camera) frame_bounds(*state.camera, step.bounds, view_aspect);
+    if (trace_->scene_width != 2)
+        ImGui::TextWrapped("The binary build; the %d-wide tree is collapsed from it (Children per node).",
+                           trace_->scene_width);
     ImGui::SetNextItemWidth(-FLT_MIN);
     const std::string scrub_format = "decision %d (of 0.." + std::to_string(last) + ")";
     ImGui::SliderInt("##scrub", &s.step, 0, last, scrub_format.c_str(), ImGuiSliderFlags_AlwaysClamp);

@@ -27,8 +27,9 @@ namespace accelviz {
 /// A recorded build: the tree and its decisions, made from one scene.
 struct BuildTrace {
     std::shared_ptr<const LoadedScene> scene;  ///< what it was recorded from (keeps the mesh alive)
-    BvhConfig config;                          ///< the tree's own (clamped) build parameters
-    Bvh bvh;                                   ///< the recorded build's tree (the same as the scene's)
+    BvhConfig config;                          ///< the binary tree's own (clamped) build parameters
+    Bvh bvh;                                   ///< the recorded build's tree (the scene's, or the one it collapsed)
+    int scene_width = 2;                       ///< children per node of the scene's BVH (4, 8: collapsed from bvh)
     std::vector<BuildStep> steps;              ///< one per node, in the builder's order (no candidate lists)
     double build_ms = 0;
 };
@@ -36,7 +37,8 @@ struct BuildTrace {
 /// The chart parameters for `settings` over a tree built with `built`.
 BvhConfig chart_config(const BvhConfig& built, const BuildStepSettings& settings);
 
-/// Records the build of `scene`'s BVH (null if the scene's structure is not a BVH).
+/// Records the build of `scene`'s BVH, or of the binary tree its wide BVH was
+/// collapsed from (null if the scene's structure is not a BVH).
 std::shared_ptr<const BuildTrace> record_build(std::shared_ptr<const LoadedScene> scene);
 
 class BuildStepper {

@@ -167,6 +167,7 @@ void TwoBvhsPanel::update(const AppState& state, const std::shared_ptr<const Loa
     }
     BvhConfig config = state.accel.bvh;
     config.builder = BvhBuilder::SahBinned;  // not used: the two builders are the panel's
+    config.width = 2;                        // the panel compares two binary trees, whatever the scene's width
     const Key key{scene->mesh.get(), config, state.accel.bvh_traversal, state.two_bvhs.builders,
                   *state.camera, view_width, view_height};
     take_finished();  // a finished build's trees serve this view

@@ -111,4 +111,13 @@ Expected<std::shared_ptr<const Accelerator>> build_accelerator(const Mesh& mesh,
     return Error{"unknown structure"};
 }
 
+std::optional<BvhConfig> binary_bvh_config(const Accelerator& accel) {
+    std::optional<BvhConfig> config;
+    if (const auto* bvh = structure_if<Bvh>(accel)) config = bvh->build_config;
+    else if (const auto* wide4 = structure_if<WideBvh<4>>(accel)) config = wide4->build_config;
+    else if (const auto* wide8 = structure_if<WideBvh<8>>(accel)) config = wide8->build_config;
+    if (config) config->width = 2;
+    return config;
+}
+
 }  // namespace accelviz

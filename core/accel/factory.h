@@ -50,4 +50,9 @@ std::optional<Error> validate(const AccelConfig& config);
 Expected<std::shared_ptr<const Accelerator>> build_accelerator(const Mesh& mesh, const AccelConfig& config,
                                                                WorkProgress* progress = nullptr);
 
+/// The build parameters of the binary BVH behind `accel`: a Bvh's own, or those of
+/// the binary tree a wide BVH was collapsed from (width 2). Nothing for any other
+/// structure. Building a Bvh with them again gives the same binary tree.
+std::optional<BvhConfig> binary_bvh_config(const Accelerator& accel);
+
 }  // namespace accelviz
