@@ -485,4 +485,54 @@ Expected<Bvh> build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecor
     return bvh;
 }
 
+namespace {
+
+/// The box of node n's subtree, written into every node of it (post-order). The two
+/// children of a node near the root are refitted as two tasks; a box is a min and a
+/// max, so the result is the same in any order.
+Aabb refit_subtree(Bvh& bvh, const Mesh& mesh, uint32_t n, uint32_t depth) {
+    BvhNode& node = bvh.nodes[n];
+    Aabb box;
+    if (node.is_leaf()) {
+        for (uint32_t k = node.first; k < node.first + node.count; ++k) box.grow(mesh.triangle_bounds(bvh.prim_ids[k]));
+    } else {
+        constexpr uint32_t kTaskDepth = 8;  // 2^8 tasks: enough for two cores to balance
+        Aabb left, right;
+        if (depth < kTaskDepth) {
+            tbb::parallel_invoke([&] { left = refit_subtree(bvh, mesh, node.first, depth + 1); },
+                                 [&] { right = refit_subtree(bvh, mesh, node.first + 1, depth + 1); });
+        } else {
+            left = refit_subtree(bvh, mesh, node.first, depth + 1);
+            right = refit_subtree(bvh, mesh, node.first + 1, depth + 1);
+        }
+        box = left;
+        box.grow(right);
+    }
+    node.bounds = box;
+    return box;
+}
+
+}  // namespace
+
+std::optional<Error> refit_bvh(Bvh& bvh, const Mesh& mesh) {
+    const auto start = std::chrono::steady_clock::now();
+    if (mesh.triangle_count() != bvh.prim_ids.size())
+        return Error{"a refit needs the mesh the BVH was built over, moved: it has " +
+                     std::to_string(bvh.prim_ids.size()) + " triangles, this mesh " +
+                     std::to_string(mesh.triangle_count())};
+    if (!bvh.nodes.empty()) refit_subtree(bvh, mesh, 0, 0);
+    copy_triangles_in_leaf_order(mesh, bvh);
+    if (bvh.triangle_test == TriangleTestKind::Watertight) bvh.corners = make_corners(mesh, bvh.prim_ids);
+
+    // The statistics of the same tree with its new boxes (the decisions and notes stay the build's).
+    BvhBuildStats& stats = bvh.build_stats;
+    stats.leaves = stats.max_depth = stats.leaves_over_limit = 0;
+    stats.leaf_size_histogram.clear();
+    stats.avg_leaf_depth = stats.sah_cost = 0;
+    const BvhConfig& config = bvh.build_config;
+    TreeStats(SahCostModel{config.cost_trav, config.cost_isect}, uint32_t(config.max_leaf_size)).gather(bvh, stats);
+    stats.refit_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return std::nullopt;
+}
+
 }  // namespace accelviz

@@ -60,4 +60,15 @@ struct BuildRecorder {
 Expected<Bvh> build_bvh(const Mesh& mesh, const BvhConfig& config, BuildRecorder* recorder = nullptr,
                         WorkProgress* progress = nullptr);
 
+/// Refit, a moving scene's cheap update: `bvh` was built over `mesh` before its
+/// vertices moved (the same triangles, the same ids). Keeps the tree (its splits and
+/// leaves) and recomputes every box bottom up, a leaf's from its triangles' boxes and
+/// an interior node's from its children's, then re-reads the leaf-order triangles.
+/// One pass over the nodes, no sorting, but the splits were chosen for the old
+/// positions: as triangles move, boxes stretch and overlap and the tree's SAH cost
+/// (build_stats.sah_cost, recomputed) grows, while a rebuild keeps it low. Refitting
+/// to the mesh the tree was built over gives the built boxes exactly. Another
+/// triangle count is an error; build_stats.refit_ms says how long it took.
+std::optional<Error> refit_bvh(Bvh& bvh, const Mesh& mesh);
+
 }  // namespace accelviz

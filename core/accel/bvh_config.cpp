@@ -89,7 +89,7 @@ nlohmann::json to_json(const BvhBuildStats& stats) {
     nlohmann::json decisions = nlohmann::json::object();
     for (int d = 0; d < kBuildDecisionCount; ++d)
         decisions[std::string(to_string(BuildDecision(d)))] = stats.decisions[size_t(d)];
-    return {{"triangles", stats.triangles},
+    nlohmann::json j = {{"triangles", stats.triangles},
             {"nodes", stats.nodes},
             {"leaves", stats.leaves},
             {"max_depth", stats.max_depth},
@@ -101,6 +101,8 @@ nlohmann::json to_json(const BvhBuildStats& stats) {
             {"decisions", decisions},
             {"leaves_over_limit", stats.leaves_over_limit},
             {"notes", stats.notes}};
+    if (stats.refit_ms > 0) j["refit_ms"] = stats.refit_ms;  // only a refitted tree has one
+    return j;
 }
 
 }  // namespace accelviz

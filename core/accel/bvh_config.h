@@ -96,6 +96,7 @@ struct BvhBuildStats {
     double sah_cost = 0;           ///< the tree's SAH cost: Σ interior S/S_root·C_trav + Σ leaf S/S_root·N·C_isect
     uint64_t memory_bytes = 0;
     double build_ms = 0;           ///< wall time of build_bvh, one thread
+    double refit_ms = 0;           ///< wall time of the last refit_bvh (0: not refitted; bvh_build.h)
     std::array<uint32_t, kBuildDecisionCount> decisions{};  ///< [BuildDecision] = nodes it decided
     uint32_t leaves_over_limit = 0;  ///< leaves holding more than max_leaf_size triangles (explained in notes)
     /// One sentence per unusual decision, e.g. "31 nodes split in half by index:

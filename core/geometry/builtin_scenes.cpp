@@ -625,6 +625,80 @@ Expected<Mesh> make_instances(const Params& params) {
 }
 
 // ---------------------------------------------------------------------------
+// [SECTION] Moving scenes (the same triangles at every time t: a tree built at one
+// time can be refitted to another)
+// ---------------------------------------------------------------------------
+
+/// cos and sin of `turns` whole turns from + - * / and floor only (no libm trig, so
+/// the same bits on every machine): the angle within an eighth of a turn of a
+/// multiple of a quarter turn, |x| <= pi/4, by Taylor series to x^17 (the next term
+/// is below 1e-19), then turned by that many quarter turns exactly.
+std::pair<double, double> turn_cos_sin(double turns) {
+    constexpr double kHalfPi = 1.57079632679489661923;
+    const double quarters = std::floor(turns * 4.0 + 0.5);
+    const double x = (turns * 4.0 - quarters) * kHalfPi, x2 = x * x;
+    double c = 1, s = x, term_c = 1, term_s = x;
+    for (int k = 1; k <= 8; ++k) {
+        term_c *= -x2 / double((2 * k - 1) * (2 * k));
+        term_s *= -x2 / double((2 * k) * (2 * k + 1));
+        c += term_c;
+        s += term_s;
+    }
+    const int q = int(quarters - 4.0 * std::floor(quarters / 4.0));  // 0..3
+    for (int k = 0; k < q; ++k) {  // a quarter turn: (c, s) → (-s, c), exact
+        const double t = c;
+        c = -s;
+        s = t;
+    }
+    return {c, s};
+}
+
+/// A teapot flying round the Cornell box at time t: the room (static, 32 triangles
+/// first) and a teapot of height 1.1 (tessellation n) whose centre circles the
+/// room's vertical axis at radius 1.2, its bottom 3.4 above the floor (over the blocks), once per unit of t,
+/// while it spins about its own vertical axis twice. Rays and rebuilds see one scene;
+/// a BVH built at t = 0 and refitted to t sees the teapot's boxes drag the room's.
+Mesh make_moving(const Params& params) {
+    Mesh mesh = make_cornell(params);
+    Mesh teapot;
+    append_teapot(teapot, int(params.whole("n")), 1.5);
+    const double t = params.real("t");
+    const auto [orbit_c, orbit_s] = turn_cos_sin(t);
+    const auto [spin_c, spin_s] = turn_cos_sin(2.0 * t);
+    const Aabb room = mesh.bounds();
+    const Vec3d centre{(double(room.lo.x) + room.hi.x) / 2.0 + 1.2 * orbit_c, 3.4,
+                       (double(room.lo.z) + room.hi.z) / 2.0 + 1.2 * orbit_s};
+    const auto base = uint32_t(mesh.positions.size());
+    for (const Vec3& p : teapot.positions) {
+        const double x = p.x, z = p.z;
+        mesh.positions.push_back(
+            to_float(Vec3d{centre.x + spin_c * x - spin_s * z, centre.y + p.y, centre.z + spin_s * x + spin_c * z}));
+    }
+    for (const auto& tri : teapot.indices) mesh.indices.push_back({tri[0] + base, tri[1] + base, tri[2] + base});
+    return mesh;
+}
+
+/// A mesh whose vertices a wave lifts and lowers at time t: each vertex moves along
+/// y by amp·L·(g(f) - 1/2), L the mesh's longest side, f the fractional part of
+/// 2x/L - t (x from the mesh's left side: two wavelengths across it), and
+/// g(f) = 16 f^2 (1 - f)^2 a smooth bump. One period per unit of t.
+Expected<Mesh> make_wave(const Params& params) {
+    const std::string& source = params.text("mesh");
+    auto loaded = load_scene(source, params.cache, params.progress);
+    if (!loaded) return Error{loaded.error()};
+    Mesh mesh = std::move(*loaded);
+    const Aabb box = mesh.bounds();
+    const double longest = std::max({double(box.extent().x), double(box.extent().y), double(box.extent().z)});
+    const double t = params.real("t"), height = params.real("amp") * longest;
+    for (Vec3& p : mesh.positions) {
+        const double u = 2.0 * (double(p.x) - box.lo.x) / longest - t;
+        const double f = u - std::floor(u), g = 16.0 * f * f * (1.0 - f) * (1.0 - f);
+        p.y = float(double(p.y) + height * (g - 0.5));
+    }
+    return mesh;
+}
+
+// ---------------------------------------------------------------------------
 // [SECTION] Registry
 // ---------------------------------------------------------------------------
 
@@ -688,6 +762,18 @@ const std::vector<BuiltinDef>& registry() {
          "which is better?)",
          {},
          always<make_twenty_two>},
+        {"moving",
+         "a teapot flying round the Cornell box at time t (once round per unit of t, spinning): the same "
+         "triangles at every t, for refit against rebuild; n as for teapot",
+         {{"t", ParamKind::Real, -1000, 1000, 0}, {"n", ParamKind::Count, 1, 64, 8}},
+         always<make_moving>},
+        {"wave",
+         "a mesh whose vertices a wave lifts and lowers at time t (one period per unit of t; amp: the wave's "
+         "height over the mesh's size), e.g. builtin:wave?mesh=bunny.obj&t=0.25",
+         {{"mesh", ParamKind::Source, 0, 0, 0},
+          {"t", ParamKind::Real, -1000, 1000, 0},
+          {"amp", ParamKind::Real, 0, 1, 0.05}},
+         make_wave},
         {"instances",
          "a mesh repeated nx x nz times on a grid in the x-z plane (a 10M-triangle scene from one scan: "
          "builtin:instances?mesh=armadillo.obj&nx=6&nz=5)",

@@ -89,6 +89,9 @@ TEST(BuiltinScenes, TriangleCounts) {
         {"single", 1},
         {"kd-challenge", 2},
         {"twenty-two", 22},
+        {"moving", 32 + 56 * 8 * 8 - 4 * 8},
+        {"moving?t=0.3&n=2", 32 + 56 * 4 - 8},
+        {"wave?mesh=builtin:cube&t=0.5", 12},
     };
     for (const auto& [spec, count] : expected) {
         const Mesh mesh = make(spec);
@@ -98,7 +101,7 @@ TEST(BuiltinScenes, TriangleCounts) {
 }
 
 TEST(BuiltinScenes, EveryListedSceneBuildsWithItsDefaultsAndIsWellFormed) {
-    ASSERT_EQ(builtin_scenes().size(), 13u);
+    ASSERT_EQ(builtin_scenes().size(), 15u);
     for (const BuiltinInfo& info : builtin_scenes()) {
         SCOPED_TRACE(info.name);
         EXPECT_FALSE(info.description.empty());
@@ -123,7 +126,7 @@ TEST(BuiltinScenes, DescriptionsNameTheParameters) {
 
 TEST(BuiltinScenes, SameSpecGivesBitIdenticalMeshes) {
     for (const char* spec : {"soup?n=500&seed=42", "same-centroid?n=300&seed=9", "same-box?n=300&seed=9", "teapot?n=5",
-                             "sphere?subdiv=3", "stadium?n=3", "cornell"}) {
+                             "sphere?subdiv=3", "stadium?n=3", "cornell", "moving?t=0.37", "wave?t=0.61&amp=0.3"}) {
         SCOPED_TRACE(spec);
         const Mesh a = make(spec), b = make(spec);
         EXPECT_EQ(a.positions, b.positions);
