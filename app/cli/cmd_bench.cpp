@@ -22,6 +22,7 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
@@ -33,6 +34,8 @@
 #include "app/cli/embree_reference.h"
 #include "app/cli/flag_checks.h"
 #include "app/cli/ray_batch.h"
+#include "core/accel/bvh.h"
+#include "core/accel/factory.h"
 #include "core/geometry/scene.h"
 #include "core/render/ray_caster.h"
 
@@ -47,6 +50,7 @@ struct BenchOptions {
     bool json = false;
     std::string reference;
     int embree_width = 0;  ///< children per node of Embree's BVH: 4, 8, or 0 = Embree's choice
+    std::string refit_from;  ///< a moving scene's earlier state: build over it, refit to `scene` (bvh only)
     CameraFlags camera;
     AccelConfig accel;
 };
@@ -202,6 +206,17 @@ int run_bench(const BenchOptions& opt) {
     if (opt.embree_width != 0 && opt.reference != "embree") return fail("--embree-width needs --reference embree");
     auto mesh = load_scene_noting(opt.scene, "bench");
     if (!mesh) return fail(mesh.error());
+    std::optional<Mesh> refit_from;  // the scene before it moved: the tree is built over it, then refitted
+    if (!opt.refit_from.empty()) {
+        if (opt.accel.type != AccelType::Bvh || opt.accel.bvh.width != 2)
+            return fail("--refit-from refits the binary BVH: it needs --accel bvh (and --bvh-width 2)");
+        auto before = load_scene_noting(opt.refit_from, "bench");
+        if (!before) return fail(before.error());
+        if (before->indices != mesh->indices)
+            return fail("--refit-from " + opt.refit_from + " is not " + opt.scene +
+                        " at another time: a refit needs the same triangles (only the vertices may move)");
+        refit_from = std::move(*before);
+    }
     auto camera_params = opt.camera.resolve(mesh->bounds());
     if (!camera_params) return fail(camera_params.error());
     const std::vector<Ray> rays = camera_rays(Camera(*camera_params, opt.width, opt.height));
@@ -221,7 +236,18 @@ int run_bench(const BenchOptions& opt) {
         progress("bench: building %s (%d/%d)\n", name, run + 1, opt.repeat);
         accel.reset();  // free the previous one first: one structure in memory at a time
         Expected<std::shared_ptr<const Accelerator>> built = Error{""};
-        timed(ours.build_ms, ours.build_cpu_ms, [&] { built = build_accelerator(*mesh, opt.accel); });
+        if (refit_from) {
+            // The update a moving scene pays per frame: the refit alone (the build over
+            // the earlier scene and the tree's copy are not timed).
+            auto before = build_accelerator(*refit_from, opt.accel);
+            if (!before) return fail(before.error());
+            std::vector<double> copy_and_refit_ms;
+            timed(copy_and_refit_ms, ours.build_cpu_ms, [&] { built = refit_accelerator(**before, *mesh); });
+            if (!built) return fail(built.error());
+            ours.build_ms.push_back(structure_if<Bvh>(**built)->build_stats.refit_ms);
+        } else {
+            timed(ours.build_ms, ours.build_cpu_ms, [&] { built = build_accelerator(*mesh, opt.accel); });
+        }
         if (!built) return fail(built.error());
         accel = *built;
         if (run == 0) print_memory_budget_note(*accel, "bench");
@@ -253,6 +279,7 @@ int run_bench(const BenchOptions& opt) {
     out["triangles"] = mesh->triangle_count();
     out["accel"] = accel->name();
     out["config"] = accel->config();
+    if (refit_from) out["refit_from"] = opt.refit_from;  // build_ms is then the refit's time
     out["threads"] = threads;
     if (threads != opt.threads) out["threads_requested"] = opt.threads;
     out["width"] = opt.width;
@@ -297,6 +324,10 @@ Command register_bench(CLI::App& app) {
                     "With --reference embree: children per node of Embree's BVH, 4 or 8 "
                     "(default: Embree's choice, 8 on a CPU with AVX)")
         ->check(CLI::IsMember({4, 8}));
+    sub->add_option("--refit-from", opt->refit_from,
+                    "bvh: a moving scene's earlier state (the same triangles, e.g. builtin:moving?t=0): build over "
+                    "it, then refit the tree's boxes to SCENE; build ms is then the refit's time, and the SAH cost "
+                    "and Mrays/s show what the refit tree costs against a rebuild (the same command without it)");
     opt->camera.add_to(*sub);
     add_accel_flags(*sub, opt->accel);
     return {sub, [opt] { return run_bench(*opt); }};

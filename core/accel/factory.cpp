@@ -111,6 +111,14 @@ Expected<std::shared_ptr<const Accelerator>> build_accelerator(const Mesh& mesh,
     return Error{"unknown structure"};
 }
 
+Expected<std::shared_ptr<const Accelerator>> refit_accelerator(const Accelerator& built, const Mesh& after) {
+    const Bvh* bvh = structure_if<Bvh>(built);
+    if (!bvh) return Error{"only the binary BVH refits (--accel bvh --bvh-width 2)"};
+    Bvh refitted = *bvh;
+    if (auto error = refit_bvh(refitted, after)) return *error;
+    return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<Bvh>>(std::move(refitted)));
+}
+
 std::optional<BvhConfig> binary_bvh_config(const Accelerator& accel) {
     std::optional<BvhConfig> config;
     if (const auto* bvh = structure_if<Bvh>(accel)) config = bvh->build_config;

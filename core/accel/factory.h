@@ -50,6 +50,12 @@ std::optional<Error> validate(const AccelConfig& config);
 Expected<std::shared_ptr<const Accelerator>> build_accelerator(const Mesh& mesh, const AccelConfig& config,
                                                                WorkProgress* progress = nullptr);
 
+/// A binary BVH's update for a moving scene: a copy of `built` (a Bvh) refitted to
+/// `after`, the mesh it was built over with its vertices moved (refit_bvh in
+/// bvh_build.h). Its build_stats.refit_ms times the refit alone, not the copy. Any
+/// other structure, or another triangle count, is an error.
+Expected<std::shared_ptr<const Accelerator>> refit_accelerator(const Accelerator& built, const Mesh& after);
+
 /// The build parameters of the binary BVH behind `accel`: a Bvh's own, or those of
 /// the binary tree a wide BVH was collapsed from (width 2). Nothing for any other
 /// structure. Building a Bvh with them again gives the same binary tree.
