@@ -51,6 +51,7 @@ struct BenchOptions {
     std::string reference;
     int embree_width = 0;  ///< children per node of Embree's BVH: 4, 8, or 0 = Embree's choice
     std::string refit_from;  ///< a moving scene's earlier state: build over it, refit to `scene` (bvh only)
+    std::optional<double> time;  ///< --time: the moving scene's t (scene_at_time)
     CameraFlags camera;
     AccelConfig accel;
 };
@@ -168,7 +169,8 @@ void print_table(const BenchOptions& opt, const nlohmann::ordered_json& out, siz
                               : opt.threads == 0 ? " (0 = all cores)"
                                                  : " (" + std::to_string(opt.threads) + " asked: all cores)";
     const std::string name = out["accel"].get<std::string>();
-    std::printf("scene      %s (%zu triangles), %dx%d, %d thread%s%s, median of %d\n", opt.scene.c_str(), triangles,
+    std::printf("scene      %s (%zu triangles), %dx%d, %d thread%s%s, median of %d\n",
+                out["scene"].get<std::string>().c_str(), triangles,
                 opt.width, opt.height, threads, threads == 1 ? "" : "s", asked.c_str(), opt.repeat);
     std::printf("structure  %s %s\n", name.c_str(), out["config"].dump().c_str());
     std::printf("%-10s %10s %10s %10s %10s %10s %10s %10s %16s\n", "", "build ms", "(cpu)", "frame ms", "(cpu)",
@@ -204,7 +206,13 @@ int run_bench(const BenchOptions& opt) {
     if (!opt.reference.empty() && !embree_available())
         return fail("--reference embree: this build has no Embree (CMake did not find embree 3)");
     if (opt.embree_width != 0 && opt.reference != "embree") return fail("--embree-width needs --reference embree");
-    auto mesh = load_scene_noting(opt.scene, "bench");
+    std::string scene = opt.scene;
+    if (opt.time) {
+        auto at_time = scene_at_time(scene, *opt.time);
+        if (!at_time) return fail(at_time.error());
+        scene = *at_time;
+    }
+    auto mesh = load_scene_noting(scene, "bench");
     if (!mesh) return fail(mesh.error());
     std::optional<Mesh> refit_from;  // the scene before it moved: the tree is built over it, then refitted
     if (!opt.refit_from.empty()) {
@@ -213,7 +221,7 @@ int run_bench(const BenchOptions& opt) {
         auto before = load_scene_noting(opt.refit_from, "bench");
         if (!before) return fail(before.error());
         if (before->indices != mesh->indices)
-            return fail("--refit-from " + opt.refit_from + " is not " + opt.scene +
+            return fail("--refit-from " + opt.refit_from + " is not " + scene +
                         " at another time: a refit needs the same triangles (only the vertices may move)");
         refit_from = std::move(*before);
     }
@@ -275,7 +283,7 @@ int run_bench(const BenchOptions& opt) {
     }
 
     nlohmann::ordered_json out;
-    out["scene"] = opt.scene;
+    out["scene"] = scene;
     out["triangles"] = mesh->triangle_count();
     out["accel"] = accel->name();
     out["config"] = accel->config();
@@ -324,6 +332,8 @@ Command register_bench(CLI::App& app) {
                     "With --reference embree: children per node of Embree's BVH, 4 or 8 "
                     "(default: Embree's choice, 8 on a CPU with AVX)")
         ->check(CLI::IsMember({4, 8}));
+    sub->add_option("--time", opt->time,
+                    "A moving scene's time t (builtin:moving, builtin:wave: sets its t=; one period per unit)");
     sub->add_option("--refit-from", opt->refit_from,
                     "bvh: a moving scene's earlier state (the same triangles, e.g. builtin:moving?t=0): build over "
                     "it, then refit the tree's boxes to SCENE; build ms is then the refit's time, and the SAH cost "

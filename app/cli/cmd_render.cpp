@@ -49,6 +49,7 @@ struct RenderOptions {
     int step = -1;              ///< build-step: the decision to show; step: events applied (-1: not given)
     std::string pixel;          ///< step: the pixel whose ray is stepped
     bool accel_given = false;   ///< --accel was on the command line
+    std::optional<double> time;  ///< --time: the moving scene's t (scene_at_time)
 };
 
 /// The views the CPU renderers of core/render compose (the window's own views are WindowView).
@@ -155,7 +156,14 @@ std::string structure_problem(const RenderOptions& opt) {
     return err->message;
 }
 
-int run_render(const RenderOptions& opt) {
+int run_render(const RenderOptions& given) {
+    RenderOptions opt = given;
+    if (opt.time) {  // the moving scene (SCENE, or the preset's) at that time
+        const std::string scene = opt.scene.empty() && opt.preset.state ? opt.preset.state->scene : opt.scene;
+        auto at_time = scene_at_time(scene, *opt.time);
+        if (!at_time) return fail(at_time.error());
+        opt.scene = *at_time;
+    }
     for (const std::string& path : {opt.out, opt.depth_out})
         if (const std::string problem = path.empty() ? "" : missing_directory(path); !problem.empty()) return fail(problem);
     if (opt.preset.error.empty())
@@ -174,6 +182,7 @@ int run_render(const RenderOptions& opt) {
     AppState state = opt.preset.state.value_or(AppState{});
     if (!opt.scene.empty()) state.scene = opt.scene;
     else if (!opt.preset.state) return fail("no scene: give SCENE (an OBJ file or builtin:NAME) or --preset FILE");
+
     state.accel = opt.accel;  // already the preset's structure with the flags given applied on top
     if (window_view == WindowView::BuildStep) return run_build_step(opt, std::move(state));
     if (window_view == WindowView::FillOrder && opt.step >= 0) state.view.fill = float(opt.step) / 100.0f;
@@ -256,6 +265,8 @@ Command register_render(CLI::App& app) {
     sub->add_option("scene", opt->scene,
                     "OBJ file, or builtin:NAME (e.g. builtin:teapot, builtin:soup?n=1000&seed=7); "
                     "optional with --preset, and replaces the preset's scene when given");
+    sub->add_option("--time", opt->time,
+                    "A moving scene's time t (builtin:moving, builtin:wave: sets its t=; one period per unit)");
     // Before the structure flags: CLI11 runs option callbacks in the order the
     // options were added, so the flags given apply on top of the preset's structure.
     add_preset_flag(

@@ -791,6 +791,47 @@ std::string known_names() {
 
 }  // namespace
 
+Expected<std::string> scene_at_time(const std::string& source, double t) {
+    constexpr std::string_view kPrefix = "builtin:";
+    const size_t question = source.find('?');
+    const std::string name = source.starts_with(kPrefix)
+                                 ? source.substr(kPrefix.size(), question == std::string::npos ? std::string::npos
+                                                                                                : question - kPrefix.size())
+                                 : std::string();
+    const BuiltinDef* def = nullptr;
+    for (const BuiltinDef& d : registry())
+        if (name == d.name) def = &d;
+    std::string moving;  // the scenes with a time
+    for (const BuiltinDef& d : registry())
+        if (std::any_of(d.params.begin(), d.params.end(), [](const ParamSpec& p) { return p.name == std::string_view("t"); }))
+            moving += (moving.empty() ? "builtin:" : ", builtin:") + std::string(d.name);
+    if (!def || std::none_of(def->params.begin(), def->params.end(),
+                             [](const ParamSpec& p) { return p.name == std::string_view("t"); }))
+        return Error{"--time needs a moving scene (" + moving + "), not " + source};
+    if (!std::isfinite(t)) return Error{"--time must be a finite number"};
+    char number[32];
+    const auto [end, ec] = std::to_chars(number, number + sizeof number, t);  // shortest form that reads back as t
+    const std::string item = "t=" + std::string(number, end);
+    if (question == std::string::npos) return source + "?" + item;
+    // The items after '?' joined by '&' (a mesh= value ends at the next '&'): replace t= or add it.
+    std::string out = source.substr(0, question + 1);
+    bool replaced = false;
+    size_t begin = question + 1;
+    for (bool first = true;; first = false) {
+        const size_t amp = source.find('&', begin);
+        std::string part = source.substr(begin, amp == std::string::npos ? std::string::npos : amp - begin);
+        if (part.starts_with("t=")) {
+            part = item;
+            replaced = true;
+        }
+        out += (first ? "" : "&") + part;
+        if (amp == std::string::npos) break;
+        begin = amp + 1;
+    }
+    if (!replaced) out += (out.back() == '?' ? "" : "&") + item;
+    return out;
+}
+
 Expected<Mesh> make_builtin(const std::string& spec, WorkProgress* progress) {
     return make_builtin(spec, progress, default_mesh_cache());
 }

@@ -42,6 +42,12 @@ Expected<Mesh> parse_obj(std::string text, const std::string& name);
 /// reads the mesh cache as default_mesh_cache() says (the overload below: as `cache`).
 Expected<Mesh> make_builtin(const std::string& spec, WorkProgress* progress = nullptr);
 
+/// A moving built-in scene (one with a time parameter t: builtin:moving,
+/// builtin:wave) at time t: `source` with its t= set, e.g. "builtin:moving?n=4" at
+/// 0.5 is "builtin:moving?n=4&t=0.5". Any other source is an error naming the moving
+/// scenes (the program's --time flag).
+Expected<std::string> scene_at_time(const std::string& source, double t);
+
 /// The names make_builtin accepts, each with a one-line description and its parameters.
 struct BuiltinInfo {
     std::string name;

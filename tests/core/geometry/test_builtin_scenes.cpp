@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <set>
 #include <string>
@@ -471,3 +472,24 @@ TEST(BuiltinScenes, InstancesNameWhatIsWrongWithTheirMesh) {
     expect_contains(wide.error(), "nx=65 is out of range");
 }
 
+
+// --time sets a moving scene's t (adding it or replacing it, never a nested scene's),
+// and refuses a scene without one.
+TEST(BuiltinScenes, SceneAtTimeSetsTheTimeOfAMovingScene) {
+    EXPECT_EQ(*scene_at_time("builtin:moving", 0.5), "builtin:moving?t=0.5");
+    EXPECT_EQ(*scene_at_time("builtin:moving?", 0.25), "builtin:moving?t=0.25");
+    EXPECT_EQ(*scene_at_time("builtin:moving?n=4", 2), "builtin:moving?n=4&t=2");
+    EXPECT_EQ(*scene_at_time("builtin:moving?t=0.1&n=4", -0.75), "builtin:moving?t=-0.75&n=4");
+    EXPECT_EQ(*scene_at_time("builtin:wave?mesh=builtin:moving?t=0.3&amp=0.2", 0.1),
+              "builtin:wave?mesh=builtin:moving?t=0.3&amp=0.2&t=0.1");
+    EXPECT_EQ(*scene_at_time("builtin:moving", 0.1), "builtin:moving?t=0.1");  // the shortest form that reads back
+    for (const char* still : {"builtin:teapot", "bunny.obj", "builtin:instances?mesh=builtin:moving", ""}) {
+        const auto at = scene_at_time(still, 0.5);
+        ASSERT_FALSE(at.ok()) << still;
+        expect_contains(at.error(), "builtin:moving, builtin:wave");
+    }
+    EXPECT_FALSE(scene_at_time("builtin:moving", std::numeric_limits<double>::infinity()).ok());
+    // The scene at a time is the scene with that t.
+    const Mesh a = make("moving?n=3&t=0.4"), b = *load_scene(*scene_at_time("builtin:moving?n=3", 0.4));
+    EXPECT_EQ(a.positions, b.positions);
+}
