@@ -41,8 +41,7 @@ void add_accel_flags(CLI::App& command, AccelConfig& config) {
         ->check(CLI::IsMember(bvh_traversal_names()));
     command.add_option("--bvh-width", config.bvh.width,
                        "bvh: children per node: 2 = the lecture's binary tree; 4 or 8 = the binary tree collapsed, "
-                       "its children's boxes tested together by SIMD instructions (a subtree of at most "
-                       "--leaf-size triangles becomes one leaf where the SAH prefers it)")
+                       "its children's boxes tested together by SIMD instructions (the same leaves)")
         ->check(CLI::IsMember({2, 4, 8}))
         ->capture_default_str();
 

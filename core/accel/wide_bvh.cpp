@@ -37,48 +37,6 @@ nlohmann::json WideBvh<W, Lanes>::stats() const {
     return j;
 }
 
-namespace {
-
-/// Binary node n's whole subtree as one leaf: its triangles ([first, first + count)
-/// in leaf order, a subtree's leaves being contiguous) if there are at most `limit`
-/// and one leaf is no dearer by the SAH than the subtree's leaves behind one wide
-/// node: N·C_isect <= C_trav + Σ (S_leaf / S_n)·N_leaf·C_isect (Wald et al. 2008
-/// decide the collapse by the same cost). Otherwise nothing. Stops as soon as it has
-/// counted more than `limit`: at most 2·limit nodes are read.
-struct SmallSubtree {
-    uint32_t first = 0, count = 0;
-    bool small = false;
-};
-SmallSubtree small_subtree(const std::vector<BvhNode, BvhNodeAllocator>& bin, uint32_t n, uint32_t limit,
-                           const SahCostModel& model) {
-    SmallSubtree out{UINT32_MAX, 0, true};
-    double leaf_cost = 0;  // Σ S_leaf·N_leaf
-    uint32_t stack[2 * kBvhStackSize];
-    int top = 0;
-    stack[top++] = n;
-    while (top > 0) {
-        const BvhNode& node = bin[stack[--top]];
-        if (node.is_leaf()) {
-            out.first = std::min(out.first, node.first);
-            out.count += node.count;
-            leaf_cost += double(node.bounds.area()) * node.count;
-            if (out.count > limit) return {};
-        } else if (top + 2 <= int(std::size(stack))) {
-            stack[top++] = node.first + 1;
-            stack[top++] = node.first;
-        } else {
-            return {};
-        }
-    }
-    const double area = bin[n].bounds.area();
-    const double as_one_leaf = area * out.count * model.cost_isect;
-    const double as_subtree = area * model.cost_trav + leaf_cost * model.cost_isect;
-    if (as_one_leaf > as_subtree) return {};
-    return out;
-}
-
-}  // namespace
-
 template <int W, class Lanes>
 Expected<WideBvh<W, Lanes>> collapse_bvh_with(Bvh&& binary, WorkProgress* progress) {
     const auto start = std::chrono::steady_clock::now();
@@ -102,24 +60,16 @@ Expected<WideBvh<W, Lanes>> collapse_bvh_with(Bvh&& binary, WorkProgress* progre
 
     const SahCostModel model{binary.build_config.cost_trav, binary.build_config.cost_isect};
     if (!bin.empty()) {
-        // A subtree of at most max_leaf_size triangles becomes one leaf where the SAH
-        // says one leaf costs no more: there the binary tree's last splits cost a wide
-        // node's box tests to save less than that in triangle tests.
-        const uint32_t leaf_limit = uint32_t(binary.build_config.max_leaf_size);
-        auto as_leaf = [&](uint32_t n) -> SmallSubtree {
-            if (bin[n].is_leaf()) return {bin[n].first, bin[n].count, true};
-            return small_subtree(bin, n, leaf_limit, model);
-        };
-        auto is_leaf = [&](uint32_t n) { return as_leaf(n).small; };
+        auto is_leaf = [&](uint32_t n) { return bin[n].is_leaf(); };
         auto area = [&](uint32_t n) { return bin[n].bounds.area(); };
         const float root_area = area(0);
         auto p = [&](uint32_t n) { return double(SahCostModel::hit_probability(area(n), root_area)); };
         wide.root_bounds = bin[0].bounds;
         double sah = 0;
-        if (const SmallSubtree root = as_leaf(0); root.small) {
-            wide.root_first = root.first;
-            wide.root_count = root.count;
-            sah = p(0) * root.count * model.cost_isect;
+        if (is_leaf(0)) {
+            wide.root_first = bin[0].first;
+            wide.root_count = bin[0].count;
+            sah = p(0) * bin[0].count * model.cost_isect;
             stats.leaves = 1;
         } else {
             // Pass 1: each wide node's children (binary node ids), wide nodes numbered
@@ -164,9 +114,9 @@ Expected<WideBvh<W, Lanes>> collapse_bvh_with(Bvh&& binary, WorkProgress* progre
                 children += c.n;
                 for (uint32_t i = 0; i < c.n; ++i) {
                     const uint32_t b = c.binary[i];
-                    if (const SmallSubtree leaf = as_leaf(b); leaf.small) {
+                    if (is_leaf(b)) {
                         c.wide[i] = UINT32_MAX;
-                        sah += p(b) * leaf.count * model.cost_isect;
+                        sah += p(b) * bin[b].count * model.cost_isect;
                         stats.max_depth = std::max(stats.max_depth, w.depth + 1);
                         ++stats.leaves;
                     } else {
@@ -196,9 +146,9 @@ Expected<WideBvh<W, Lanes>> collapse_bvh_with(Bvh&& binary, WorkProgress* progre
                         }
                         const uint32_t b = c.binary[i];
                         node.boxes.set(i, bin[b].bounds);
-                        const SmallSubtree leaf = c.wide[i] == UINT32_MAX ? as_leaf(b) : SmallSubtree{};
-                        node.first[i] = leaf.small ? leaf.first : c.wide[i];
-                        node.count[i] = leaf.small ? uint16_t(leaf.count) : uint16_t(0);
+                        const bool leaf = c.wide[i] == UINT32_MAX;
+                        node.first[i] = leaf ? bin[b].first : c.wide[i];
+                        node.count[i] = leaf ? uint16_t(bin[b].count) : uint16_t(0);
                     }
                 }
             });

@@ -7,10 +7,8 @@
 /// Packets" (2008), Dammertz et al., "Shallow Bounding Volume Hierarchies" (2008),
 /// and Embree's BVH4/BVH8.
 ///
-/// Built by collapse_bvh() (below) from a binary Bvh: the triangles and their ids are
-/// the binary tree's, in its leaf order; a leaf is a binary leaf or a whole binary
-/// subtree of at most max_leaf_size triangles (contiguous in that order) where the
-/// SAH prefers one leaf.
+/// Built by collapse_bvh() (below) from a binary Bvh: the triangles, their ids and
+/// the leaves are the binary tree's; only the interior nodes change.
 ///
 /// Traversal: the binary BVH's walk with a node's W children in place of its two:
 /// test all W boxes at once, keep those the ray enters (and, for the closest hit,
@@ -55,7 +53,7 @@ static_assert(sizeof(WideBvhNode<4>) == 128 && sizeof(WideBvhNode<8>) == 256, "a
 struct WideBvhStats {
     int width = 4;
     uint32_t nodes = 0;           ///< wide (interior) nodes
-    uint32_t leaves = 0;          ///< leaves (binary leaves, or small binary subtrees made one)
+    uint32_t leaves = 0;          ///< leaves (the binary tree's)
     uint32_t max_depth = 0;       ///< deepest leaf, the root's children at depth 1
     double avg_children = 0;      ///< children per wide node, on average
     uint32_t bytes_per_node = 0;  ///< sizeof(WideBvhNode<W>)
@@ -187,10 +185,11 @@ private:
 /// node starts from a binary node's two children and, while it has fewer than W,
 /// replaces its interior child of largest surface area by that child's two
 /// children: the child most rays that reach the node enter (the SAH's S_child/S_node),
-/// so opening it saves the most steps (Wald et al. 2008). A binary subtree of at most
-/// max_leaf_size triangles becomes one leaf where the SAH says that costs no more than
-/// its leaves behind one wide node; the triangle order is kept. Cancelling `progress`
-/// (checked every 1024 wide nodes) returns WorkProgress::cancelled_error().
+/// so opening it saves the most steps (Wald et al. 2008). The leaves and their
+/// triangle order are kept: a binary subtree of a few triangles would be worth making
+/// one leaf only where the SAH says a leaf costs less, and the binary builder split it
+/// because the same SAH said it did not (measured: docs/performance.md). Cancelling
+/// `progress` (checked every 1024 wide nodes) returns WorkProgress::cancelled_error().
 template <int W>
 Expected<WideBvh<W>> collapse_bvh(Bvh&& binary, WorkProgress* progress = nullptr);
 /// The same, into a wide BVH whose box tests use `Lanes` (the tests' scalar reference).

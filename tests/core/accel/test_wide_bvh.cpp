@@ -10,7 +10,6 @@
 #include <bit>
 #include <mutex>
 #include <algorithm>
-#include <map>
 #include <set>
 
 #include <tbb/parallel_for.h>
@@ -152,8 +151,7 @@ TEST(WideBvhMatchesBruteForce, CornellBox) { check_scene(scene("builtin:cornell"
 TEST(WideBvhMatchesBruteForce, Teapot) { check_scene(scene("builtin:teapot?n=6"), kRays, 19); }
 
 // The collapse keeps the binary tree's triangle order: the wide leaves cover leaf
-// order [0, N) exactly once, each a binary subtree of at most max_leaf_size
-// triangles (or a binary leaf); children lie inside their parent; the tree is
+// order [0, N) exactly once; children lie inside their parent; the tree is
 // shallower, and a node has fewer than W children only when all of them are leaves.
 TEST(WideBvhCollapse, LeavesCoverTheTrianglesOnceInTheBinaryOrder) {
     const Mesh mesh = scene("builtin:soup?n=5000&seed=3");
@@ -186,7 +184,7 @@ TEST(WideBvhCollapse, LeavesCoverTheTrianglesOnceInTheBinaryOrder) {
                                     box.hi.x <= parent.hi.x && box.hi.y <= parent.hi.y && box.hi.z <= parent.hi.z);
                         if (node.is_leaf(i)) {
                             leaves.push_back({node.first[i], node.count[i]});
-                            EXPECT_TRUE(node.count[i] <= leaf_size || binary_leaves.count({node.first[i], node.count[i]}))
+                            EXPECT_TRUE(binary_leaves.count({node.first[i], node.count[i]}))
                                 << "a leaf of " << node.count[i] << " triangles that the binary tree did not make";
                         } else {
                             ASSERT_LT(node.first[i], wide.nodes.size());
@@ -216,29 +214,23 @@ TEST(WideBvhCollapse, LeavesCoverTheTrianglesOnceInTheBinaryOrder) {
     }
 }
 
-// A subtree becomes one leaf only where the SAH prefers it: with a large leaf size
-// allowed, merging every subtree that fits would leave leaves of dozens of triangles
-// (ten times the triangle tests per ray); the wide leaves stay about the binary
-// tree's size and the tree's SAH cost does not grow.
-TEST(WideBvhCollapse, ALargeLeafSizeMergesOnlyWhereTheSahPrefersIt) {
+// The leaves are the binary tree's, whatever the leaf size: with a large one
+// allowed, merging every small subtree would leave leaves of dozens of triangles (ten
+// times the triangle tests per ray).
+TEST(WideBvhCollapse, TheLeavesAreTheBinaryTreesAtAnyLeafSize) {
     const Mesh mesh = scene("builtin:soup?n=5000&seed=3");
-    const Bvh binary = *build_bvh(mesh, {.max_leaf_size = 255});
-    std::map<std::pair<uint32_t, uint32_t>, uint32_t> binary_leaves;  // (first, count) -> node
-    for (uint32_t n = 0; n < binary.nodes.size(); ++n)
-        if (binary.nodes[n].is_leaf()) binary_leaves[{binary.nodes[n].first, binary.nodes[n].count}] = n;
-    Bvh copy = binary;
-    const auto wide = *collapse_bvh<8>(std::move(copy));
-    size_t merged = 0;
-    for (const auto& node : wide.nodes)
-        for (int i = 0; i < node.child_count; ++i) {
-            if (!node.is_leaf(i) || binary_leaves.count({node.first[i], node.count[i]})) continue;
-            ++merged;
-        }
-    const double triangles_per_leaf = double(mesh.triangle_count()) / wide.build_stats.leaves;
-    const double binary_per_leaf = double(mesh.triangle_count()) / binary.build_stats.leaves;
-    EXPECT_LT(triangles_per_leaf, 2.0 * binary_per_leaf + 1.0)
-        << merged << " leaves merged from subtrees; the binary tree's leaves hold " << binary_per_leaf;
-    EXPECT_LT(wide.build_stats.sah_cost, 1.5 * binary.build_stats.sah_cost);
+    for (const BvhConfig& config : {BvhConfig{.max_leaf_size = 255}, BvhConfig{.builder = BvhBuilder::Midpoint, .max_leaf_size = 6}}) {
+        const Bvh binary = *build_bvh(mesh, config);
+        std::set<std::pair<uint32_t, uint32_t>> binary_leaves;
+        for (const BvhNode& n : binary.nodes)
+            if (n.is_leaf()) binary_leaves.insert({n.first, n.count});
+        Bvh copy = binary;
+        const auto wide = *collapse_bvh<8>(std::move(copy));
+        EXPECT_EQ(wide.build_stats.leaves, binary_leaves.size());
+        for (const auto& node : wide.nodes)
+            for (int i = 0; i < node.child_count; ++i)
+                if (node.is_leaf(i)) EXPECT_TRUE(binary_leaves.count({node.first[i], node.count[i]}));
+    }
 }
 
 // A wide node's events: one BoxTest per child in lane order, then the culls, then
