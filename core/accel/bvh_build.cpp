@@ -517,22 +517,28 @@ Aabb refit_subtree(Bvh& bvh, const Mesh& mesh, uint32_t n, uint32_t depth) {
 std::optional<Error> refit_bvh(Bvh& bvh, const Mesh& mesh) {
     const auto start = std::chrono::steady_clock::now();
     if (mesh.triangle_count() != bvh.prim_ids.size())
-        return Error{"a refit needs the mesh the BVH was built over, moved: it has " +
+        return Error{"a refit needs the mesh the BVH was built over, moved: the BVH has " +
                      std::to_string(bvh.prim_ids.size()) + " triangles, this mesh " +
                      std::to_string(mesh.triangle_count())};
     if (!bvh.nodes.empty()) refit_subtree(bvh, mesh, 0, 0);
     copy_triangles_in_leaf_order(mesh, bvh);
     if (bvh.triangle_test == TriangleTestKind::Watertight) bvh.corners = make_corners(mesh, bvh.prim_ids);
+    bvh.build_stats.refit_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return std::nullopt;
+}
 
-    // The statistics of the same tree with its new boxes (the decisions and notes stay the build's).
+void gather_refit_stats(Bvh& bvh) {
     BvhBuildStats& stats = bvh.build_stats;
     stats.leaves = stats.max_depth = stats.leaves_over_limit = 0;
     stats.leaf_size_histogram.clear();
     stats.avg_leaf_depth = stats.sah_cost = 0;
     const BvhConfig& config = bvh.build_config;
     TreeStats(SahCostModel{config.cost_trav, config.cost_isect}, uint32_t(config.max_leaf_size)).gather(bvh, stats);
-    stats.refit_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    return std::nullopt;
+    const std::string refitted =
+        "refitted to moved triangles: the decisions, the other notes and build_ms are the build's, over the "
+        "earlier positions";
+    if (std::find(stats.notes.begin(), stats.notes.end(), refitted) == stats.notes.end()) stats.notes.push_back(refitted);
 }
 
 }  // namespace accelviz

@@ -66,9 +66,14 @@ Expected<Bvh> build_bvh(const Mesh& mesh, const BvhConfig& config, BuildRecorder
 /// an interior node's from its children's, then re-reads the leaf-order triangles.
 /// One pass over the nodes, no sorting, but the splits were chosen for the old
 /// positions: as triangles move, boxes stretch and overlap and the tree's SAH cost
-/// (build_stats.sah_cost, recomputed) grows, while a rebuild keeps it low. Refitting
-/// to the mesh the tree was built over gives the built boxes exactly. Another
-/// triangle count is an error; build_stats.refit_ms says how long it took.
+/// grows, while a rebuild keeps it low. Refitting to the mesh the tree was built over
+/// gives the built boxes exactly. Another triangle count is an error.
+/// build_stats.refit_ms says how long it took; the other statistics are the build's
+/// until gather_refit_stats() (a renderer refitting every frame would not need them).
 std::optional<Error> refit_bvh(Bvh& bvh, const Mesh& mesh);
+
+/// The statistics of a refitted tree (SAH cost, depths, leaf sizes, over its new
+/// boxes), and a note that its decisions, other notes and build_ms are the build's.
+void gather_refit_stats(Bvh& bvh);
 
 }  // namespace accelviz

@@ -116,6 +116,7 @@ Expected<std::shared_ptr<const Accelerator>> refit_accelerator(const Accelerator
     if (!bvh) return Error{"only the binary BVH refits (--accel bvh --bvh-width 2)"};
     Bvh refitted = *bvh;
     if (auto error = refit_bvh(refitted, after)) return *error;
+    gather_refit_stats(refitted);
     return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<Bvh>>(std::move(refitted)));
 }
 

@@ -599,7 +599,8 @@ Mesh make_kd_challenge(const Params&) {
 /// the x-z plane, copies 1.1 times the mesh's extent apart so that none overlap.
 Expected<Mesh> make_instances(const Params& params) {
     const std::string& source = params.text("mesh");
-    if (source.starts_with("builtin:instances")) return Error{"mesh= cannot be another builtin:instances"};
+    if (source.find("builtin:instances") != std::string::npos)  // (through a wave, too: copies of copies)
+        return Error{"mesh= cannot be or contain another builtin:instances"};
     auto loaded = load_scene(source, params.cache, params.progress);
     if (!loaded) return Error{loaded.error()};
     const Mesh& one = *loaded;
@@ -631,8 +632,8 @@ Expected<Mesh> make_instances(const Params& params) {
 
 /// cos and sin of `turns` whole turns from + - * / and floor only (no libm trig, so
 /// the same bits on every machine): the angle within an eighth of a turn of a
-/// multiple of a quarter turn, |x| <= pi/4, by Taylor series to x^17 (the next term
-/// is below 1e-19), then turned by that many quarter turns exactly.
+/// multiple of a quarter turn, |x| <= pi/4, by Taylor series to x^16 and x^17 (the
+/// next terms are below 3e-18), then turned by that many quarter turns exactly.
 std::pair<double, double> turn_cos_sin(double turns) {
     constexpr double kHalfPi = 1.57079632679489661923;
     const double quarters = std::floor(turns * 4.0 + 0.5);
@@ -679,8 +680,8 @@ Mesh make_moving(const Params& params) {
 }
 
 /// A mesh whose vertices a wave lifts and lowers at time t: each vertex moves along
-/// y by amp·L·(g(f) - 1/2), L the mesh's longest side, f the fractional part of
-/// 2x/L - t (x from the mesh's left side: two wavelengths across it), and
+/// y by height·L·(g(f) - 1/2), L the mesh's longest side, f the fractional part of
+/// 2x/L - t (x from the mesh's left side: a wavelength of half the longest side), and
 /// g(f) = 16 f^2 (1 - f)^2 a smooth bump. One period per unit of t.
 Expected<Mesh> make_wave(const Params& params) {
     const std::string& source = params.text("mesh");
@@ -689,7 +690,7 @@ Expected<Mesh> make_wave(const Params& params) {
     Mesh mesh = std::move(*loaded);
     const Aabb box = mesh.bounds();
     const double longest = std::max({double(box.extent().x), double(box.extent().y), double(box.extent().z)});
-    const double t = params.real("t"), height = params.real("amp") * longest;
+    const double t = params.real("t"), height = params.real("height") * longest;
     for (Vec3& p : mesh.positions) {
         const double u = 2.0 * (double(p.x) - box.lo.x) / longest - t;
         const double f = u - std::floor(u), g = 16.0 * f * f * (1.0 - f) * (1.0 - f);
@@ -768,11 +769,11 @@ const std::vector<BuiltinDef>& registry() {
          {{"t", ParamKind::Real, -1000, 1000, 0}, {"n", ParamKind::Count, 1, 64, 8}},
          always<make_moving>},
         {"wave",
-         "a mesh whose vertices a wave lifts and lowers at time t (one period per unit of t; amp: the wave's "
+         "a mesh whose vertices a wave lifts and lowers at time t (one period per unit of t; height: the wave's "
          "height over the mesh's size), e.g. builtin:wave?mesh=bunny.obj&t=0.25",
          {{"mesh", ParamKind::Source, 0, 0, 0},
           {"t", ParamKind::Real, -1000, 1000, 0},
-          {"amp", ParamKind::Real, 0, 1, 0.05}},
+          {"height", ParamKind::Real, 0, 1, 0.05}},
          make_wave},
         {"instances",
          "a mesh repeated nx x nz times on a grid in the x-z plane (a 10M-triangle scene from one scan: "
@@ -862,14 +863,28 @@ Expected<Mesh> make_builtin(const std::string& spec, WorkProgress* progress, Mes
     params->progress = progress;
     params->cache = cache;
 
+    // The scene as error messages name it: a long source (one nesting others) cut short.
+    const std::string shown = full.size() > 200 ? full.substr(0, 200) + "..." : full;
+    // Scenes made from scenes (mesh=) nest on this thread's stack; a source nesting
+    // thousands deep must be refused, not exhaust the stack or memory.
+    thread_local int nesting = 0;
+    constexpr int kMaxNesting = 4;
+    if (nesting >= kMaxNesting)
+        return Error{shown + ": scenes made from scenes (mesh=) nest at most " +
+                     std::to_string(kMaxNesting) + " deep"};
+    struct Nested {
+        Nested() { ++nesting; }
+        ~Nested() { --nesting; }
+    } nested;
+
     try {
         auto mesh = def->make(*params);
         if (!mesh && mesh.error() == WorkProgress::cancelled_error().message) return mesh;  // as it is: the caller knows it
-        if (!mesh) return Error{full + ": " + mesh.error()};
+        if (!mesh) return Error{shown + ": " + mesh.error()};
         mesh->name = full;
         return mesh;
     } catch (const std::exception& e) {  // e.g. std::bad_alloc for a huge n
-        return Error{full + ": cannot build: " + e.what()};
+        return Error{shown + ": cannot build: " + e.what()};
     }
 }
 

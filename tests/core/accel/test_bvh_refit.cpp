@@ -58,6 +58,23 @@ void check_refit(const Mesh& before, const Mesh& after, size_t ray_count, uint64
     }
 }
 
+/// Every box of a refitted tree is exactly its contents' box: a leaf's the union of
+/// its triangles' boxes (triangle_box, as the build makes them), an interior node's
+/// the union of its children's.
+void expect_tight_boxes(const Bvh& bvh, const Mesh& mesh) {
+    for (size_t n = 0; n < bvh.nodes.size(); ++n) {
+        const BvhNode& node = bvh.nodes[n];
+        Aabb box;
+        if (node.is_leaf()) {
+            for (uint32_t k = node.first; k < node.first + node.count; ++k) box.grow(mesh.triangle_bounds(bvh.prim_ids[k]));
+        } else {
+            box = bvh.nodes[node.first].bounds;
+            box.grow(bvh.nodes[node.first + 1].bounds);
+        }
+        ASSERT_TRUE(same_box(box, node.bounds)) << "node " << n << " of " << mesh.name;
+    }
+}
+
 TEST(BvhRefit, ToTheSameMeshGivesTheBuiltBoxes) {
     for (const char* source : {"builtin:teapot", "builtin:same-box", "builtin:cornell", "builtin:moving?t=0.3"}) {
         SCOPED_TRACE(source);
@@ -65,6 +82,7 @@ TEST(BvhRefit, ToTheSameMeshGivesTheBuiltBoxes) {
         const Bvh built = *build_bvh(mesh, {});
         Bvh refitted = built;
         ASSERT_FALSE(refit_bvh(refitted, mesh).has_value());
+        gather_refit_stats(refitted);
         ASSERT_EQ(refitted.nodes.size(), built.nodes.size());
         for (size_t n = 0; n < built.nodes.size(); ++n)
             ASSERT_TRUE(same_box(refitted.nodes[n].bounds, built.nodes[n].bounds)) << "node " << n;
@@ -83,9 +101,9 @@ TEST(BvhRefit, TeapotFlyingRoundTheRoomMatchesBruteForce) {
 
 TEST(BvhRefit, WaveOverTheTeapotMatchesBruteForce) {
     const Mesh start = scene("builtin:wave?mesh=builtin:teapot&t=0");
-    check_refit(start, scene("builtin:wave?mesh=builtin:teapot&t=0.4&amp=0.05"), 20'000, 33);
+    check_refit(start, scene("builtin:wave?mesh=builtin:teapot&t=0.4&height=0.05"), 20'000, 33);
     // A different amplitude is a different motion of the same triangles.
-    check_refit(start, scene("builtin:wave?mesh=builtin:teapot&t=0.9&amp=0.5"), 20'000, 34);
+    check_refit(start, scene("builtin:wave?mesh=builtin:teapot&t=0.9&height=0.5"), 20'000, 34);
 }
 
 TEST(BvhRefit, WaveOverTheBunnyMatchesBruteForce) {
@@ -100,13 +118,15 @@ std::pair<double, double> refit_and_rebuild_cost(const std::string& start, const
     Bvh refitted = *build_bvh(scene(start), {});
     const Mesh moved = scene(later);
     EXPECT_FALSE(refit_bvh(refitted, moved).has_value());
+    gather_refit_stats(refitted);
+    EXPECT_NE(refitted.build_stats.notes.back().find("refitted"), std::string::npos);
     return {refitted.build_stats.sah_cost, build_bvh(moved, {})->build_stats.sah_cost};
 }
 
 // A deforming mesh: the refitted tree's quality decays as the wave travels (its
 // splits were chosen for other positions), while a rebuild stays as good.
 TEST(BvhRefit, UnderAWaveTheRefitTreeDecays) {
-    const std::string sphere = "builtin:wave?mesh=builtin:sphere?subdiv=5&amp=0.2";
+    const std::string sphere = "builtin:wave?mesh=builtin:sphere?subdiv=5&height=0.2";
     const auto [early_refit, early_rebuild] = refit_and_rebuild_cost(sphere + "&t=0", sphere + "&t=0.125");
     const auto [late_refit, late_rebuild] = refit_and_rebuild_cost(sphere + "&t=0", sphere + "&t=0.5");
     EXPECT_GT(late_refit, 1.2 * late_rebuild);
@@ -124,17 +144,51 @@ TEST(BvhRefit, UnderARigidMotionTheRefitTreeStaysGood) {
 
 TEST(BvhRefit, OneAndTwoThreadsGiveTheSameTree) {
     const Mesh start = scene("builtin:wave?mesh=builtin:teapot?n=24&t=0");
-    const Mesh later = scene("builtin:wave?mesh=builtin:teapot?n=24&t=0.6&amp=0.2");
+    const Mesh later = scene("builtin:wave?mesh=builtin:teapot?n=24&t=0.6&height=0.2");
     auto refit_on = [&](int threads) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
         Bvh bvh = *build_bvh(start, {});
         EXPECT_FALSE(refit_bvh(bvh, later).has_value());
+        gather_refit_stats(bvh);
         return bvh;
     };
     const Bvh one = refit_on(1), two = refit_on(2);
     ASSERT_EQ(one.nodes.size(), two.nodes.size());
     for (size_t n = 0; n < one.nodes.size(); ++n) ASSERT_TRUE(same_box(one.nodes[n].bounds, two.nodes[n].bounds));
     EXPECT_EQ(one.build_stats.sah_cost, two.build_stats.sah_cost);
+}
+
+TEST(BvhRefit, EveryBoxIsItsContentsBox) {
+    const Mesh start = scene("builtin:wave?mesh=builtin:teapot?n=12&t=0&height=0.3");
+    Bvh bvh = *build_bvh(start, {});
+    const Mesh later = scene("builtin:wave?mesh=builtin:teapot?n=12&t=0.55&height=0.3");
+    ASSERT_FALSE(refit_bvh(bvh, later).has_value());
+    expect_tight_boxes(bvh, later);
+}
+
+// Triangles that lose their area (all three corners on one line) and get it back:
+// no ray hits a zero-area triangle, and the boxes still hold what the leaves test.
+TEST(BvhRefit, TrianglesThatCollapseAndReopen) {
+    const Mesh open = scene("builtin:soup?n=3000&seed=5");
+    Mesh flat = open;
+    for (Vec3& p : flat.positions) p.y = 0.0f;  // every triangle's corners in one plane...
+    for (size_t i = 0; i < flat.positions.size(); i += 3) flat.positions[i].z = flat.positions[i + 1].z;  // ...some on a line
+    flat.name = "the soup flattened";
+    check_refit(open, flat, 5'000, 36);
+    check_refit(flat, open, 5'000, 37);
+    Bvh bvh = *build_bvh(open, {});
+    ASSERT_FALSE(refit_bvh(bvh, flat).has_value());
+    expect_tight_boxes(bvh, flat);
+}
+
+TEST(BvhRefit, AnEmptySceneRefitsToNothing) {
+    const Mesh empty = scene("builtin:empty");
+    Bvh bvh = *build_bvh(empty, {});
+    ASSERT_FALSE(refit_bvh(bvh, empty).has_value());
+    gather_refit_stats(bvh);
+    EXPECT_TRUE(bvh.nodes.empty());
+    NoObserver none;
+    EXPECT_FALSE(bvh.intersect_closest(Ray{{0, 0, -5}, {0, 0, 1}}, none).found());
 }
 
 TEST(BvhRefit, AnotherTriangleCountIsAnError) {

@@ -127,7 +127,7 @@ TEST(BuiltinScenes, DescriptionsNameTheParameters) {
 
 TEST(BuiltinScenes, SameSpecGivesBitIdenticalMeshes) {
     for (const char* spec : {"soup?n=500&seed=42", "same-centroid?n=300&seed=9", "same-box?n=300&seed=9", "teapot?n=5",
-                             "sphere?subdiv=3", "stadium?n=3", "cornell", "moving?t=0.37", "wave?t=0.61&amp=0.3"}) {
+                             "sphere?subdiv=3", "stadium?n=3", "cornell", "moving?t=0.37", "wave?t=0.61&height=0.3"}) {
         SCOPED_TRACE(spec);
         const Mesh a = make(spec), b = make(spec);
         EXPECT_EQ(a.positions, b.positions);
@@ -463,7 +463,7 @@ TEST(BuiltinScenes, InstancesNameWhatIsWrongWithTheirMesh) {
     EXPECT_EQ(missing.error(), "builtin:instances?mesh=/no/such/file.obj: /no/such/file.obj: no such file");
     auto nested = make_builtin("instances?mesh=builtin:instances");
     ASSERT_FALSE(nested);
-    expect_contains(nested.error(), "cannot be another builtin:instances");
+    expect_contains(nested.error(), "cannot be or contain another builtin:instances");
     auto empty = make_builtin("instances?mesh=");
     ASSERT_FALSE(empty);
     expect_contains(empty.error(), "parameter 'mesh' is empty");
@@ -480,8 +480,8 @@ TEST(BuiltinScenes, SceneAtTimeSetsTheTimeOfAMovingScene) {
     EXPECT_EQ(*scene_at_time("builtin:moving?", 0.25), "builtin:moving?t=0.25");
     EXPECT_EQ(*scene_at_time("builtin:moving?n=4", 2), "builtin:moving?n=4&t=2");
     EXPECT_EQ(*scene_at_time("builtin:moving?t=0.1&n=4", -0.75), "builtin:moving?t=-0.75&n=4");
-    EXPECT_EQ(*scene_at_time("builtin:wave?mesh=builtin:moving?t=0.3&amp=0.2", 0.1),
-              "builtin:wave?mesh=builtin:moving?t=0.3&amp=0.2&t=0.1");
+    EXPECT_EQ(*scene_at_time("builtin:wave?mesh=builtin:moving?t=0.3&height=0.2", 0.1),
+              "builtin:wave?mesh=builtin:moving?t=0.3&height=0.2&t=0.1");
     EXPECT_EQ(*scene_at_time("builtin:moving", 0.1), "builtin:moving?t=0.1");  // the shortest form that reads back
     for (const char* still : {"builtin:teapot", "bunny.obj", "builtin:instances?mesh=builtin:moving", ""}) {
         const auto at = scene_at_time(still, 0.5);
@@ -492,4 +492,19 @@ TEST(BuiltinScenes, SceneAtTimeSetsTheTimeOfAMovingScene) {
     // The scene at a time is the scene with that t.
     const Mesh a = make("moving?n=3&t=0.4"), b = *load_scene(*scene_at_time("builtin:moving?n=3", 0.4));
     EXPECT_EQ(a.positions, b.positions);
+}
+
+// Scenes made from scenes nest a few levels at most (a source nesting thousands deep
+// is refused, not a crash), and instances never copy copies, even through a wave.
+TEST(BuiltinScenes, ScenesMadeFromScenesNestAFewLevelsAtMost) {
+    EXPECT_TRUE(load_scene("builtin:wave?mesh=builtin:wave?mesh=builtin:cube").ok());
+    std::string deep = "builtin:cube";
+    for (int i = 0; i < 7000; ++i) deep = "builtin:wave?mesh=" + deep;
+    const auto refused = load_scene(deep);
+    ASSERT_FALSE(refused.ok());
+    expect_contains(refused.error(), "nest at most");
+    EXPECT_LT(refused.error().size(), 2000u);
+    const auto copies = load_scene("builtin:instances?mesh=builtin:wave?mesh=builtin:instances?mesh=builtin:cube");
+    ASSERT_FALSE(copies.ok());
+    expect_contains(copies.error(), "another builtin:instances");
 }
