@@ -315,13 +315,14 @@ FramePlan plan_frame(AppState& state, Session& session, const FrameInput& input)
 }
 
 /// The sidebar: scene, structure, stepper, view, construction and stats sections.
-void draw_sidebar(AppState& state, Session& session, const Layout& layout, int height) {
+/// `dt`: seconds since the last frame, for the moving scene's Play (0: still).
+void draw_sidebar(AppState& state, Session& session, const Layout& layout, int height, double dt) {
     ImGui::SetNextWindowPos(ImVec2(0, 0), ImGuiCond_Always);
     ImGui::SetNextWindowSize(ImVec2(layout.sidebar_width, float(height) - layout.status_height),
                              ImGuiCond_Always);
     if (ImGui::Begin("##sidebar", nullptr, kFixedPanel)) {
         ImGui::TextDisabled("accelviz");
-        session.scene_panel.draw(state, session);
+        session.scene_panel.draw(state, session, dt);
         session.structure_panel.draw(state, session);
         if (ImGui::CollapsingHeader("Stepper", ImGuiTreeNodeFlags_DefaultOpen)) {
             // Opening it makes the mesh translucent (once): the boxes a ray visits lie inside it.
@@ -383,7 +384,7 @@ void draw_right_panel(AppState& state, Session& session, const FrameInput& input
 void draw_panels(AppState& state, Session& session, const FrameInput& input, const FramePlan& plan) {
     const Layout& layout = plan.layout;
     const bool split = plan.split, stepping = plan.stepping;
-    draw_sidebar(state, session, layout, input.height);
+    draw_sidebar(state, session, layout, input.height, input.deterministic ? 0.0 : ImGui::GetIO().DeltaTime);
     // The construction panel before the status bar, the stepper's after: the order the
     // windows were first drawn in (ImGui focuses the newest, and the construction
     // panel's title bar shows it).

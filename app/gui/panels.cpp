@@ -1,6 +1,7 @@
 #include "app/gui/panels.h"
 
 #include <algorithm>
+#include <cmath>
 #include <iterator>
 #include <cstdio>
 #include <fstream>
@@ -77,7 +78,7 @@ bool float_slider(const char* label, float& value, float lo, float hi, const cha
 
 // [SECTION] Scene
 
-void ScenePanel::draw(AppState& state, Session& session) {
+void ScenePanel::draw(AppState& state, Session& session, double dt) {
     if (!ImGui::CollapsingHeader("Scene", ImGuiTreeNodeFlags_DefaultOpen)) return;
     if (shown_source != state.scene) {  // the scene changed elsewhere (drop, preset): follow it
         source_text = state.scene;
@@ -107,6 +108,7 @@ void ScenePanel::draw(AppState& state, Session& session) {
     ImGui::SameLine();
     if ((ImGui::Button("Open") || entered) && !source_text.empty()) session.open_scene(state, source_text);
     hint("Or drop an .obj file on the window.");
+    draw_timeline(state, session, dt);
 
     // The lecture's presets, in order (PageDown / PageUp step through them).
     const std::vector<PresetInfo>& presets = session.presets.entries();
@@ -125,6 +127,34 @@ void ScenePanel::draw(AppState& state, Session& session) {
     if (session.loader.busy()) {
         ImGui::TextUnformatted((session.loader.activity() + " ...").c_str());
     }
+}
+
+/// A moving scene's time: a slider, Play, and whether a new time refits the BVH
+/// (the same tree, boxes recomputed: cheap, but they stretch) or builds it anew.
+void ScenePanel::draw_timeline(AppState& state, Session& session, double dt) {
+    const std::optional<double> scene_t = scene_time(state.scene);
+    if (!scene_t || !session.scene) {
+        playing = false;
+        return;
+    }
+    const bool waiting = session.loader.busy();
+    if (!waiting && !ImGui::IsAnyItemActive()) time = float(*scene_t);
+    ImGui::SetNextItemWidth(-(ImGui::CalcTextSize("Time t").x + ImGui::GetStyle().ItemInnerSpacing.x));
+    bool changed = ImGui::SliderFloat("Time t", &time, 0.0f, 1.0f, "%.3f", ImGuiSliderFlags_AlwaysClamp) &&
+                   ImGui::IsItemActive();
+    if (ImGui::Button(playing ? "Pause##time" : "Play##time")) playing = !playing;
+    ImGui::SameLine();
+    const bool can_refit = state.accel.type == AccelType::Bvh && state.accel.bvh.width == 2;
+    if (!can_refit) ImGui::BeginDisabled();
+    ImGui::Checkbox("Refit the BVH", &refit);
+    if (!can_refit) ImGui::EndDisabled();
+    if (playing && !waiting && dt > 0) {  // one time at a time: the next once this one has arrived
+        time = std::fmod(time + float(dt) * kPlaySpeed, 1.0f);
+        changed = true;
+    }
+    if (changed) session.open_scene_at_time(state, time, refit && can_refit);
+    hint(session.scene->refitted ? "The BVH is refitted: the tree of the first time, its boxes stretched."
+                                 : "Each time builds the structure anew.");
 }
 
 // [SECTION] Structure
@@ -496,8 +526,8 @@ void StatsBar::draw(const AppState& state, const Session& session, double frame_
             line += text;
         }
         if (!deterministic) {
-            std::snprintf(text, sizeof text, " (load %.0f ms, build %.0f ms)", scene->load_seconds * 1e3,
-                          scene->build_seconds * 1e3);
+            std::snprintf(text, sizeof text, " (load %.0f ms, %s %.0f ms)", scene->load_seconds * 1e3,
+                          scene->refitted ? "refit" : "build", scene->build_seconds * 1e3);
             line += text;
         }
     } else {

@@ -16,18 +16,14 @@ std::string short_name(const std::string& source) {
     return source.rfind("builtin:", 0) == 0 || slash == std::string::npos ? source : source.substr(slash + 1);
 }
 
-}  // namespace
-
-LoadResult load_and_build(const std::string& source, const AccelConfig& config,
-                          const std::function<void(const std::string&)>& on_stage, WorkProgress* progress) {
-    auto stage = [&](const std::string& what) {
-        if (on_stage) on_stage(what);
-    };
+/// A scene with `source`'s mesh loaded and no structure yet.
+Expected<std::shared_ptr<LoadedScene>> load_mesh(const std::string& source, const AccelConfig& config,
+                                                 const std::function<void(const std::string&)>& on_stage,
+                                                 WorkProgress* progress) {
     auto scene = std::make_shared<LoadedScene>();
     scene->source = source;
     scene->accel_config = config;
-
-    stage("Loading " + short_name(source));
+    if (on_stage) on_stage("Loading " + short_name(source));
     auto start = std::chrono::steady_clock::now();
     auto mesh = load_scene(source, default_mesh_cache(), progress);
     if (!mesh) return Error{mesh.error()};
@@ -36,7 +32,33 @@ LoadResult load_and_build(const std::string& source, const AccelConfig& config,
     scene->bounds = scene->mesh->bounds();
     scene->degenerate_note = degenerate_note(*scene->mesh);
     scene->load_seconds = seconds_since(start);
-    return rebuild(*scene, config, on_stage, progress);
+    return scene;
+}
+
+}  // namespace
+
+LoadResult load_and_build(const std::string& source, const AccelConfig& config,
+                          const std::function<void(const std::string&)>& on_stage, WorkProgress* progress) {
+    auto scene = load_mesh(source, config, on_stage, progress);
+    if (!scene) return Error{scene.error()};
+    return rebuild(**scene, config, on_stage, progress);
+}
+
+LoadResult load_and_refit(const std::string& source, const LoadedScene& previous,
+                          const std::function<void(const std::string&)>& on_stage, WorkProgress* progress) {
+    auto scene = load_mesh(source, previous.accel_config, on_stage, progress);
+    if (!scene) return Error{scene.error()};
+    LoadedScene& next = **scene;
+    if (!previous.accel || !previous.mesh || previous.mesh->indices != next.mesh->indices)
+        return rebuild(next, previous.accel_config, on_stage, progress);
+    if (on_stage) on_stage("Refitting the BVH");
+    const auto start = std::chrono::steady_clock::now();
+    auto accel = refit_accelerator(*previous.accel, *next.mesh);
+    if (!accel) return rebuild(next, previous.accel_config, on_stage, progress);  // not a binary BVH: build
+    next.accel = std::move(*accel);
+    next.build_seconds = seconds_since(start);
+    next.refitted = true;
+    return std::shared_ptr<const LoadedScene>(std::move(*scene));
 }
 
 LoadResult rebuild(const LoadedScene& from, const AccelConfig& config,
@@ -97,6 +119,15 @@ void SceneLoader::request_rebuild(std::shared_ptr<const LoadedScene> scene, cons
         std::lock_guard lock(mutex_);
         const std::string source = scene->source;
         replace_request(Request{++newest_id_, source, config, std::move(scene)});
+    }
+    wake_.notify_all();
+}
+
+void SceneLoader::request_refit(const std::string& source, std::shared_ptr<const LoadedScene> scene) {
+    {
+        std::lock_guard lock(mutex_);
+        const AccelConfig config = scene->accel_config;
+        replace_request(Request{++newest_id_, source, config, nullptr, std::move(scene)});
     }
     wake_.notify_all();
 }
@@ -165,10 +196,12 @@ void SceneLoader::run() {
             std::lock_guard stage_lock(mutex_);
             activity_ = what;
         };
-        LoadResult result = request.rebuild_of
-                                ? rebuild(*request.rebuild_of, request.config, on_stage, progress.get())
+        LoadResult result = request.rebuild_of ? rebuild(*request.rebuild_of, request.config, on_stage, progress.get())
+                            : request.refit_of
+                                ? load_and_refit(request.source, *request.refit_of, on_stage, progress.get())
                                 : load_and_build(request.source, request.config, on_stage, progress.get());
         request.rebuild_of.reset();  // the old scene may go now
+        request.refit_of.reset();
 
         lock.lock();
         running_ = false;

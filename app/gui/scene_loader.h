@@ -33,7 +33,8 @@ struct LoadedScene {
     AccelConfig accel_config;
     std::shared_ptr<const Accelerator> accel;  ///< built over *mesh
     double load_seconds = 0;
-    double build_seconds = 0;
+    double build_seconds = 0;  ///< the build, or for a refitted scene the refit
+    bool refitted = false;     ///< the structure is an earlier time's BVH refitted to this mesh
     std::optional<std::string> degenerate_note;  ///< "k of N triangles have zero area ..." (degenerate_note)
 };
 
@@ -52,6 +53,14 @@ LoadResult rebuild(const LoadedScene& scene, const AccelConfig& config,
                    const std::function<void(const std::string&)>& on_stage = {},
                    WorkProgress* progress = nullptr);
 
+/// A moving scene's next time: loads `source` (the same triangles as `previous`,
+/// moved) and refits `previous`'s binary BVH to it (refit_accelerator) rather than
+/// building anew; any other structure, or other triangles, is built as by
+/// load_and_build. The new scene says `refitted`.
+LoadResult load_and_refit(const std::string& source, const LoadedScene& previous,
+                          const std::function<void(const std::string&)>& on_stage = {},
+                          WorkProgress* progress = nullptr);
+
 /// Whether `result` is the error of work that was cancelled.
 bool was_cancelled(const LoadResult& result);
 
@@ -67,6 +76,9 @@ public:
     void request(const std::string& source, const AccelConfig& config);
     /// Asks for a new structure over the mesh of `scene` (a parameter changed).
     void request_rebuild(std::shared_ptr<const LoadedScene> scene, const AccelConfig& config);
+    /// Asks for `source`, a later time of `scene`'s moving scene, with `scene`'s BVH
+    /// refitted to it (load_and_refit).
+    void request_refit(const std::string& source, std::shared_ptr<const LoadedScene> scene);
     /// Stops the running request and drops a waiting one; the running one's result
     /// is then the error "cancelled" (was_cancelled), unless it had finished.
     void cancel();
@@ -92,6 +104,7 @@ private:
         std::string source;
         AccelConfig config;
         std::shared_ptr<const LoadedScene> rebuild_of;  ///< set: rebuild over this scene's mesh
+        std::shared_ptr<const LoadedScene> refit_of;    ///< set: load source, refit this scene's BVH to it
     };
     /// Queues `request`, cancelling the running one (call with mutex_ held).
     void replace_request(Request request);

@@ -1,10 +1,21 @@
 #include "app/gui/session.h"
 
+#include "core/geometry/scene.h"
+
 namespace accelviz {
 
 void Session::open_scene(const AppState& state, const std::string& source, bool keep_camera) {
     keep_camera_on_load = keep_camera;
     loader.request(source, state.accel);
+}
+
+void Session::open_scene_at_time(const AppState& state, double t, bool refit) {
+    if (!scene) return;
+    auto source = scene_at_time(scene->source, t);
+    if (!source) return notify(source.error(), true);
+    keep_camera_on_load = true;
+    if (refit) loader.request_refit(*source, scene);
+    else loader.request(*source, state.accel);
 }
 
 void Session::rebuild_structure(const AppState& state) {
@@ -45,6 +56,7 @@ void Session::set_scene(AppState& state, std::shared_ptr<const LoadedScene> load
 
 void Session::apply_state(AppState& state, const AppState& loaded) {
     view_panel.fill_playing = false;  // a saved state shows its own moment of the fill order
+    scene_panel.playing = false;      // and of a moving scene
     const bool new_scene = !scene || loaded.scene != scene->source;
     const bool new_structure =
         !scene || accel_config_json(loaded.accel) != accel_config_json(scene->accel_config);
@@ -81,6 +93,7 @@ std::vector<const char*> Session::pending_work() const {
     if (comparison.busy() || comparison.has_result()) names.push_back("comparison");
     if (two_bvhs.busy() || two_bvhs.has_result()) names.push_back("two_bvhs");
     if (view_panel.fill_playing) names.push_back("fill_order");
+    if (scene_panel.playing) names.push_back("time");  // a moving scene playing: the next time follows
     return names;
 }
 

@@ -101,6 +101,10 @@ struct Session {
 
     /// Starts loading `source` with the state's structure (on the worker).
     void open_scene(const AppState& state, const std::string& source, bool keep_camera = false);
+    /// A moving scene at time t (scene_at_time of the current one, on the worker): its
+    /// BVH refitted to the moved mesh when `refit` (and the structure is a binary BVH),
+    /// else the state's structure built anew. The camera stays.
+    void open_scene_at_time(const AppState& state, double t, bool refit);
     /// Starts building the state's structure over the current mesh (on the
     /// worker); the camera stays.
     void rebuild_structure(const AppState& state);

@@ -147,7 +147,8 @@ public:
         if (session.scene)
             j["shown"] = {{"scene", session.scene->source},
                           {"structure", session.scene->accel->name()},
-                          {"triangles", session.scene->mesh->triangle_count()}};
+                          {"triangles", session.scene->mesh->triangle_count()},
+                          {"refitted", session.scene->refitted}};
         if (state.stepper.ray && session.stepper.traced_ray) {
             const SteppedRay& traced = session.stepper.trace;
             j["stepped_ray"] = {{"structure", traced.structure},

@@ -833,6 +833,23 @@ Expected<std::string> scene_at_time(const std::string& source, double t) {
     return out;
 }
 
+std::optional<double> scene_time(const std::string& source) {
+    if (!scene_at_time(source, 0.0)) return std::nullopt;  // not a moving scene
+    const size_t question = source.find('?');
+    if (question == std::string::npos) return 0.0;
+    for (size_t begin = question + 1; begin <= source.size();) {
+        const size_t amp = std::min(source.find('&', begin), source.size());
+        const std::string_view part = std::string_view(source).substr(begin, amp - begin);
+        if (part.starts_with("t=")) {
+            double t = 0;
+            if (!parse_real(part.substr(2), t)) return std::nullopt;
+            return t;
+        }
+        begin = amp + 1;
+    }
+    return 0.0;
+}
+
 Expected<Mesh> make_builtin(const std::string& spec, WorkProgress* progress) {
     return make_builtin(spec, progress, default_mesh_cache());
 }

@@ -47,6 +47,9 @@ Expected<Mesh> make_builtin(const std::string& spec, WorkProgress* progress = nu
 /// 0.5 is "builtin:moving?n=4&t=0.5". Any other source is an error naming the moving
 /// scenes (the program's --time flag).
 Expected<std::string> scene_at_time(const std::string& source, double t);
+/// The time t of a moving built-in scene (0 when its t= is not given); nothing for
+/// any other source, or a t= that is not a number.
+std::optional<double> scene_time(const std::string& source);
 
 /// The names make_builtin accepts, each with a one-line description and its parameters.
 struct BuiltinInfo {

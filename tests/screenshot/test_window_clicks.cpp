@@ -502,6 +502,33 @@ TEST(WindowClicks, TheFillOrderPlaysWithSpaceAndStopsAtTheEnd) {
     });
 }
 
+// A moving scene plays: each new time arrives with the BVH refitted (the box ticked)
+// or built anew, and Pause stops it, leaving the window idle.
+TEST(WindowClicks, AMovingScenePlaysWithItsBvhRefitted) {
+    Window w;
+    w.start("builtin:moving?n=4");
+    w.click("Refit the BVH");
+    w.click("Play##time");
+    const json s = w.wait_for("later times, refitted", [](const json& snap) {
+        const std::string scene = snap["shown"]["scene"];
+        return snap["shown"]["refitted"] == true && scene.find("&t=") != std::string::npos;
+    });
+    EXPECT_NE(s["status"].get<std::string>().find("refit"), std::string::npos) << s["status"];
+    w.click("Pause##time");
+    w.wait_for("paused and idle", [](const json& snap) { return !snap["busy"].get<bool>(); });
+    const std::string paused_at = w.snapshot()["shown"]["scene"];
+    std::this_thread::sleep_for(std::chrono::milliseconds(400));
+    EXPECT_EQ(w.snapshot()["shown"]["scene"], paused_at) << "paused: the time stays";
+    // Without the box, the next time is built anew.
+    w.click("Refit the BVH");
+    w.click("Play##time");
+    w.wait_for("later times, built anew", [&](const json& snap) {
+        return snap["shown"]["refitted"] == false && snap["shown"]["scene"] != paused_at;
+    });
+    w.click("Pause##time");
+    w.wait_for("idle again", [](const json& snap) { return !snap["busy"].get<bool>(); });
+}
+
 TEST(WindowClicks, DraggingTheLeafSizeSliderRebuildsOnRelease) {
     Window w;
     w.start("builtin:teapot");

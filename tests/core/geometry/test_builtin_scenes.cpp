@@ -508,3 +508,14 @@ TEST(BuiltinScenes, ScenesMadeFromScenesNestAFewLevelsAtMost) {
     ASSERT_FALSE(copies.ok());
     expect_contains(copies.error(), "another builtin:instances");
 }
+
+// The window's Time slider reads a moving scene's t back from its source.
+TEST(BuiltinScenes, SceneTimeReadsTheTimeBack) {
+    EXPECT_EQ(scene_time("builtin:moving"), 0.0);
+    EXPECT_EQ(scene_time("builtin:moving?n=4&t=0.375"), 0.375);
+    EXPECT_EQ(scene_time("builtin:wave?mesh=builtin:moving?t=0.3&height=0.2"), 0.0);  // the nested scene's t is not its own
+    EXPECT_EQ(scene_time(*scene_at_time("builtin:wave?mesh=builtin:sphere", 0.1)), 0.1);
+    EXPECT_EQ(scene_time("builtin:teapot"), std::nullopt);
+    EXPECT_EQ(scene_time("bunny.obj"), std::nullopt);
+    EXPECT_EQ(scene_time("builtin:moving?t=soon"), std::nullopt);
+}
