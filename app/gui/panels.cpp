@@ -153,7 +153,7 @@ void ScenePanel::draw_timeline(AppState& state, Session& session, double dt) {
         changed = true;
     }
     if (changed) session.open_scene_at_time(state, time, refit && can_refit);
-    hint(session.scene->refitted ? "The BVH is refitted: the tree of the first time, its boxes stretched."
+    hint(session.scene->refitted ? "The BVH is refitted: an earlier time's tree, its boxes stretched."
                                  : "Each time builds the structure anew.");
 }
 
