@@ -33,7 +33,7 @@ int main(int argc, char** argv) {
     const std::string default_scene = default_window_scene();
     const auto window = add_window_flags(app, default_scene);
     const std::vector<Command> commands = {register_render(app), register_trace(app), register_bench(app),
-                                           register_bench_view(app), register_query(app)};
+                                           register_bench_view(app), register_bench_motion(app), register_query(app)};
     // The mesh cache (core/geometry/mesh_cache.h), for the window and every command.
     bool no_cache = false;
     const std::string no_cache_help =

@@ -19,6 +19,7 @@ Command register_render(CLI::App& app);
 Command register_trace(CLI::App& app);
 Command register_bench(CLI::App& app);
 Command register_bench_view(CLI::App& app);
+Command register_bench_motion(CLI::App& app);
 Command register_query(CLI::App& app);
 
 }  // namespace accelviz::cli
