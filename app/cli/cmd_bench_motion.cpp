@@ -11,7 +11,6 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
-#include <optional>
 
 #include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
@@ -22,7 +21,6 @@
 #include "app/cli/flag_checks.h"
 #include "app/cli/ray_batch.h"
 #include "core/accel/bvh.h"
-#include "core/accel/bvh_build.h"
 #include "core/accel/factory.h"
 #include "core/geometry/scene.h"
 #include "core/render/ray_caster.h"
@@ -74,7 +72,7 @@ int run_bench_motion(const BenchMotionOptions& opt) {
 
     // The camera of the first time, kept: the scene moves, the viewer does not.
     std::vector<Ray> rays;
-    std::optional<Bvh> refitted;  // the first time's tree, refitted from time to time
+    std::shared_ptr<const Accelerator> refit_tree;  // the first time's BVH, refitted from time to time
     const char* kMethods[] = {"bvh refit", "bvh rebuild", "kd rebuild", "grid rebuild"};
     nlohmann::ordered_json frames = nlohmann::ordered_json::array();
     for (int k = 0; k <= opt.frames; ++k) {
@@ -89,26 +87,24 @@ int run_bench_motion(const BenchMotionOptions& opt) {
             rays = camera_rays(Camera(*camera, opt.width, opt.height));
         }
         Update updates[4];
-        // BVH refit (at the first time: the build it refits from later).
-        AccelConfig bvh;
-        bvh.type = AccelType::Bvh;
-        if (!refitted) {
+        // BVH refit (at the first time: the build it refits from later). refit_accelerator
+        // copies the tree before refitting it; its refit_ms times the refit alone.
+        if (!refit_tree) {
+            AccelConfig bvh;
+            bvh.type = AccelType::Bvh;
             const auto start = std::chrono::steady_clock::now();
-            auto built = build_bvh(*mesh, bvh.bvh);
+            auto built = build_accelerator(*mesh, bvh);
             if (!built) return fail(built.error());
             updates[0].update_ms = ms_since(start);
-            refitted = std::move(*built);
+            refit_tree = std::move(*built);
         } else {
-            if (auto error = refit_bvh(*refitted, *mesh)) return fail(error->message);
-            updates[0].update_ms = refitted->build_stats.refit_ms;
-            gather_refit_stats(*refitted);
+            auto next = refit_accelerator(*refit_tree, *mesh);
+            if (!next) return fail(next.error());
+            refit_tree = std::move(*next);
+            updates[0].update_ms = structure_if<Bvh>(*refit_tree)->build_stats.refit_ms;
         }
-        updates[0].sah_cost = refitted->build_stats.sah_cost;
-        {
-            // The tree is traced through the Accelerator interface, as a rebuilt one is.
-            const AcceleratorFor<Bvh> as_accel{Bvh(*refitted)};
-            updates[0] = trace_with(as_accel, rays, threads, updates[0]);
-        }
+        updates[0].sah_cost = structure_if<Bvh>(*refit_tree)->build_stats.sah_cost;
+        updates[0] = trace_with(*refit_tree, rays, threads, updates[0]);
         // The rebuilds.
         const AccelType rebuilt[] = {AccelType::Bvh, AccelType::Kd, AccelType::Grid};
         for (int m = 0; m < 3; ++m) {
