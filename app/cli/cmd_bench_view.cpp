@@ -13,6 +13,7 @@
 #include <iostream>
 #include <memory>
 #include <numbers>
+#include <thread>
 
 #include <nlohmann/json.hpp>
 
@@ -40,6 +41,7 @@ struct BenchViewOptions {
     std::string view = "gui";
     std::string overlay;  ///< "on" | "off" | "" (the preset's or the window's default)
     int max_boxes = -1;   ///< -1: the preset's or the window's default
+    std::string draw;     ///< "raster" | "raycast" | "auto" | "" (the preset's, else raster)
     bool json = false;
     CameraFlags camera;
     AccelConfig accel;
@@ -77,6 +79,7 @@ int run_bench_view(const BenchViewOptions& opt) {
     state.accel = opt.accel;
     if (!opt.overlay.empty()) state.overlay.show_structure = opt.overlay == "on";
     if (opt.max_boxes >= 0) state.overlay.max_boxes = size_t(opt.max_boxes);
+    if (!opt.draw.empty()) state.view.draw_with = *kDrawWithNames.parse(opt.draw);  // CLI11 checked the name
     const WindowView view = *kWindowViewNames.parse(opt.view);  // CLI11 checked the name
 
     const auto start = std::chrono::steady_clock::now();
@@ -100,6 +103,7 @@ int run_bench_view(const BenchViewOptions& opt) {
     session.set_scene(state, std::move(*loaded), !framed_by_window);
     FrameInput input;
     input.draw_ui = view != WindowView::Structure;
+    input.wait_for_ray_cast = true;  // a ray-cast mesh is part of its frame (a quarter of the pixels while orbiting)
 
     // The first frame uploads the mesh and the overlay; later ones only draw. The
     // orbit: one turn about the target in `frames` steps (yaw only: the camera never rolls).
@@ -111,10 +115,15 @@ int run_bench_view(const BenchViewOptions& opt) {
     const double first_ms = timed_frame();
     std::vector<double> frame_ms;
     frame_ms.reserve(size_t(opt.frames));
+    int ray_cast_frames = 0;  // frames whose mesh the CPU ray caster drew
     for (int i = 0; i < opt.frames; ++i) {
         orbit(*state.camera, 2.0 * std::numbers::pi / opt.frames, 0.0);
         frame_ms.push_back(timed_frame());
+        ray_cast_frames += session.mesh_ray_cast ? 1 : 0;
     }
+    // The camera stopped: the full picture (ray cast: every pixel, after the still time).
+    std::this_thread::sleep_for(std::chrono::duration<double>(SurfaceCast::kStillSeconds));
+    const double still_ms = timed_frame();
     const double median = quantile(frame_ms, 0.5), p90 = quantile(frame_ms, 0.9),
                  worst = *std::max_element(frame_ms.begin(), frame_ms.end());
     const size_t boxes = session.overlay.boxes.size();
@@ -130,6 +139,9 @@ int run_bench_view(const BenchViewOptions& opt) {
                               {"frames", opt.frames},
                               {"overlay", state.overlay.show_structure},
                               {"overlay_boxes", boxes},
+                              {"draw", std::string(to_string(state.view.draw_with))},
+                              {"ray_cast_frames", ray_cast_frames},
+                              {"still_frame_ms", still_ms},
                               {"load_and_build_ms", load_and_build_ms},
                               {"first_frame_ms", first_ms},
                               {"median_frame_ms", median},
@@ -147,6 +159,9 @@ int run_bench_view(const BenchViewOptions& opt) {
     std::printf("load+build %.1f ms\n", load_and_build_ms);
     std::printf("frames     %d while orbiting once: median %.1f ms (%.1f frames/s), 90%% %.1f ms, worst %.1f ms\n",
                 opt.frames, median, median > 0 ? 1000.0 / median : 0.0, p90, worst);
+    std::printf("draw with  %s: the mesh ray cast by the CPU in %d of %d frames\n",
+                std::string(to_string(state.view.draw_with)).c_str(), ray_cast_frames, opt.frames);
+    std::printf("still      %.1f ms (the camera stopped: a ray-cast mesh gets every pixel)\n", still_ms);
     std::printf("first      %.1f ms (uploads the mesh and overlay)\n", first_ms);
     std::printf("peak mem   %s\n", format_bytes(peak).c_str());
     std::printf("gl         %s\n", (*app)->gl_description().c_str());
@@ -182,6 +197,11 @@ Command register_bench_view(CLI::App& app) {
                     "The overlay's box budget: deeper levels are left out beyond it (0 = no limit; default "
                     "200000, or the preset's)")
         ->check(whole_number(0, INT32_MAX, ">= 0"));
+    sub->add_option("--draw", opt->draw,
+                    "How the 3D view draws the mesh: raster (OpenGL) | raycast (the CPU ray caster, a quarter of "
+                    "the pixels while the camera orbits, every pixel in the still frame after) | auto (default: "
+                    "the preset's, else raster)")
+        ->check(CLI::IsMember(kDrawWithNames.names()));
     sub->add_flag("--json", opt->json, "Print one JSON object instead of the table");
     opt->camera.add_to(*sub);
     add_accel_flags(*sub, opt->accel);

@@ -50,6 +50,7 @@ struct RenderOptions {
     std::string pixel;          ///< step: the pixel whose ray is stepped
     bool accel_given = false;   ///< --accel was on the command line
     std::optional<double> time;  ///< --time: the moving scene's t (scene_at_time)
+    std::string draw;            ///< --draw: how the window's views draw the mesh ("": the preset's, else raster)
 };
 
 /// The views the CPU renderers of core/render compose (the window's own views are WindowView).
@@ -186,6 +187,10 @@ int run_render(const RenderOptions& given) {
     state.accel = opt.accel;  // already the preset's structure with the flags given applied on top
     if (window_view == WindowView::BuildStep) return run_build_step(opt, std::move(state));
     if (window_view == WindowView::FillOrder && opt.step >= 0) state.view.fill = float(opt.step) / 100.0f;
+    if (!opt.draw.empty()) {
+        if (!window_view) return fail("--draw is for the window's views (structure, gui, ...), not --view " + opt.view);
+        state.view.draw_with = *kDrawWithNames.parse(opt.draw);  // CLI11 checked the name
+    }
     if (window_view) {
         if (!opt.depth_out.empty()) return fail("--depth-out: only the CPU views write a depth file, not --view " + opt.view);
         return run_window_view(opt, *window_view, std::move(state));
@@ -294,6 +299,11 @@ Command register_render(CLI::App& app) {
                     "flags, structure/gui frame the scene like the window does")
         ->check(CLI::IsMember(all_views()))
         ->capture_default_str();
+    sub->add_option("--draw", opt->draw,
+                    "The window's views: how the 3D view draws the mesh: raster (OpenGL, every triangle) | "
+                    "raycast (the CPU ray caster through the structure, its depth under the overlay) | auto (the "
+                    "faster as estimated; default: the preset's, else raster)")
+        ->check(CLI::IsMember(kDrawWithNames.names()));
     sub->add_option("--width", opt->width, "Image width in pixels")->check(whole_number(1, 16384))->capture_default_str();
     sub->add_option("--height", opt->height, "Image height in pixels")->check(whole_number(1, 16384))->capture_default_str();
     sub->add_option("--threads", opt->threads, "Ray-casting threads (0 = all cores; more than the cores run on all cores)")

@@ -23,6 +23,12 @@ std::shared_ptr<WindowOptions> add_window_flags(CLI::App& app, const std::string
                  "scale, the preset's number, title and caption in a caption bar (C hides it); PageDown / PageUp "
                  "go through the presets (Home / End too, unless a stepper is open), B blanks the screen, L "
                  "leaves. Without SCENE or --preset, starts at the first preset");
+    app.add_option("--draw", opt->draw,
+                   "How the 3D view draws the mesh: raster (OpenGL, every triangle) | raycast (the CPU ray caster "
+                   "through the structure; a quarter of the pixels while the camera moves) | auto (whichever is "
+                   "measured faster on the scene); the View panel's \"Draw with\" (default: the preset's, else "
+                   "raster)")
+        ->check(CLI::IsMember(kDrawWithNames.names()));
     return opt;
 }
 
@@ -36,6 +42,7 @@ Expected<AppState> window_state(const WindowOptions& opt, const std::string& def
     if (!opt.scene.empty()) state.scene = opt.scene;
     else if (!opt.preset.state) state.scene = default_scene;
     state.accel = opt.accel;
+    if (!opt.draw.empty()) state.view.draw_with = *kDrawWithNames.parse(opt.draw);  // CLI11 checked the name
     if (opt.camera.any()) {
         if (state.camera) {
             auto params = opt.camera.resolve(*state.camera);

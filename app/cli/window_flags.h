@@ -22,6 +22,7 @@ struct WindowOptions {
     AccelConfig accel = AppState{}.accel;  ///< the preset's structure with the flags given over it
     CameraFlags camera;
     bool lecture = false;            ///< --lecture
+    std::string draw;                ///< --draw ("": the preset's, else raster)
 };
 
 /// Adds SCENE, --preset, the structure flags and the camera flags to the top-level

@@ -120,7 +120,8 @@ Expected<std::unique_ptr<Renderer>> Renderer::create() {
                              Program{&r->thick_boxes_program_, "boxes.vert", "thick_lines.frag", "thick_lines.geom"},
                              Program{&r->thick_coloured_program_, "coloured.vert", "thick_lines.frag",
                                      "thick_lines.geom"},
-                             Program{&r->image_program_, "image.vert", "image.frag", ""}}) {
+                             Program{&r->image_program_, "image.vert", "image.frag", ""},
+                             Program{&r->image_depth_program_, "image.vert", "image_depth.frag", ""}}) {
         auto program = ShaderProgram::from_embedded(p.vertex, p.fragment, p.geometry);
         if (!program) return Error{program.error()};
         *p.out = std::move(*program);
@@ -267,6 +268,37 @@ void Renderer::draw_image(const Texture& texture, const ViewRect& rect) {
     gl.DrawArrays(GL_TRIANGLE_STRIP, 0, 4);
     gl.BindVertexArray(0);
 }
+
+void Renderer::draw_image_with_depth(const Texture& colour, const Texture& depth, float opacity) {
+    if (colour.empty() || depth.empty() || view_.rect.empty()) return;
+    set_gl_viewport(view_.rect);
+    image_depth_program_.use();
+    gl.Uniform4f(image_depth_program_.uniform("rect"), -1.0f, 1.0f, 1.0f, -1.0f);  // the whole view
+    gl.Uniform1i(image_depth_program_.uniform("image"), 0);
+    gl.Uniform1i(image_depth_program_.uniform("depth"), 1);
+    gl.Uniform1f(image_depth_program_.uniform("opacity"), opacity);
+    gl.Enable(GL_DEPTH_TEST);
+    gl.DepthFunc(GL_ALWAYS);  // the picture is the nearest surface already
+    gl.DepthMask(GL_TRUE);
+    if (opacity >= 1.0f) {
+        gl.Disable(GL_BLEND);
+    } else {
+        gl.Enable(GL_BLEND);
+        gl.BlendEquation(GL_FUNC_ADD);
+        gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    }
+    gl.ActiveTexture(GL_TEXTURE1);
+    gl.BindTexture(GL_TEXTURE_2D, depth.id());
+    gl.ActiveTexture(GL_TEXTURE0);
+    gl.BindTexture(GL_TEXTURE_2D, colour.id());
+    gl.BindVertexArray(empty_vertex_array_.id());
+    gl.DrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    gl.BindVertexArray(0);
+    gl.DepthFunc(GL_LESS);
+    gl.Disable(GL_BLEND);
+}
+
+void Renderer::finish() { gl.Finish(); }
 
 void Renderer::draw_imgui(const ImDrawData* data) { imgui_->render(data, frame_width_, frame_height_); }
 

@@ -132,8 +132,16 @@ public:
     /// Translucent: blended, tested against depth but not writing it.
     void draw_quads(const ColouredBuffer& quads);
 
+    /// The mesh as a ray-cast picture instead of triangles: `colour` stretched over
+    /// the current view's rectangle, `depth` (depth-buffer values, 1 = no hit: left
+    /// to the background) written to the z-buffer, so the boxes, segments and quads
+    /// drawn after it are hidden behind the surface as behind draw_mesh's.
+    /// `opacity` < 1 blends it like a translucent mesh.
+    void draw_image_with_depth(const Texture& colour, const Texture& depth, float opacity = 1.0f);
     /// A texture stretched over a rectangle of the frame (screen space).
     void draw_image(const Texture& texture, const ViewRect& rect);
+    /// Waits until the GPU (or llvmpipe) has drawn everything asked so far (timing).
+    void finish();
     /// Dear ImGui's draw lists for this frame (over everything else).
     void draw_imgui(const ImDrawData* data);
     ImGuiRenderer& imgui() { return *imgui_; }
@@ -152,7 +160,7 @@ private:
     const ShaderProgram& line_program(bool boxes) const;
     void use_line_program(bool boxes);
 
-    ShaderProgram mesh_program_, boxes_program_, coloured_program_, image_program_;
+    ShaderProgram mesh_program_, boxes_program_, coloured_program_, image_program_, image_depth_program_;
     ShaderProgram thick_boxes_program_, thick_coloured_program_;  ///< with thick_lines.geom
     float line_width_ = 1.0f;
     GlVertexArray empty_vertex_array_;  ///< for draws that compute vertices from gl_VertexID

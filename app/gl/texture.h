@@ -14,6 +14,8 @@ public:
     void upload(const Image& image, bool smooth = false);
     /// Uploads tightly packed RGBA8 pixels.
     void upload_rgba(const unsigned char* pixels, int width, int height, bool smooth);
+    /// Uploads one float per pixel (top row first; a depth image), never filtered.
+    void upload_floats(const float* values, int width, int height);
 
     GLuint id() const { return texture_.id(); }
     int width() const { return width_; }

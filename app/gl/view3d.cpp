@@ -79,4 +79,22 @@ std::vector<float> depth_image_to_ray_t(const View3D& view, const std::vector<fl
     return t;
 }
 
+std::vector<float> ray_t_image_to_depth(const View3D& view, const std::vector<float>& ray_t) {
+    const int w = view.rect.width, h = view.rect.height;
+    const Camera camera(view.camera, w, h);
+    const double n = view.near_plane, f = view.far_plane;
+    std::vector<float> depth(ray_t.size(), 1.0f);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const size_t i = size_t(y) * w + x;
+            if (i >= ray_t.size() || !std::isfinite(ray_t[i])) continue;
+            const Vec3d d = camera.plane_direction(x + 0.5, y + 0.5);  // forward component is exactly 1
+            const double z = ray_t[i] / std::sqrt(dot(d, d));           // distance along forward
+            // glm::perspective's depth: z_ndc = ((f + n) - 2 n f / z) / (f - n).
+            const double z_ndc = ((f + n) - 2.0 * n * f / std::max(z, n)) / (f - n);
+            depth[i] = float(std::clamp(0.5 * z_ndc + 0.5, 0.0, 1.0));
+        }
+    return depth;
+}
+
 }  // namespace accelviz

@@ -44,5 +44,10 @@ View3D make_view3d(const CameraParams& camera, const ViewRect& rect, const Aabb&
 double depth_to_ray_t(const View3D& view, double window_depth, int x, int y);
 /// The same for a whole depth image of the view rectangle (top row first).
 std::vector<float> depth_image_to_ray_t(const View3D& view, const std::vector<float>& window_depth);
+/// The inverse, for a ray cast of the view rectangle (top row first): the depth-buffer
+/// value in [0, 1] of each pixel's hit distance t, so a ray-cast picture can fill
+/// the z-buffer and what OpenGL draws after it is hidden behind the surface.
+/// No hit (t = +inf) gives 1.0, the clear value; a hit nearer than the near plane, 0.
+std::vector<float> ray_t_image_to_depth(const View3D& view, const std::vector<float>& ray_t);
 
 }  // namespace accelviz

@@ -235,6 +235,7 @@ nlohmann::json to_json(const AppState& s) {
                  {"background", rgb_json(s.view.background)}, {"show_ui", s.view.show_ui},
                  {"show_help", s.view.show_help}, {"show_bounds", s.view.show_bounds},
                  {"mode", std::string(to_string(s.view.mode))},
+                 {"draw_with", std::string(to_string(s.view.draw_with))},
                  {"right_view", std::string(to_string(s.view.right_view))},
                  {"left_view", std::string(to_string(s.view.left_view))}, {"heat_same_scale", s.view.heat_same_scale},
                  {"line_width", s.view.line_width}, {"fill_order", s.view.fill_order}, {"fill", s.view.fill}};
@@ -300,6 +301,7 @@ Expected<AppState> app_state_from_json(const nlohmann::json& j) {
             if (!(s.view.line_width >= 1.0f && s.view.line_width <= 6.0f))
                 return Error{"view.line_width: must be between 1 and 6 pixels"};
             if (v.contains("mode")) s.view.mode = read_named(v["mode"], "view.mode", kViewModeNames);
+            if (v.contains("draw_with")) s.view.draw_with = read_named(v["draw_with"], "view.draw_with", kDrawWithNames);
             if (v.contains("right_view")) s.view.right_view = read_named(v["right_view"], "view.right_view", kRightViewNames);
             if (v.contains("left_view")) s.view.left_view = read_named(v["left_view"], "view.left_view", kLeftViewNames);
             s.view.heat_same_scale = read(v, "heat_same_scale", s.view.heat_same_scale, "view");

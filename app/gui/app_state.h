@@ -44,11 +44,22 @@ inline constexpr EnumNames<LeftView, 4> kLeftViewNames{{{{LeftView::OpenGl, "ope
                                                          {LeftView::RasterDepth, "raster-depth"},
                                                          {LeftView::OpenGlDepth, "opengl-depth"}}}};
 
+/// How the 3D view draws the mesh: rasterized by OpenGL (every triangle, z-buffer),
+/// ray cast by the CPU through the current structure (a ray per pixel; its depth
+/// written to the z-buffer so the overlay is hidden behind the surface as before),
+/// or whichever the last frames measured faster (the lecture's last slide:
+/// rasterization touches every triangle, a ray through a hierarchy need not).
+enum class DrawWith { Raster, RayCast, Auto };
+inline constexpr EnumNames<DrawWith, 3> kDrawWithNames{
+    {{{DrawWith::Raster, "raster"}, {DrawWith::RayCast, "raycast"}, {DrawWith::Auto, "auto"}}}};
+
 constexpr std::string_view to_string(ViewMode v) { return kViewModeNames.name(v); }
+constexpr std::string_view to_string(DrawWith v) { return kDrawWithNames.name(v); }
 constexpr std::string_view to_string(RightView v) { return kRightViewNames.name(v); }
 constexpr std::string_view to_string(LeftView v) { return kLeftViewNames.name(v); }
 
 inline std::ostream& operator<<(std::ostream& out, ViewMode v) { return out << to_string(v); }
+inline std::ostream& operator<<(std::ostream& out, DrawWith v) { return out << to_string(v); }
 inline std::ostream& operator<<(std::ostream& out, RightView v) { return out << to_string(v); }
 inline std::ostream& operator<<(std::ostream& out, LeftView v) { return out << to_string(v); }
 
@@ -65,6 +76,7 @@ struct ViewSettings {
     bool show_bounds = true;        ///< the scene's bounding box as a wireframe
     float line_width = 1.0f;        ///< pixels, 1 to 6: box edges and segments (wider for projectors)
     ViewMode mode = ViewMode::View3D;
+    DrawWith draw_with = DrawWith::Raster;      ///< the 3D view's mesh (not the split view's halves)
     RightView right_view = RightView::RayCast;  ///< in the split view
     LeftView left_view = LeftView::OpenGl;      ///< in the split view
     /// Heat maps keep the largest count seen since the scene was loaded as the top

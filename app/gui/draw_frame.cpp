@@ -1,6 +1,7 @@
 #include "app/gui/draw_frame.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -252,7 +253,48 @@ struct FramePlan {
     bool lecture = false;   ///< lecture mode: no panels; the caption bar and the view's labels
     bool split = false;     ///< raster | ray cast
     bool stepping = false;  ///< a ray is being stepped
+    bool mesh_ray_cast = false;  ///< the CPU ray caster draws the mesh (Draw with)
+    bool mesh_picture = false;   ///< ... and a picture of it is there to draw (none yet: no mesh)
 };
+
+// [SECTION] Draw with: raster or ray cast
+
+/// Above this many triangle tests for a picture, the naive structure does not ray
+/// cast the mesh (a picture would take minutes; the view stays rasterized).
+constexpr double kNaiveCastBudget = 2e9;
+/// "Auto" tries the ray caster once a rasterized mesh is estimated slower than this.
+constexpr double kAutoTryRayCastMs = 30.0;
+/// Before any measurement: a software rasterizer's rate (llvmpipe, two cores:
+/// about 12 million triangles a second, measured).
+constexpr double kRasterTrianglesPerMs = 12e3;
+
+/// The estimated time of rasterizing the scene's mesh: as measured on it, else at
+/// the rate measured on the last scene rasterized, else at a software renderer's.
+double raster_estimate_ms(const Session& session) {
+    const LoadedScene& scene = *session.scene;
+    if (session.raster_measured_scene == &scene && session.raster_mesh_ms > 0) return session.raster_mesh_ms;
+    return double(scene.mesh->triangle_count()) *
+           (session.raster_ms_per_triangle > 0 ? session.raster_ms_per_triangle : 1.0 / kRasterTrianglesPerMs);
+}
+
+/// Whether the CPU ray caster draws the 3D view's mesh this frame (View > Draw with).
+/// Not in the split view (its left half is the rasterizer to compare with), nor under
+/// the construction stepper's picture.
+bool mesh_by_ray_cast(const AppState& state, const Session& session, const FramePlan& plan, int pixels) {
+    if (state.view.draw_with == DrawWith::Raster || plan.split || !session.scene || !session.scene->accel ||
+        session.build_stepper.shows_3d(state))
+        return false;
+    const LoadedScene& scene = *session.scene;
+    if (scene.accel_config.type == AccelType::Naive &&
+        double(scene.mesh->triangle_count()) * double(pixels) > kNaiveCastBudget)
+        return false;
+    if (state.view.draw_with == DrawWith::RayCast) return true;
+    // Auto: whichever draws this view faster, as last measured.
+    const double cast_ms = session.surface_cast.full_cast_milliseconds(&scene);
+    const double raster_ms = raster_estimate_ms(session);
+    if (cast_ms <= 0) return raster_ms > kAutoTryRayCastMs;
+    return cast_ms < raster_ms;
+}
 
 /// One right panel at a time, the layout, the 3D view's input (ImGui's capture flags are
 /// from this frame's NewFrame), and the work this frame's picture needs started.
@@ -310,6 +352,19 @@ FramePlan plan_frame(AppState& state, Session& session, const FrameInput& input)
         session.ray_cast.cancel();
         if (session.ray_cast.has_result()) session.ray_cast.update_texture(state.view);
     }
+
+    // Draw with: the mesh ray cast by the CPU (on the worker; headless waits for
+    // the full picture, bench-view for the picture of each frame).
+    plan.mesh_ray_cast = state.camera && !layout.gl_view.empty() &&
+                         mesh_by_ray_cast(state, session, plan, layout.gl_view.width * layout.gl_view.height);
+    if (plan.mesh_ray_cast)
+        session.surface_cast.request(session.scene, *state.camera, layout.gl_view.width, layout.gl_view.height,
+                                     input.deterministic || input.wait_for_ray_cast,
+                                     input.deterministic && !input.wait_for_ray_cast);
+    else
+        session.surface_cast.cancel();
+    plan.mesh_picture = session.surface_cast.update_textures(session.scene.get()) && plan.mesh_ray_cast;
+    session.mesh_ray_cast = plan.mesh_ray_cast;
 
     return plan;
 }
@@ -491,13 +546,34 @@ FrameLayout draw_scene(AppState& state, Renderer& renderer, Session& session, co
             session.build_stepper.draw_3d(renderer, *session.mesh_buffer, state.build_step.step,
                                           state.view.background);
         } else {
+            // The mesh: its triangles rasterized, or the ray caster's picture with its depth.
+            auto draw_surface = [&] {
+                if (plan.mesh_ray_cast) {
+                    if (plan.mesh_picture)
+                        renderer.draw_image_with_depth(session.surface_cast.colour(), session.surface_cast.depth(),
+                                                       mesh_style.opacity);
+                    return;
+                }
+                // Auto measures the rasterized mesh (to glFinish) to choose between the two.
+                const bool measure = state.view.draw_with == DrawWith::Auto && !input.deterministic;
+                if (measure) renderer.finish();
+                const auto start = std::chrono::steady_clock::now();
+                renderer.draw_mesh(*session.mesh_buffer, mesh_style);
+                if (!measure) return;
+                renderer.finish();
+                session.raster_mesh_ms =
+                    std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+                session.raster_measured_scene = session.scene.get();
+                session.raster_ms_per_triangle =
+                    session.raster_mesh_ms / double(std::max<size_t>(1, session.scene->mesh->triangle_count()));
+            };
             if (mesh_style.opacity < 1.0f) {
                 // X-ray: the structure first (all of it), the nearest surface blended
                 // over it, then the structure again where it is in front of the surface.
                 draw_overlay();
-                if (mesh_style.opacity > 0.0f) renderer.draw_mesh(*session.mesh_buffer, mesh_style);
+                if (mesh_style.opacity > 0.0f) draw_surface();
             } else {
-                renderer.draw_mesh(*session.mesh_buffer, mesh_style);
+                draw_surface();
             }
             draw_overlay();
         }

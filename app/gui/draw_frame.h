@@ -19,6 +19,9 @@ struct FrameInput {
     std::vector<std::string> dropped_paths;  ///< files dropped on the window since the last frame
     bool draw_ui = true;                 ///< false: the 3D view alone, over the whole frame ("structure")
     bool deterministic = false;          ///< headless: no times, no animation (golden images)
+    /// The frame includes the ray-cast mesh of its own camera (Draw with: ray cast),
+    /// cast as the window would (a quarter of the pixels while the camera moves): bench-view.
+    bool wait_for_ray_cast = false;
 };
 
 /// What the frame laid out, for the caller (read-back, tests).

@@ -61,6 +61,10 @@ public:
     }
     /// Called on the worker when a result is ready (e.g. to wake the window).
     std::function<void()> on_finished;
+    /// true: the result of work superseded while it ran is handed out too (until a
+    /// newer one finishes), for progressive pictures, where an older picture beats
+    /// none while the camera keeps moving. Set before the first submit.
+    bool keep_superseded = false;
 
 private:
     void run() {
@@ -76,7 +80,7 @@ private:
             Result result = work();
             lock.lock();
             running_ = false;
-            if (id == newest_) {
+            if (id == newest_ || keep_superseded) {
                 finished_ = std::move(result);
                 if (on_finished) on_finished();
             }

@@ -398,7 +398,20 @@ void ViewPanel::draw_split_choices(ViewSettings& view) {
     // Raster vs ray cast (S).
     bool split = view.mode == ViewMode::Split;
     if (ImGui::Checkbox("Raster | ray cast (S)", &split)) view.mode = split ? ViewMode::Split : ViewMode::View3D;
-    if (split) {
+    if (!split) {
+        // How the 3D view draws the mesh: the lecture's last slide, on screen.
+        static constexpr const char* kDrawLabels[] = {"raster (OpenGL)", "ray cast (CPU)", "auto (the faster)"};
+        static_assert(std::size(kDrawLabels) == kDrawWithNames.entries.size());
+        int draw_with = int(view.draw_with);  // the labels are in the enum's order
+        ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);
+        if (ImGui::Combo("Draw with", &draw_with, kDrawLabels, int(std::size(kDrawLabels))))
+            view.draw_with = DrawWith(draw_with);
+        if (ImGui::IsItemHovered())
+            ImGui::SetTooltip("Raster: OpenGL draws every triangle (z-buffer).\n"
+                              "Ray cast: a ray per pixel through the structure, on the CPU;\n"
+                              "a quarter of the pixels while the camera moves.\n"
+                              "Auto: whichever was measured faster on this scene.");
+    } else {
         static constexpr const char* kLeftLabels[] = {"OpenGL (its z-buffer)", "CPU rasterizer", "CPU raster depth", "OpenGL depth (read back)"};
         static_assert(std::size(kLeftLabels) == kLeftViewNames.entries.size());
         int left = int(view.left_view);  // the labels are in the enum's order
@@ -512,6 +525,30 @@ void ViewPanel::draw_files(AppState& state, Session& session) {
 
 // [SECTION] Status line
 
+namespace {
+
+/// What drew the mesh of the last frame, for the status line ("Draw with" other than raster).
+std::string drawn_by(const AppState& state, const Session& session, bool deterministic) {
+    std::string text = state.view.draw_with == DrawWith::Auto ? "auto: " : "";
+    if (!session.mesh_ray_cast) {
+        text += "raster (OpenGL)";
+        if (state.view.draw_with == DrawWith::RayCast) text += ", a naive ray cast of this scene would take minutes";
+        return text;
+    }
+    text += "ray cast (CPU)";
+    const auto& shown = session.surface_cast.shown();
+    if (!shown || shown->scene != session.scene.get()) return text + ", casting ...";
+    if (shown->divisor > 1) text += ", a quarter of the pixels";
+    if (!deterministic) {
+        char ms[48];
+        std::snprintf(ms, sizeof ms, ", %.0f ms", session.surface_cast.shown_milliseconds());
+        text += ms;
+    }
+    return text;
+}
+
+}  // namespace
+
 void StatsBar::draw(const AppState& state, const Session& session, double frame_ms, bool deterministic) {
     std::string line;
     if (const LoadedScene* scene = session.scene.get()) {
@@ -533,6 +570,8 @@ void StatsBar::draw(const AppState& state, const Session& session, double frame_
     } else {
         line = "no scene";
     }
+    if (session.scene && state.view.mode == ViewMode::View3D && state.view.draw_with != DrawWith::Raster)
+        line += "  |  " + drawn_by(state, session, deterministic);
     if (!deterministic && frame_ms > 0) {
         char text[64];
         std::snprintf(text, sizeof text, "  |  %.1f ms/frame", frame_ms);
@@ -542,8 +581,12 @@ void StatsBar::draw(const AppState& state, const Session& session, double frame_
     if (const std::string caption = session.presets.caption(); !caption.empty()) line = caption + "  |  " + line;
     ImGui::TextUnformatted(line.c_str());
     last_line = line;
-    ImGui::SameLine(ImGui::GetWindowContentRegionMax().x - ImGui::CalcTextSize("F1: help").x);
-    ImGui::TextDisabled("F1: help");
+    // The hint at the right end, where the line leaves room for it (never over it).
+    const float hint_x = ImGui::GetWindowContentRegionMax().x - ImGui::CalcTextSize("F1: help").x;
+    if (ImGui::GetItemRectMax().x + ImGui::GetFontSize() < hint_x + ImGui::GetWindowPos().x) {
+        ImGui::SameLine(hint_x);
+        ImGui::TextDisabled("F1: help");
+    }
 }
 
 // [SECTION] Help

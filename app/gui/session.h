@@ -18,6 +18,7 @@
 #include "app/gui/panels.h"
 #include "app/gui/presets.h"
 #include "app/gui/ray_cast_view.h"
+#include "app/gui/surface_cast.h"
 #include "app/gui/scene_loader.h"
 #include "app/gui/stepper_panel.h"
 #include "app/gui/structure_overlay.h"
@@ -65,6 +66,16 @@ struct Session {
 
     /// The CPU ray caster's picture for the split view.
     RayCastView ray_cast;
+
+    /// "Draw with: ray cast": the 3D view's mesh from the CPU ray caster.
+    SurfaceCast surface_cast;
+    /// What drew the mesh in the last frame (the status line says which).
+    bool mesh_ray_cast = false;
+    /// "Draw with: auto": the last rasterized mesh's time in ms (to glFinish) and the
+    /// scene it was measured on (0 / null: not measured).
+    double raster_mesh_ms = 0;
+    const LoadedScene* raster_measured_scene = nullptr;
+    double raster_ms_per_triangle = 0;  ///< from the last measurement, for a scene not yet measured
 
     /// The construction stepper: the recorded BVH build and the SAH chart of the step shown.
     BuildStepper build_stepper;

@@ -170,6 +170,12 @@ public:
             j["two_bvhs"] = {{"width", t->width}, {"height", t->height}, {"trees", trees}};
         }
         j["status"] = session.stats_bar.last_line;
+        // Draw with: what drew the mesh, the ray-cast picture's pixel divisor (1: every
+        // pixel, 2: a quarter; 0: none shown), and how many quarter pictures were shown.
+        const auto& cast = session.surface_cast.shown();
+        j["mesh"] = {{"drawn_by", session.mesh_ray_cast ? "raycast" : "raster"},
+                     {"cast_divisor", session.mesh_ray_cast && cast ? cast->divisor : 0},
+                     {"quarter_pictures", session.surface_cast.quarter_pictures_shown()}};
         j["lecture"] = {{"on", session.lecture.on}, {"caption", session.lecture.caption}, {"blank", session.lecture.blank},
                         {"preset", session.presets.current()}, {"font_size", ImGui::GetFontSize()}};
         j["message"] = session.message;
@@ -262,6 +268,7 @@ int run_window(AppState state, const std::string& preset_path, bool lecture, boo
             Session session;
             session.loader.on_finished = [] { GlfwWindow::wake_up(); };
             session.ray_cast.set_on_finished([] { GlfwWindow::wake_up(); });
+            session.surface_cast.set_on_finished([] { GlfwWindow::wake_up(); });
             session.build_stepper.set_on_finished([] { GlfwWindow::wake_up(); });
             session.comparison.set_on_finished([] { GlfwWindow::wake_up(); });
             session.two_bvhs.set_on_finished([] { GlfwWindow::wake_up(); });
@@ -325,6 +332,7 @@ int run_window(AppState state, const std::string& preset_path, bool lecture, boo
             // would keep a closed window's process alive. Nothing is left to save, so the
             // process ends here.
             if (session.loader.busy() || session.build_stepper.busy() || session.ray_cast.busy() ||
+                session.surface_cast.busy() ||
                 session.stepper.has_pending_work() || session.comparison.busy() ||
                 session.two_bvhs.busy()) {
                 std::cout.flush();

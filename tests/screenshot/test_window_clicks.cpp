@@ -529,6 +529,34 @@ TEST(WindowClicks, AMovingScenePlaysWithItsBvhRefitted) {
     w.wait_for("idle again", [](const json& snap) { return !snap["busy"].get<bool>(); });
 }
 
+TEST(WindowClicks, DrawWithRayCastCastsTheMeshAQuarterWhileMovingAndAllWhenStill) {
+    Window w;
+    w.start("builtin:teapot");
+    w.pick("Draw with", "ray cast (CPU)");
+    const json cast = w.wait_for("the mesh ray cast, every pixel", [](const json& s) {
+        return s["state"]["view"]["draw_with"] == "raycast" && s["mesh"]["drawn_by"] == "raycast" &&
+               s["mesh"]["cast_divisor"] == 1 && !s["busy"].get<bool>();
+    });
+    EXPECT_NE(cast["status"].get<std::string>().find("ray cast (CPU)"), std::string::npos) << cast["status"];
+    const int quarters_before = cast["mesh"]["quarter_pictures"];
+    // Orbit with the mouse: a quarter of the pixels while the camera moves, all once it stops.
+    const json view = cast["view"];
+    const double cx = view[0].get<double>() + 0.5 * view[2].get<double>();
+    const double cy = view[1].get<double>() + 0.5 * view[3].get<double>();
+    w.move_to(cx, cy);
+    w.press();
+    for (int i = 1; i <= 8; ++i) w.move_to(cx + 15 * i, cy + 3 * i);
+    w.release();
+    const json still = w.wait_for("every pixel again once the camera is still", [&](const json& s) {
+        return s["mesh"]["cast_divisor"] == 1 && !s["busy"].get<bool>() && s["state"]["camera"] != cast["state"]["camera"];
+    });
+    EXPECT_GT(still["mesh"]["quarter_pictures"].get<int>(), quarters_before) << "no quarter picture while moving";
+    w.pick("Draw with", "raster (OpenGL)");
+    w.wait_for("rasterized again", [](const json& s) {
+        return s["mesh"]["drawn_by"] == "raster" && s["mesh"]["cast_divisor"] == 0 && !s["busy"].get<bool>();
+    });
+}
+
 TEST(WindowClicks, DraggingTheLeafSizeSliderRebuildsOnRelease) {
     Window w;
     w.start("builtin:teapot");
@@ -549,8 +577,11 @@ TEST(WindowFlags, TheWindowOpensOnWhatTheFlagsSay) {
     // The structure and camera flags, over the defaults.
     {
         Window w;
-        w.start("builtin:cube", {"--accel", "kd", "--kd-build", "median", "--eye", "3,2,1", "--target", "0,0.5,0"});
+        w.start("builtin:cube", {"--accel", "kd", "--kd-build", "median", "--eye", "3,2,1", "--target", "0,0.5,0",
+                                 "--draw", "raycast"});
         const json state = w.settled_state();
+        EXPECT_EQ(state["view"]["draw_with"], "raycast");
+        EXPECT_EQ(w.snapshot()["mesh"]["drawn_by"], "raycast");
         EXPECT_EQ(state["structure"]["type"], "kd");
         EXPECT_EQ(state["structure"]["kd"]["builder"], "median");
         EXPECT_EQ(state["camera"]["eye"], json::parse("[3.0, 2.0, 1.0]"));

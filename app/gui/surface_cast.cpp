@@ -1,0 +1,94 @@
+#include "app/gui/surface_cast.h"
+
+#include <mutex>
+
+#include "app/gl/view3d.h"
+#include "core/render/ray_caster.h"
+
+namespace accelviz {
+
+struct SurfaceCast::Result {
+    Key key;
+    std::shared_ptr<const LoadedScene> scene;  ///< keeps key.scene alive
+    Image colour;
+    std::vector<float> depth;  ///< depth-buffer values, top row first
+    double milliseconds = 0;
+    bool cancelled = false;
+};
+
+/// The triangles the shading reads (made once per mesh: 48 bytes a triangle, so
+/// not per frame at ten million). Used by the worker alone.
+struct SurfaceCast::TriangleCache {
+    std::shared_ptr<const Mesh> mesh;
+    TriangleArray triangles;
+};
+
+SurfaceCast::SurfaceCast() : triangles_(std::make_shared<TriangleCache>()) { job_.keep_superseded = true; }
+
+void SurfaceCast::request(const std::shared_ptr<const LoadedScene>& scene, const CameraParams& camera, int width,
+                          int height, bool wait, bool full) {
+    if (!scene || width <= 0 || height <= 0) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (!(camera == last_camera_)) {
+        last_camera_ = camera;
+        moved_at_ = now;
+    }
+    const bool moving = !full && std::chrono::duration<double>(now - moved_at_).count() < kStillSeconds;
+    const Key key{scene.get(), camera, width, height, moving ? 2 : 1};
+    if (key == requested_) {
+        if (wait) job_.wait();
+        return;
+    }
+    // A full picture under way is not wanted any more; a quarter one is let finish
+    // (it is quick, and shown until a newer one is).
+    if (cancel_ && requested_.divisor == 1) cancel_->cancel();
+    requested_ = key;
+    cancel_ = std::make_shared<WorkProgress>();
+    job_.submit([key, scene, cancel = cancel_, cache = triangles_] {
+        const auto start = std::chrono::steady_clock::now();
+        auto r = std::make_shared<Result>();
+        r->key = key;
+        r->scene = scene;
+        if (cache->mesh != scene->mesh) {
+            cache->triangles = make_triangles(*scene->mesh);
+            cache->mesh = scene->mesh;
+        }
+        const int w = (key.width + key.divisor - 1) / key.divisor, h = (key.height + key.divisor - 1) / key.divisor;
+        RayCastOptions options;
+        options.cancel = cancel.get();
+        Frame frame = ray_cast(*scene->accel, cache->triangles, Camera(key.camera, w, h), options);
+        r->cancelled = cancel->cancelled();
+        if (r->cancelled) return r;
+        r->depth = ray_t_image_to_depth(make_view3d(key.camera, ViewRect{0, 0, w, h}, scene->bounds), frame.depth);
+        r->colour = std::move(frame.colour);
+        r->milliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        return r;
+    });
+    if (wait) job_.wait();
+}
+
+bool SurfaceCast::update_textures(const LoadedScene* scene) {
+    if (auto taken = job_.take(); taken && *taken && !(*taken)->cancelled) {
+        const Result& r = **taken;
+        if (!colour_) colour_ = std::make_unique<Texture>();
+        if (!depth_) depth_ = std::make_unique<Texture>();
+        colour_->upload(r.colour, /*smooth=*/r.key.divisor > 1);
+        depth_->upload_floats(r.depth.data(), r.colour.width, r.colour.height);
+        shown_ = r.key;
+        shown_ms_ = r.milliseconds;
+        if (r.key.divisor > 1) ++quarter_pictures_;
+        if (measured_scene_ != r.key.scene) full_ms_ = 0;
+        measured_scene_ = r.key.scene;
+        if (r.key.divisor == 1 || full_ms_ == 0)
+            full_ms_ = r.milliseconds * double(r.key.divisor) * double(r.key.divisor);
+    }
+    return shown_ && shown_->scene == scene && colour_ && !colour_->empty();
+}
+
+void SurfaceCast::cancel() {
+    if (cancel_) cancel_->cancel();
+    requested_ = Key{};
+    last_camera_ = CameraParams{};
+}
+
+}  // namespace accelviz
