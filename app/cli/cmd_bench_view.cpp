@@ -122,7 +122,7 @@ int run_bench_view(const BenchViewOptions& opt) {
         ray_cast_frames += session.mesh_ray_cast ? 1 : 0;
     }
     // The camera stopped: the full picture (ray cast: every pixel, after the still time).
-    std::this_thread::sleep_for(std::chrono::duration<double>(SurfaceCast::kStillSeconds));
+    std::this_thread::sleep_for(std::chrono::duration<double>(Session::kCameraStillSeconds));
     const double still_ms = timed_frame();
     const double median = quantile(frame_ms, 0.5), p90 = quantile(frame_ms, 0.9),
                  worst = *std::max_element(frame_ms.begin(), frame_ms.end());

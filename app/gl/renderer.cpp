@@ -214,15 +214,16 @@ void Renderer::use_line_program(bool boxes) {
     gl.Uniform1f(program.uniform("line_width"), line_width_);
 }
 
-void Renderer::draw_boxes(const BoxBuffer& boxes) {
-    if (boxes.size() == 0) return;
+void Renderer::draw_boxes(const BoxBuffer& boxes, size_t count) {
+    count = std::min(count, boxes.size());
+    if (count == 0) return;
     use_line_program(/*boxes=*/true);
     // The depth buffer keeps the mesh alone (read back as the raster depth).
     set_translucent_state();
     if (!boxes.translucent_) gl.Disable(GL_BLEND);  // opaque boxes: measurably faster on llvmpipe
     gl.BindVertexArray(boxes.vertex_array_.id());
     // 12 edges per box, every box at once.
-    gl.DrawElementsInstanced(GL_LINES, 24, GL_UNSIGNED_BYTE, nullptr, GLsizei(boxes.size()));
+    gl.DrawElementsInstanced(GL_LINES, 24, GL_UNSIGNED_BYTE, nullptr, GLsizei(count));
     gl.BindVertexArray(0);
     gl.DepthMask(GL_TRUE);
 }

@@ -127,7 +127,8 @@ public:
     /// buffer holds the mesh alone (the window's raster depth, read back and
     /// compared with the ray caster). They are drawn slightly towards the eye (a
     /// constant NDC depth bias), so edges lying on a surface are not hidden by it.
-    void draw_boxes(const BoxBuffer& boxes);
+    /// `count`: the first `count` boxes only (SIZE_MAX: all).
+    void draw_boxes(const BoxBuffer& boxes, size_t count = SIZE_MAX);
     void draw_segments(const ColouredBuffer& segments);
     /// Translucent: blended, tested against depth but not writing it.
     void draw_quads(const ColouredBuffer& quads);

@@ -253,6 +253,7 @@ struct FramePlan {
     bool lecture = false;   ///< lecture mode: no panels; the caption bar and the view's labels
     bool split = false;     ///< raster | ray cast
     bool stepping = false;  ///< a ray is being stepped
+    bool moving = false;         ///< the camera moves: the view is drawn lighter (Session::camera_moving)
     bool mesh_ray_cast = false;  ///< the CPU ray caster draws the mesh (Draw with)
     bool mesh_picture = false;   ///< ... and a picture of it is there to draw (none yet: no mesh)
 };
@@ -353,14 +354,24 @@ FramePlan plan_frame(AppState& state, Session& session, const FrameInput& input)
         if (session.ray_cast.has_result()) session.ray_cast.update_texture(state.view);
     }
 
+    // The camera's motion: a new camera now, or within the still time, draws lighter.
+    // Golden images never move; bench-view's orbit does, as the window's would.
+    const auto now = std::chrono::steady_clock::now();
+    if (state.camera && !(*state.camera == session.last_camera)) {
+        session.last_camera = *state.camera;
+        session.camera_moved_at = now;
+    }
+    plan.moving = (!input.deterministic || input.wait_for_ray_cast) &&
+                  std::chrono::duration<double>(now - session.camera_moved_at).count() < Session::kCameraStillSeconds;
+    session.camera_moving = plan.moving;
+
     // Draw with: the mesh ray cast by the CPU (on the worker; headless waits for
     // the full picture, bench-view for the picture of each frame).
     plan.mesh_ray_cast = state.camera && !layout.gl_view.empty() &&
                          mesh_by_ray_cast(state, session, plan, layout.gl_view.width * layout.gl_view.height);
     if (plan.mesh_ray_cast)
         session.surface_cast.request(session.scene, *state.camera, layout.gl_view.width, layout.gl_view.height,
-                                     input.deterministic || input.wait_for_ray_cast,
-                                     input.deterministic && !input.wait_for_ray_cast);
+                                     input.deterministic || input.wait_for_ray_cast, !plan.moving);
     else
         session.surface_cast.cancel();
     plan.mesh_picture = session.surface_cast.update_textures(session.scene.get()) && plan.mesh_ray_cast;
@@ -532,7 +543,8 @@ FrameLayout draw_scene(AppState& state, Renderer& renderer, Session& session, co
             if (stepping) session.stepper.draw_3d(renderer, state.view.line_width);
             if (!overlay) return;
             renderer.draw_quads(*session.overlay_quads);
-            renderer.draw_boxes(*session.overlay_boxes);
+            renderer.draw_boxes(*session.overlay_boxes,
+                                plan.moving ? session.overlay.moving_prefix(Session::kMovingBoxBudget) : SIZE_MAX);
         };
         MeshStyle mesh_style;
         mesh_style.opacity = state.overlay.mesh_opacity;

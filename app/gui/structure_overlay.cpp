@@ -71,6 +71,34 @@ void count_level(std::vector<size_t>& per_level, int depth) {
     ++per_level[size_t(depth)];
 }
 
+// [SECTION] Boxes in level order
+
+/// Collects boxes with their levels, then lays them out level by level (a stable
+/// counting sort: the structure's order within a level) with the levels' ends.
+class LevelOrderedBoxes {
+public:
+    explicit LevelOrderedBoxes(LevelRange levels) : levels_(levels) {}
+    void add(const BoxInstance& box, int level) { pending_.push_back({box, level - levels_.lo}); }
+    void finish(StructureOverlay& out) {
+        std::vector<size_t> ends(size_t(levels_.hi - levels_.lo + 1), 0);
+        for (const Pending& p : pending_) ++ends[size_t(p.level)];
+        for (size_t k = 1; k < ends.size(); ++k) ends[k] += ends[k - 1];
+        std::vector<size_t> next(ends.size(), 0);
+        for (size_t k = 1; k < ends.size(); ++k) next[k] = ends[k - 1];
+        out.boxes.resize(pending_.size());
+        for (const Pending& p : pending_) out.boxes[next[size_t(p.level)]++] = p.box;
+        out.level_ends = std::move(ends);
+    }
+
+private:
+    struct Pending {
+        BoxInstance box;
+        int level;
+    };
+    LevelRange levels_;
+    std::vector<Pending> pending_;
+};
+
 // [SECTION] BVH: node boxes by depth
 
 void bvh_overlay(const Bvh& bvh, const OverlaySettings& s, StructureOverlay& out) {
@@ -87,11 +115,13 @@ void bvh_overlay(const Bvh& bvh, const OverlaySettings& s, StructureOverlay& out
         if (!s.leaves_only || bvh.nodes[i].is_leaf()) count_level(per_level, depth[i]);
     const ShownLevels shown = shown_levels(s, out.deepest_level, per_level);
     const LevelRange levels = shown.range;
+    LevelOrderedBoxes boxes(levels);
     for (size_t i = 0; i < bvh.nodes.size(); ++i) {
         const BvhNode& n = bvh.nodes[i];
         if (!levels.contains(depth[i]) || (s.leaves_only && !n.is_leaf())) continue;
-        out.boxes.push_back({n.bounds.lo, n.bounds.hi, level_colour(level_position(depth[i], levels.lo, levels.hi))});
+        boxes.add({n.bounds.lo, n.bounds.hi, level_colour(level_position(depth[i], levels.lo, levels.hi))}, depth[i]);
     }
+    boxes.finish(out);
     out.legend = range_legend(s.leaves_only ? "BVH leaves" : "BVH nodes", shown, out.deepest_level, s.max_boxes);
 }
 
@@ -106,10 +136,12 @@ void wide_bvh_overlay(const Wide& bvh, const OverlaySettings& s, StructureOverla
     });
     const ShownLevels shown = shown_levels(s, out.deepest_level, per_level);
     const LevelRange levels = shown.range;
+    LevelOrderedBoxes boxes(levels);
     bvh.for_each_box([&](uint32_t, const Aabb& box, uint32_t depth, uint32_t leaf_count) {
         if (!levels.contains(int(depth)) || (s.leaves_only && leaf_count == 0)) return;
-        out.boxes.push_back({box.lo, box.hi, level_colour(level_position(int(depth), levels.lo, levels.hi))});
+        boxes.add({box.lo, box.hi, level_colour(level_position(int(depth), levels.lo, levels.hi))}, int(depth));
     });
+    boxes.finish(out);
     char what[64];
     std::snprintf(what, sizeof what, "%d-wide BVH %s", Wide::kWidth, s.leaves_only ? "leaves" : "nodes");
     out.legend = range_legend(what, shown, out.deepest_level, s.max_boxes);
@@ -162,13 +194,15 @@ void octree_overlay(const Octree& tree, const OverlaySettings& s, StructureOverl
     }
     const ShownLevels shown = shown_levels(s, out.deepest_level, per_level);
     const LevelRange levels = shown.range;
+    LevelOrderedBoxes ordered(levels);
     for (const Cell& c : cells) {
         const OctreeNode& n = tree.nodes[c.node];
         if (!levels.contains(c.depth)) continue;
         if (s.leaves_only && (!n.is_leaf() || n.count == 0)) continue;
         const Aabb& box = boxes[c.node];
-        out.boxes.push_back({box.lo, box.hi, level_colour(level_position(c.depth, levels.lo, levels.hi))});
+        ordered.add({box.lo, box.hi, level_colour(level_position(c.depth, levels.lo, levels.hi))}, c.depth);
     }
+    ordered.finish(out);
     out.legend = range_legend(s.leaves_only ? "Octree non-empty leaves" : "Octree cells", shown, out.deepest_level,
                               s.max_boxes);
 }
@@ -193,13 +227,14 @@ void kd_overlay(const KdTree& tree, const OverlaySettings& s, StructureOverlay& 
     }
     const ShownLevels shown = shown_levels(s, out.deepest_level, per_level);
     const LevelRange levels = shown.range;
+    LevelOrderedBoxes ordered(levels);
     for (const Cell& c : cells) {
         const KdNode& n = tree.nodes[c.node];
         if (!levels.contains(c.depth)) continue;
         const double x = level_position(c.depth, levels.lo, levels.hi);
         const Aabb& box = boxes[c.node];
         if (s.leaves_only) {
-            if (n.is_leaf() && n.count > 0) out.boxes.push_back({box.lo, box.hi, level_colour(x)});
+            if (n.is_leaf() && n.count > 0) ordered.add({box.lo, box.hi, level_colour(x)}, c.depth);
             continue;
         }
         if (n.is_leaf()) continue;
@@ -212,8 +247,9 @@ void kd_overlay(const KdTree& tree, const OverlaySettings& s, StructureOverlay& 
         // The rectangle's outline, so the plane reads edge-on too: a flat box.
         Aabb rim = box;
         rim.lo[n.axis] = rim.hi[n.axis] = n.split;
-        out.boxes.push_back({rim.lo, rim.hi, level_colour(x, 200)});
+        ordered.add({rim.lo, rim.hi, level_colour(x, 200)}, c.depth);
     }
+    ordered.finish(out);
     out.legend = range_legend(s.leaves_only ? "KD non-empty leaves" : "KD split planes", shown, out.deepest_level,
                               s.max_boxes);
 }
@@ -281,6 +317,14 @@ LeafHistogram leaf_histogram(const Accelerator& accel) {
         for (size_t c = 0; c + 1 < start.size(); ++c) add(start[c + 1] - start[c]);
     }
     return out;
+}
+
+size_t StructureOverlay::moving_prefix(size_t budget) const {
+    if (level_ends.empty()) return boxes.size();
+    size_t prefix = level_ends.front();
+    for (size_t end : level_ends)
+        if (end <= budget) prefix = end;
+    return prefix;
 }
 
 StructureOverlay make_structure_overlay(const Accelerator& accel, const OverlaySettings& settings) {

@@ -19,7 +19,14 @@
 namespace accelviz {
 
 struct StructureOverlay {
+    /// BVH, KD tree and octree: by level, the shallowest first (the structure's own
+    /// order within a level), so the first level_ends[k] boxes are levels lo..lo+k
+    /// of those shown: a moving camera draws a prefix. The grid: by cell.
     std::vector<BoxInstance> boxes;
+    std::vector<size_t> level_ends;  ///< empty for the grid
+    /// The boxes a moving camera draws: whole shallow levels, at most `budget`
+    /// boxes (at least the first level); all of them for the grid.
+    size_t moving_prefix(size_t budget) const;
     std::vector<ColouredQuad> quads;
     int deepest_level = 0;  ///< of the whole structure (root = 0); 0 for a grid or naive
     std::string legend;     ///< one line saying what the colours mean

@@ -1,6 +1,6 @@
 #include "app/gui/surface_cast.h"
 
-#include <mutex>
+#include <chrono>
 
 #include "app/gl/view3d.h"
 #include "core/render/ray_caster.h"
@@ -28,13 +28,7 @@ SurfaceCast::SurfaceCast() : triangles_(std::make_shared<TriangleCache>()) { job
 void SurfaceCast::request(const std::shared_ptr<const LoadedScene>& scene, const CameraParams& camera, int width,
                           int height, bool wait, bool full) {
     if (!scene || width <= 0 || height <= 0) return;
-    const auto now = std::chrono::steady_clock::now();
-    if (!(camera == last_camera_)) {
-        last_camera_ = camera;
-        moved_at_ = now;
-    }
-    const bool moving = !full && std::chrono::duration<double>(now - moved_at_).count() < kStillSeconds;
-    const Key key{scene.get(), camera, width, height, moving ? 2 : 1};
+    const Key key{scene.get(), camera, width, height, full ? 1 : 2};
     if (key == requested_) {
         if (wait) job_.wait();
         return;
@@ -45,7 +39,6 @@ void SurfaceCast::request(const std::shared_ptr<const LoadedScene>& scene, const
     requested_ = key;
     cancel_ = std::make_shared<WorkProgress>();
     job_.submit([key, scene, cancel = cancel_, cache = triangles_] {
-        const auto start = std::chrono::steady_clock::now();
         auto r = std::make_shared<Result>();
         r->key = key;
         r->scene = scene;
@@ -56,12 +49,13 @@ void SurfaceCast::request(const std::shared_ptr<const LoadedScene>& scene, const
         const int w = (key.width + key.divisor - 1) / key.divisor, h = (key.height + key.divisor - 1) / key.divisor;
         RayCastOptions options;
         options.cancel = cancel.get();
+        const auto start = std::chrono::steady_clock::now();  // the cast alone (auto compares it with the raster)
         Frame frame = ray_cast(*scene->accel, cache->triangles, Camera(key.camera, w, h), options);
+        r->milliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
         r->cancelled = cancel->cancelled();
         if (r->cancelled) return r;
         r->depth = ray_t_image_to_depth(make_view3d(key.camera, ViewRect{0, 0, w, h}, scene->bounds), frame.depth);
         r->colour = std::move(frame.colour);
-        r->milliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
         return r;
     });
     if (wait) job_.wait();
@@ -88,7 +82,6 @@ bool SurfaceCast::update_textures(const LoadedScene* scene) {
 void SurfaceCast::cancel() {
     if (cancel_) cancel_->cancel();
     requested_ = Key{};
-    last_camera_ = CameraParams{};
 }
 
 }  // namespace accelviz

@@ -8,12 +8,11 @@
 /// each frame; a ray through a hierarchy touches a few nodes, whatever the mesh.
 ///
 /// Progressive: while the camera moves, a quarter of the pixels (half the width and
-/// half the height) is cast and stretched over the view; once the camera has been
-/// still for kStillSeconds, the full picture. The casts run on a worker that keeps
+/// half the height) is cast and stretched over the view; once it is still, every
+/// pixel (the caller says which: Session's camera motion). The casts run on a worker that keeps
 /// superseded results (an older picture beats none while the camera keeps moving);
 /// the UI thread never waits, except headless, which waits for the full picture.
 
-#include <chrono>
 #include <memory>
 #include <optional>
 
@@ -26,9 +25,6 @@ namespace accelviz {
 
 class SurfaceCast {
 public:
-    /// How long the camera stays still before the full picture is cast.
-    static constexpr double kStillSeconds = 0.2;
-
     /// What a cast was made of; a new cast is needed when it changes.
     struct Key {
         const LoadedScene* scene = nullptr;
@@ -43,7 +39,7 @@ public:
 
     /// Asks for a picture of the view (every frame while the ray caster draws the
     /// mesh; UI thread). `wait`: block until it is done (headless, bench-view);
-    /// `full`: every pixel even while the camera moves (golden images).
+    /// `full`: every pixel (the camera is still), else a quarter of them.
     void request(const std::shared_ptr<const LoadedScene>& scene, const CameraParams& camera, int width, int height,
                  bool wait, bool full);
     /// Takes a finished cast into the textures (GL thread). True when a picture of
@@ -81,8 +77,6 @@ private:
     double shown_ms_ = 0;
     int quarter_pictures_ = 0;
     std::unique_ptr<Texture> colour_, depth_;  ///< made at the first picture (a Session may have no GL)
-    CameraParams last_camera_;
-    std::chrono::steady_clock::time_point moved_at_{};
     const LoadedScene* measured_scene_ = nullptr;
     double full_ms_ = 0;
 };

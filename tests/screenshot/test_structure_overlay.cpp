@@ -1,6 +1,8 @@
 // The overlay's plain data (no GL): which boxes each setting selects.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "app/gui/scene_loader.h"
 #include "app/gui/structure_overlay.h"
 #include "core/accel/bvh.h"
@@ -30,6 +32,42 @@ TEST(StructureOverlay, BvhAllLevelsIsEveryNodeAndLeavesOnlyIsEveryLeaf) {
     size_t leaf_count = 0;
     for (const BvhNode& n : bvh.nodes) leaf_count += n.is_leaf();
     EXPECT_EQ(make_structure_overlay(*scene->accel, leaves).boxes.size(), leaf_count);
+}
+
+TEST(StructureOverlay, BoxesComeLevelByLevelSoAMovingCameraDrawsWholeShallowLevels) {
+    for (const char* type : {"bvh", "octree", "kd"}) {
+        auto scene = teapot_with(type);
+        ASSERT_TRUE(scene);
+        OverlaySettings all;
+        all.max_boxes = 0;
+        const StructureOverlay overlay = make_structure_overlay(*scene->accel, all);
+        ASSERT_FALSE(overlay.level_ends.empty()) << type;
+        EXPECT_EQ(overlay.level_ends.back(), overlay.boxes.size()) << type;
+        EXPECT_TRUE(std::is_sorted(overlay.level_ends.begin(), overlay.level_ends.end())) << type;
+        // Each level is one colour (the colour map by depth), so a level's boxes share it.
+        size_t begin = 0;
+        for (size_t end : overlay.level_ends) {
+            for (size_t i = begin; i < end; ++i) {
+                EXPECT_EQ(overlay.boxes[i].colour.r, overlay.boxes[begin].colour.r) << type << " box " << i;
+                EXPECT_EQ(overlay.boxes[i].colour.b, overlay.boxes[begin].colour.b) << type << " box " << i;
+            }
+            begin = end;
+        }
+        // The moving prefix: a level's end, the largest within the budget, at least the first level.
+        for (size_t budget : {size_t(0), size_t(1), size_t(40), size_t(300), overlay.boxes.size()}) {
+            const size_t prefix = overlay.moving_prefix(budget);
+            EXPECT_NE(std::find(overlay.level_ends.begin(), overlay.level_ends.end(), prefix), overlay.level_ends.end());
+            EXPECT_TRUE(prefix <= budget || prefix == overlay.level_ends.front()) << type << " budget " << budget;
+            const auto next = std::upper_bound(overlay.level_ends.begin(), overlay.level_ends.end(), prefix);
+            EXPECT_TRUE(next == overlay.level_ends.end() || *next > budget) << type << " budget " << budget;
+        }
+    }
+    // The grid has no levels: a moving camera draws every cell.
+    auto grid = teapot_with("grid");
+    ASSERT_TRUE(grid);
+    const StructureOverlay cells = make_structure_overlay(*grid->accel, OverlaySettings{});
+    EXPECT_TRUE(cells.level_ends.empty());
+    EXPECT_EQ(cells.moving_prefix(1), cells.boxes.size());
 }
 
 TEST(StructureOverlay, OneLevelShowsItsNodesInOneColour) {
