@@ -301,8 +301,9 @@ Command register_render(CLI::App& app) {
         ->capture_default_str();
     sub->add_option("--draw", opt->draw,
                     "The window's views: how the 3D view draws the mesh: raster (OpenGL, every triangle) | "
-                    "raycast (the CPU ray caster through the structure, its depth under the overlay) | auto (the "
-                    "faster as estimated; default: the preset's, else raster)")
+                    "raycast (the CPU ray caster through the structure, its depth under the overlay) | auto (ray "
+                    "cast when rasterizing the mesh is estimated over 30 ms at 12M triangles a second). Default: "
+                    "the preset's, else raster")
         ->check(CLI::IsMember(kDrawWithNames.names()));
     sub->add_option("--width", opt->width, "Image width in pixels")->check(whole_number(1, 16384))->capture_default_str();
     sub->add_option("--height", opt->height, "Image height in pixels")->check(whole_number(1, 16384))->capture_default_str();

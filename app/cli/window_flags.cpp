@@ -26,8 +26,8 @@ std::shared_ptr<WindowOptions> add_window_flags(CLI::App& app, const std::string
     app.add_option("--draw", opt->draw,
                    "How the 3D view draws the mesh: raster (OpenGL, every triangle) | raycast (the CPU ray caster "
                    "through the structure; a quarter of the pixels while the camera moves) | auto (whichever is "
-                   "measured faster on the scene); the View panel's \"Draw with\" (default: the preset's, else "
-                   "raster)")
+                   "measured faster on the scene); the View panel's \"Draw with\". Default: the preset's, else "
+                   "raster")
         ->check(CLI::IsMember(kDrawWithNames.names()));
     return opt;
 }

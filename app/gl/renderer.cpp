@@ -238,13 +238,14 @@ void Renderer::draw_segments(const ColouredBuffer& segments) {
     gl.DepthMask(GL_TRUE);
 }
 
-void Renderer::draw_quads(const ColouredBuffer& quads) {
-    if (quads.vertex_count() < 3) return;
+void Renderer::draw_quads(const ColouredBuffer& quads, size_t count) {
+    const size_t vertices = std::min(quads.vertex_count(), count == SIZE_MAX ? count : 6 * count);  // two triangles a quad
+    if (vertices < 3) return;
     use_view_program(coloured_program_);
     gl.Uniform1f(coloured_program_.uniform("depth_bias"), kEdgeDepthBias);
     set_translucent_state();
     gl.BindVertexArray(quads.vertex_array_.id());
-    gl.DrawArrays(GL_TRIANGLES, 0, GLsizei(quads.vertex_count()));
+    gl.DrawArrays(GL_TRIANGLES, 0, GLsizei(vertices));
     gl.BindVertexArray(0);
     gl.DepthMask(GL_TRUE);
 }

@@ -130,8 +130,9 @@ public:
     /// `count`: the first `count` boxes only (SIZE_MAX: all).
     void draw_boxes(const BoxBuffer& boxes, size_t count = SIZE_MAX);
     void draw_segments(const ColouredBuffer& segments);
-    /// Translucent: blended, tested against depth but not writing it.
-    void draw_quads(const ColouredBuffer& quads);
+    /// Translucent: blended, tested against depth but not writing it. `count`: the
+    /// first `count` quads only (SIZE_MAX: all).
+    void draw_quads(const ColouredBuffer& quads, size_t count = SIZE_MAX);
 
     /// The mesh as a ray-cast picture instead of triangles: `colour` stretched over
     /// the current view's rectangle, `depth` (depth-buffer values, 1 = no hit: left

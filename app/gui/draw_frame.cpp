@@ -272,29 +272,37 @@ constexpr double kRasterTrianglesPerMs = 12e3;
 /// The estimated time of rasterizing the scene's mesh: as measured on it, else at
 /// the rate measured on the last scene rasterized, else at a software renderer's.
 double raster_estimate_ms(const Session& session) {
-    const LoadedScene& scene = *session.scene;
-    if (session.raster_measured_scene == &scene && session.raster_mesh_ms > 0) return session.raster_mesh_ms;
-    return double(scene.mesh->triangle_count()) *
+    if (session.raster_measured_scene == session.scene_generation && session.raster_mesh_ms > 0)
+        return session.raster_mesh_ms;
+    return double(session.scene->mesh->triangle_count()) *
            (session.raster_ms_per_triangle > 0 ? session.raster_ms_per_triangle : 1.0 / kRasterTrianglesPerMs);
 }
 
+/// "Auto" switches only to what is this much faster than what draws now (no flicker
+/// between two close times).
+constexpr double kAutoSwitchFactor = 0.8;
+
 /// Whether the CPU ray caster draws the 3D view's mesh this frame (View > Draw with).
 /// Not in the split view (its left half is the rasterizer to compare with), nor under
-/// the construction stepper's picture.
-bool mesh_by_ray_cast(const AppState& state, const Session& session, const FramePlan& plan, int pixels) {
+/// the construction stepper's picture, nor when the mesh is fully transparent.
+/// `measured`: auto may go by measured times (not in golden images: the estimate alone).
+bool mesh_by_ray_cast(const AppState& state, Session& session, const FramePlan& plan, int pixels, bool measured) {
+    session.naive_cast_refused = false;
     if (state.view.draw_with == DrawWith::Raster || plan.split || !session.scene || !session.scene->accel ||
-        session.build_stepper.shows_3d(state))
+        session.build_stepper.shows_3d(state) || state.overlay.mesh_opacity <= 0.0f)
         return false;
     const LoadedScene& scene = *session.scene;
     if (scene.accel_config.type == AccelType::Naive &&
-        double(scene.mesh->triangle_count()) * double(pixels) > kNaiveCastBudget)
+        double(scene.mesh->triangle_count()) * double(pixels) > kNaiveCastBudget) {
+        session.naive_cast_refused = true;
         return false;
+    }
     if (state.view.draw_with == DrawWith::RayCast) return true;
     // Auto: whichever draws this view faster, as last measured.
-    const double cast_ms = session.surface_cast.full_cast_milliseconds(&scene);
+    const double cast_ms = measured ? session.surface_cast.full_cast_milliseconds(session.scene_generation) : 0;
     const double raster_ms = raster_estimate_ms(session);
     if (cast_ms <= 0) return raster_ms > kAutoTryRayCastMs;
-    return cast_ms < raster_ms;
+    return session.mesh_ray_cast ? !(raster_ms < kAutoSwitchFactor * cast_ms) : cast_ms < kAutoSwitchFactor * raster_ms;
 }
 
 /// One right panel at a time, the layout, the 3D view's input (ImGui's capture flags are
@@ -357,8 +365,10 @@ FramePlan plan_frame(AppState& state, Session& session, const FrameInput& input)
     // The camera's motion: a new camera now, or within the still time, draws lighter.
     // Golden images never move; bench-view's orbit does, as the window's would.
     const auto now = std::chrono::steady_clock::now();
-    if (state.camera && !(*state.camera == session.last_camera)) {
-        session.last_camera = *state.camera;
+    if ((state.camera && !(*state.camera == session.last_camera)) ||
+        session.scene_generation != session.last_scene_generation) {
+        if (state.camera) session.last_camera = *state.camera;
+        session.last_scene_generation = session.scene_generation;
         session.camera_moved_at = now;
     }
     plan.moving = (!input.deterministic || input.wait_for_ray_cast) &&
@@ -368,13 +378,15 @@ FramePlan plan_frame(AppState& state, Session& session, const FrameInput& input)
     // Draw with: the mesh ray cast by the CPU (on the worker; headless waits for
     // the full picture, bench-view for the picture of each frame).
     plan.mesh_ray_cast = state.camera && !layout.gl_view.empty() &&
-                         mesh_by_ray_cast(state, session, plan, layout.gl_view.width * layout.gl_view.height);
+                         mesh_by_ray_cast(state, session, plan, layout.gl_view.width * layout.gl_view.height,
+                                          !input.deterministic || input.wait_for_ray_cast);
     if (plan.mesh_ray_cast)
-        session.surface_cast.request(session.scene, *state.camera, layout.gl_view.width, layout.gl_view.height,
-                                     input.deterministic || input.wait_for_ray_cast, !plan.moving);
+        session.surface_cast.request(session.scene, session.scene_generation, *state.camera, layout.gl_view.width,
+                                     layout.gl_view.height, input.deterministic || input.wait_for_ray_cast,
+                                     !plan.moving);
     else
-        session.surface_cast.cancel();
-    plan.mesh_picture = session.surface_cast.update_textures(session.scene.get()) && plan.mesh_ray_cast;
+        session.surface_cast.release();
+    plan.mesh_picture = session.surface_cast.update_textures() && plan.mesh_ray_cast;
     session.mesh_ray_cast = plan.mesh_ray_cast;
 
     return plan;
@@ -542,7 +554,8 @@ FrameLayout draw_scene(AppState& state, Renderer& renderer, Session& session, co
             if (state.view.show_bounds) renderer.draw_boxes(*session.bounds_buffer);
             if (stepping) session.stepper.draw_3d(renderer, state.view.line_width);
             if (!overlay) return;
-            renderer.draw_quads(*session.overlay_quads);
+            renderer.draw_quads(*session.overlay_quads,
+                                plan.moving ? session.overlay.moving_quads(Session::kMovingBoxBudget) : SIZE_MAX);
             renderer.draw_boxes(*session.overlay_boxes,
                                 plan.moving ? session.overlay.moving_prefix(Session::kMovingBoxBudget) : SIZE_MAX);
         };
@@ -575,7 +588,7 @@ FrameLayout draw_scene(AppState& state, Renderer& renderer, Session& session, co
                 renderer.finish();
                 session.raster_mesh_ms =
                     std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-                session.raster_measured_scene = session.scene.get();
+                session.raster_measured_scene = session.scene_generation;
                 session.raster_ms_per_triangle =
                     session.raster_mesh_ms / double(std::max<size_t>(1, session.scene->mesh->triangle_count()));
             };

@@ -19,8 +19,10 @@ struct FrameInput {
     std::vector<std::string> dropped_paths;  ///< files dropped on the window since the last frame
     bool draw_ui = true;                 ///< false: the 3D view alone, over the whole frame ("structure")
     bool deterministic = false;          ///< headless: no times, no animation (golden images)
-    /// The frame includes the ray-cast mesh of its own camera (Draw with: ray cast),
-    /// cast as the window would (a quarter of the pixels while the camera moves): bench-view.
+    /// bench-view: the frame includes the ray-cast mesh of its own camera (Draw with:
+    /// ray cast), cast as the window would, and a moving camera is drawn lighter as in
+    /// the window (a quarter of the pixels, the overlay's shallow levels); "auto" goes
+    /// by measured times. Otherwise headless frames never move and auto estimates.
     bool wait_for_ray_cast = false;
 };
 

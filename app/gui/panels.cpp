@@ -532,12 +532,12 @@ std::string drawn_by(const AppState& state, const Session& session, bool determi
     std::string text = state.view.draw_with == DrawWith::Auto ? "auto: " : "";
     if (!session.mesh_ray_cast) {
         text += "raster (OpenGL)";
-        if (state.view.draw_with == DrawWith::RayCast) text += ", a naive ray cast of this scene would take minutes";
+        if (session.naive_cast_refused) text += ", a naive ray cast of this view would take minutes";
         return text;
     }
     text += "ray cast (CPU)";
     const auto& shown = session.surface_cast.shown();
-    if (!shown || shown->scene != session.scene.get()) return text + ", casting ...";
+    if (!shown || shown->scene != session.scene_generation) return text + ", casting ...";
     if (shown->divisor > 1) text += ", a quarter of the pixels";
     if (!deterministic) {
         char ms[48];

@@ -77,17 +77,20 @@ struct Session {
     /// ms, measured); every box once it is still.
     static constexpr size_t kMovingBoxBudget = 8192;
     CameraParams last_camera;
+    uint64_t last_scene_generation = 0;  ///< a new scene (a moving scene's next time) counts as motion too
     std::chrono::steady_clock::time_point camera_moved_at{};
     bool camera_moving = false;  ///< this frame's view is drawn lighter
 
     /// "Draw with: ray cast": the 3D view's mesh from the CPU ray caster.
     SurfaceCast surface_cast;
-    /// What drew the mesh in the last frame (the status line says which).
+    /// What drew the mesh in the last frame (the status line says which), and whether
+    /// "ray cast" was refused because a naive cast of the view would take minutes.
     bool mesh_ray_cast = false;
+    bool naive_cast_refused = false;
     /// "Draw with: auto": the last rasterized mesh's time in ms (to glFinish) and the
-    /// scene it was measured on (0 / null: not measured).
+    /// scene generation it was measured on (0: not measured).
     double raster_mesh_ms = 0;
-    const LoadedScene* raster_measured_scene = nullptr;
+    uint64_t raster_measured_scene = 0;
     double raster_ms_per_triangle = 0;  ///< from the last measurement, for a scene not yet measured
 
     /// The construction stepper: the recorded BVH build and the SAH chart of the step shown.

@@ -73,30 +73,39 @@ void count_level(std::vector<size_t>& per_level, int depth) {
 
 // [SECTION] Boxes in level order
 
-/// Collects boxes with their levels, then lays them out level by level (a stable
-/// counting sort: the structure's order within a level) with the levels' ends.
+/// Collects boxes (and a KD tree's planes) with their levels, then lays them out
+/// level by level (a stable counting sort: the structure's order within a level)
+/// with the levels' ends.
 class LevelOrderedBoxes {
 public:
     explicit LevelOrderedBoxes(LevelRange levels) : levels_(levels) {}
-    void add(const BoxInstance& box, int level) { pending_.push_back({box, level - levels_.lo}); }
+    void add(const BoxInstance& box, int level) { boxes_.push_back({box, level - levels_.lo}); }
+    void add(const ColouredQuad& quad, int level) { quads_.push_back({quad, level - levels_.lo}); }
     void finish(StructureOverlay& out) {
-        std::vector<size_t> ends(size_t(levels_.hi - levels_.lo + 1), 0);
-        for (const Pending& p : pending_) ++ends[size_t(p.level)];
-        for (size_t k = 1; k < ends.size(); ++k) ends[k] += ends[k - 1];
-        std::vector<size_t> next(ends.size(), 0);
-        for (size_t k = 1; k < ends.size(); ++k) next[k] = ends[k - 1];
-        out.boxes.resize(pending_.size());
-        for (const Pending& p : pending_) out.boxes[next[size_t(p.level)]++] = p.box;
-        out.level_ends = std::move(ends);
+        out.level_ends = order(boxes_, out.boxes);
+        out.quad_level_ends = order(quads_, out.quads);
     }
 
 private:
+    template <class T>
     struct Pending {
-        BoxInstance box;
+        T item;
         int level;
     };
+    template <class T>
+    std::vector<size_t> order(const std::vector<Pending<T>>& pending, std::vector<T>& out) const {
+        std::vector<size_t> ends(size_t(levels_.hi - levels_.lo + 1), 0);
+        for (const Pending<T>& p : pending) ++ends[size_t(p.level)];
+        for (size_t k = 1; k < ends.size(); ++k) ends[k] += ends[k - 1];
+        std::vector<size_t> next(ends.size(), 0);
+        for (size_t k = 1; k < ends.size(); ++k) next[k] = ends[k - 1];
+        out.resize(pending.size());
+        for (const Pending<T>& p : pending) out[next[size_t(p.level)]++] = p.item;
+        return ends;
+    }
     LevelRange levels_;
-    std::vector<Pending> pending_;
+    std::vector<Pending<BoxInstance>> boxes_;
+    std::vector<Pending<ColouredQuad>> quads_;
 };
 
 // [SECTION] BVH: node boxes by depth
@@ -243,7 +252,7 @@ void kd_overlay(const KdTree& tree, const OverlaySettings& s, StructureOverlay& 
         const std::array<Vec3, 4> corners = plane_across_box(box, n.axis, n.split);
         std::copy(corners.begin(), corners.end(), quad.corners);
         quad.colour = level_colour(x, 70);
-        out.quads.push_back(quad);
+        ordered.add(quad, c.depth);
         // The rectangle's outline, so the plane reads edge-on too: a flat box.
         Aabb rim = box;
         rim.lo[n.axis] = rim.hi[n.axis] = n.split;
@@ -319,12 +328,26 @@ LeafHistogram leaf_histogram(const Accelerator& accel) {
     return out;
 }
 
+size_t StructureOverlay::moving_levels(size_t budget) const {
+    // The first level with boxes (leaves only: the shallowest leaves), then every
+    // further level that keeps the boxes within the budget.
+    size_t levels = 0;
+    while (levels < level_ends.size() && level_ends[levels] == 0) ++levels;
+    if (levels < level_ends.size()) ++levels;
+    while (levels < level_ends.size() && level_ends[levels] <= budget) ++levels;
+    return levels;
+}
+
 size_t StructureOverlay::moving_prefix(size_t budget) const {
     if (level_ends.empty()) return boxes.size();
-    size_t prefix = level_ends.front();
-    for (size_t end : level_ends)
-        if (end <= budget) prefix = end;
-    return prefix;
+    const size_t levels = moving_levels(budget);
+    return levels == 0 ? 0 : level_ends[levels - 1];
+}
+
+size_t StructureOverlay::moving_quads(size_t budget) const {
+    if (quad_level_ends.empty()) return quads.size();
+    const size_t levels = std::min(moving_levels(budget), quad_level_ends.size());
+    return levels == 0 ? 0 : quad_level_ends[levels - 1];
 }
 
 StructureOverlay make_structure_overlay(const Accelerator& accel, const OverlaySettings& settings) {

@@ -25,11 +25,18 @@ struct StructureOverlay {
     std::vector<BoxInstance> boxes;
     std::vector<size_t> level_ends;  ///< empty for the grid
     /// The boxes a moving camera draws: whole shallow levels, at most `budget`
-    /// boxes (at least the first level); all of them for the grid.
+    /// boxes (at least the first level with boxes); all of them for the grid.
     size_t moving_prefix(size_t budget) const;
+    /// The KD tree's planes of those same levels (quads are in level order too).
+    size_t moving_quads(size_t budget) const;
     std::vector<ColouredQuad> quads;
+    std::vector<size_t> quad_level_ends;  ///< as level_ends, for the quads (KD planes)
     int deepest_level = 0;  ///< of the whole structure (root = 0); 0 for a grid or naive
     std::string legend;     ///< one line saying what the colours mean
+
+private:
+    /// How many of the levels shown a moving camera draws.
+    size_t moving_levels(size_t budget) const;
 };
 
 /// The overlay of `accel` under `settings` (naive: nothing).

@@ -25,10 +25,10 @@ struct SurfaceCast::TriangleCache {
 
 SurfaceCast::SurfaceCast() : triangles_(std::make_shared<TriangleCache>()) { job_.keep_superseded = true; }
 
-void SurfaceCast::request(const std::shared_ptr<const LoadedScene>& scene, const CameraParams& camera, int width,
-                          int height, bool wait, bool full) {
+void SurfaceCast::request(const std::shared_ptr<const LoadedScene>& scene, uint64_t scene_generation,
+                          const CameraParams& camera, int width, int height, bool wait, bool full) {
     if (!scene || width <= 0 || height <= 0) return;
-    const Key key{scene.get(), camera, width, height, full ? 1 : 2};
+    const Key key{scene_generation, camera, width, height, full ? 1 : 2};
     if (key == requested_) {
         if (wait) job_.wait();
         return;
@@ -37,6 +37,7 @@ void SurfaceCast::request(const std::shared_ptr<const LoadedScene>& scene, const
     // (it is quick, and shown until a newer one is).
     if (cancel_ && requested_.divisor == 1) cancel_->cancel();
     requested_ = key;
+    cache_filled_ = true;
     cancel_ = std::make_shared<WorkProgress>();
     job_.submit([key, scene, cancel = cancel_, cache = triangles_] {
         auto r = std::make_shared<Result>();
@@ -61,12 +62,12 @@ void SurfaceCast::request(const std::shared_ptr<const LoadedScene>& scene, const
     if (wait) job_.wait();
 }
 
-bool SurfaceCast::update_textures(const LoadedScene* scene) {
+bool SurfaceCast::update_textures() {
     if (auto taken = job_.take(); taken && *taken && !(*taken)->cancelled) {
         const Result& r = **taken;
         if (!colour_) colour_ = std::make_unique<Texture>();
         if (!depth_) depth_ = std::make_unique<Texture>();
-        colour_->upload(r.colour, /*smooth=*/r.key.divisor > 1);
+        colour_->upload(r.colour);  // nearest, as the depth is sampled: no fringe at silhouettes
         depth_->upload_floats(r.depth.data(), r.colour.width, r.colour.height);
         shown_ = r.key;
         shown_ms_ = r.milliseconds;
@@ -76,12 +77,26 @@ bool SurfaceCast::update_textures(const LoadedScene* scene) {
         if (r.key.divisor == 1 || full_ms_ == 0)
             full_ms_ = r.milliseconds * double(r.key.divisor) * double(r.key.divisor);
     }
-    return shown_ && shown_->scene == scene && colour_ && !colour_->empty();
+    return shown_ && colour_ && !colour_->empty();
 }
 
 void SurfaceCast::cancel() {
     if (cancel_) cancel_->cancel();
     requested_ = Key{};
+}
+
+void SurfaceCast::release() {
+    cancel();
+    shown_.reset();
+    if (!cache_filled_) return;
+    cache_filled_ = false;
+    job_.submit([cache = triangles_] {  // the cache is the worker's: emptied there, after any cast
+        cache->mesh.reset();
+        cache->triangles = TriangleArray{};
+        auto r = std::make_shared<Result>();
+        r->cancelled = true;  // no picture
+        return r;
+    });
 }
 
 }  // namespace accelviz

@@ -11,8 +11,9 @@
 /// half the height) is cast and stretched over the view; once it is still, every
 /// pixel (the caller says which: Session's camera motion). The casts run on a worker that keeps
 /// superseded results (an older picture beats none while the camera keeps moving);
-/// the UI thread never waits, except headless, which waits for the full picture.
+/// the UI thread never waits (headless renders and bench-view do).
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 
@@ -27,7 +28,7 @@ class SurfaceCast {
 public:
     /// What a cast was made of; a new cast is needed when it changes.
     struct Key {
-        const LoadedScene* scene = nullptr;
+        uint64_t scene = 0;  ///< the Session's scene generation (a new scene is another, whatever its address)
         CameraParams camera;
         int width = 0, height = 0;  ///< the view's pixels
         int divisor = 1;            ///< 1: every pixel; 2: half the width and half the height
@@ -40,11 +41,12 @@ public:
     /// Asks for a picture of the view (every frame while the ray caster draws the
     /// mesh; UI thread). `wait`: block until it is done (headless, bench-view);
     /// `full`: every pixel (the camera is still), else a quarter of them.
-    void request(const std::shared_ptr<const LoadedScene>& scene, const CameraParams& camera, int width, int height,
-                 bool wait, bool full);
-    /// Takes a finished cast into the textures (GL thread). True when a picture of
-    /// `scene` is there to draw.
-    bool update_textures(const LoadedScene* scene);
+    void request(const std::shared_ptr<const LoadedScene>& scene, uint64_t scene_generation, const CameraParams& camera,
+                 int width, int height, bool wait, bool full);
+    /// Takes a finished cast into the textures (GL thread). True when a picture is
+    /// there to draw: the last one stays up (of an older camera or scene) until the
+    /// next is done.
+    bool update_textures();
     const Texture& colour() const { return *colour_; }  ///< valid once update_textures returned true
     const Texture& depth() const { return *depth_; }
     /// What the textures show (none before the first cast finishes).
@@ -53,17 +55,22 @@ public:
     int quarter_pictures_shown() const { return quarter_pictures_; }
     /// How long the shown picture took to cast, in ms.
     double shown_milliseconds() const { return shown_ms_; }
-    /// The last measured time of a full picture of `scene`'s view, in ms (a quarter
+    /// The last measured time of a full picture of the scene's view, in ms (a quarter
     /// picture's time x 4 until a full one has finished); 0: not measured yet.
-    double full_cast_milliseconds(const LoadedScene* scene) const { return scene == measured_scene_ ? full_ms_ : 0; }
+    double full_cast_milliseconds(uint64_t scene_generation) const {
+        return scene_generation == measured_scene_ ? full_ms_ : 0;
+    }
 
     /// Stops a cast under way (the ray caster is no longer drawing the mesh).
     void cancel();
+    /// cancel(), and lets go of the shading's triangle array (48 bytes a triangle:
+    /// about 0.5 GB at ten million) once nothing is cast any more.
+    void release();
     bool busy() const { return job_.busy(); }
     bool has_result() const { return job_.has_result(); }
     /// More frames are needed: a cast runs or waits to be taken, or the picture shown
     /// is a quarter one (the full one follows once the camera is still).
-    bool refining() const { return busy() || has_result() || (requested_.scene && requested_.divisor != 1); }
+    bool refining() const { return busy() || has_result() || (requested_.scene != 0 && requested_.divisor != 1); }
     void set_on_finished(std::function<void()> callback) { job_.on_finished = std::move(callback); }
 
 private:
@@ -77,8 +84,9 @@ private:
     double shown_ms_ = 0;
     int quarter_pictures_ = 0;
     std::unique_ptr<Texture> colour_, depth_;  ///< made at the first picture (a Session may have no GL)
-    const LoadedScene* measured_scene_ = nullptr;
+    uint64_t measured_scene_ = 0;
     double full_ms_ = 0;
+    bool cache_filled_ = false;  ///< a cast was asked for since the last release
 };
 
 }  // namespace accelviz

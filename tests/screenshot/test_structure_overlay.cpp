@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <string>
 
 #include "app/gui/scene_loader.h"
 #include "app/gui/structure_overlay.h"
@@ -53,13 +54,24 @@ TEST(StructureOverlay, BoxesComeLevelByLevelSoAMovingCameraDrawsWholeShallowLeve
             }
             begin = end;
         }
-        // The moving prefix: a level's end, the largest within the budget, at least the first level.
-        for (size_t budget : {size_t(0), size_t(1), size_t(40), size_t(300), overlay.boxes.size()}) {
-            const size_t prefix = overlay.moving_prefix(budget);
-            EXPECT_NE(std::find(overlay.level_ends.begin(), overlay.level_ends.end(), prefix), overlay.level_ends.end());
-            EXPECT_TRUE(prefix <= budget || prefix == overlay.level_ends.front()) << type << " budget " << budget;
-            const auto next = std::upper_bound(overlay.level_ends.begin(), overlay.level_ends.end(), prefix);
-            EXPECT_TRUE(next == overlay.level_ends.end() || *next > budget) << type << " budget " << budget;
+        // The moving prefix: a level's end, the largest within the budget, at least the
+        // first level with boxes; the KD tree's planes follow the same levels.
+        for (const bool leaves_only : {false, true}) {
+            OverlaySettings settings = all;
+            settings.leaves_only = leaves_only;
+            const StructureOverlay o = make_structure_overlay(*scene->accel, settings);
+            const auto first = std::upper_bound(o.level_ends.begin(), o.level_ends.end(), size_t(0));
+            ASSERT_NE(first, o.level_ends.end()) << type;
+            for (size_t budget : {size_t(0), size_t(1), size_t(40), size_t(300), o.boxes.size()}) {
+                const size_t prefix = o.moving_prefix(budget);
+                EXPECT_GT(prefix, 0u) << type << " leaves only " << leaves_only << " budget " << budget;
+                EXPECT_NE(std::find(o.level_ends.begin(), o.level_ends.end(), prefix), o.level_ends.end());
+                EXPECT_TRUE(prefix <= budget || prefix == *first) << type << " budget " << budget;
+                const auto next = std::upper_bound(o.level_ends.begin(), o.level_ends.end(), prefix);
+                EXPECT_TRUE(next == o.level_ends.end() || *next > budget) << type << " budget " << budget;
+                if (std::string(type) == "kd" && !leaves_only)  // one plane per outline
+                    EXPECT_EQ(o.moving_quads(budget), prefix) << "budget " << budget;
+            }
         }
     }
     // The grid has no levels: a moving camera draws every cell.
