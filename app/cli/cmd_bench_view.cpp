@@ -24,6 +24,7 @@
 #include "app/cli/preset_flag.h"
 #include "app/cli/progress.h"
 #include "app/cli/scene_input.h"
+#include "app/cli/window_flags.h"
 #include "app/gui/camera_control.h"
 #include "app/gui/headless.h"
 #include "app/gui/scene_loader.h"
@@ -79,7 +80,7 @@ int run_bench_view(const BenchViewOptions& opt) {
     state.accel = opt.accel;
     if (!opt.overlay.empty()) state.overlay.show_structure = opt.overlay == "on";
     if (opt.max_boxes >= 0) state.overlay.max_boxes = size_t(opt.max_boxes);
-    if (!opt.draw.empty()) state.view.draw_with = *kDrawWithNames.parse(opt.draw);  // CLI11 checked the name
+    apply_draw_flag(opt.draw, state);
     const WindowView view = *kWindowViewNames.parse(opt.view);  // CLI11 checked the name
 
     const auto start = std::chrono::steady_clock::now();
@@ -200,12 +201,9 @@ Command register_bench_view(CLI::App& app) {
                     "The overlay's box budget: deeper levels are left out beyond it (0 = no limit; default "
                     "200000, or the preset's)")
         ->check(whole_number(0, INT32_MAX, ">= 0"));
-    sub->add_option("--draw", opt->draw,
-                    "How the 3D view draws the mesh: raster (OpenGL) | raycast (the CPU ray caster, a quarter of "
-                    "the pixels while the camera orbits, every pixel in the still frame after) | auto (whichever "
-                    "is measured faster). Default: the preset's, else raster. Either way, orbit frames draw the "
-                    "overlay's shallow levels only (at most 8192 boxes), the still frame every box")
-        ->check(CLI::IsMember(kDrawWithNames.names()));
+    add_draw_flag(*sub, opt->draw,
+                  "whichever is measured faster; orbit frames draw a quarter of the pixels and the overlay's "
+                  "shallow levels only (at most 8192 boxes), the still frame after every pixel and box");
     sub->add_flag("--json", opt->json, "Print one JSON object instead of the table");
     opt->camera.add_to(*sub);
     add_accel_flags(*sub, opt->accel);

@@ -18,6 +18,7 @@
 #include "app/cli/flag_checks.h"
 #include "app/cli/preset_flag.h"
 #include "app/cli/scene_input.h"
+#include "app/cli/window_flags.h"
 #include "app/gui/app_state.h"
 #include "app/gui/headless.h"
 #include "app/gui/presets.h"
@@ -189,7 +190,7 @@ int run_render(const RenderOptions& given) {
     if (window_view == WindowView::FillOrder && opt.step >= 0) state.view.fill = float(opt.step) / 100.0f;
     if (!opt.draw.empty()) {
         if (!window_view) return fail("--draw is for the window's views (structure, gui, ...), not --view " + opt.view);
-        state.view.draw_with = *kDrawWithNames.parse(opt.draw);  // CLI11 checked the name
+        apply_draw_flag(opt.draw, state);
     }
     if (window_view) {
         if (!opt.depth_out.empty()) return fail("--depth-out: only the CPU views write a depth file, not --view " + opt.view);
@@ -299,12 +300,9 @@ Command register_render(CLI::App& app) {
                     "flags, structure/gui frame the scene like the window does")
         ->check(CLI::IsMember(all_views()))
         ->capture_default_str();
-    sub->add_option("--draw", opt->draw,
-                    "The window's views: how the 3D view draws the mesh: raster (OpenGL, every triangle) | "
-                    "raycast (the CPU ray caster through the structure, its depth under the overlay) | auto (ray "
-                    "cast when rasterizing the mesh is estimated over 30 ms at 12M triangles a second). Default: "
-                    "the preset's, else raster")
-        ->check(CLI::IsMember(kDrawWithNames.names()));
+    add_draw_flag(*sub, opt->draw,
+                  "ray cast when rasterizing the mesh is estimated over 30 ms at 12M triangles a second",
+                  "The window's views (structure, gui, ...): ");
     sub->add_option("--width", opt->width, "Image width in pixels")->check(whole_number(1, 16384))->capture_default_str();
     sub->add_option("--height", opt->height, "Image height in pixels")->check(whole_number(1, 16384))->capture_default_str();
     sub->add_option("--threads", opt->threads, "Ray-casting threads (0 = all cores; more than the cores run on all cores)")

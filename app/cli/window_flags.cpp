@@ -6,6 +6,18 @@
 
 namespace accelviz::cli {
 
+void add_draw_flag(CLI::App& app, std::string& draw, const std::string& auto_here, const std::string& applies_to) {
+    app.add_option("--draw", draw,
+                   applies_to + "How the 3D view draws the mesh: raster (OpenGL, every triangle) | raycast (the CPU ray caster "
+                   "through the structure, its depth under the overlay; a quarter of the pixels while the camera "
+                   "moves) | auto (" + auto_here + "). Default: the preset's, else raster")
+        ->check(CLI::IsMember(kDrawWithNames.names()));
+}
+
+void apply_draw_flag(const std::string& draw, AppState& state) {
+    if (!draw.empty()) state.view.draw_with = *kDrawWithNames.parse(draw);  // CLI11 checked the name
+}
+
 std::shared_ptr<WindowOptions> add_window_flags(CLI::App& app, const std::string& default_scene) {
     auto opt = std::make_shared<WindowOptions>();
     app.add_option("SCENE", opt->scene,
@@ -23,12 +35,8 @@ std::shared_ptr<WindowOptions> add_window_flags(CLI::App& app, const std::string
                  "scale, the preset's number, title and caption in a caption bar (C hides it); PageDown / PageUp "
                  "go through the presets (Home / End too, unless a stepper is open), B blanks the screen, L "
                  "leaves. Without SCENE or --preset, starts at the first preset");
-    app.add_option("--draw", opt->draw,
-                   "How the 3D view draws the mesh: raster (OpenGL, every triangle) | raycast (the CPU ray caster "
-                   "through the structure; a quarter of the pixels while the camera moves) | auto (whichever is "
-                   "measured faster on the scene); the View panel's \"Draw with\". Default: the preset's, else "
-                   "raster")
-        ->check(CLI::IsMember(kDrawWithNames.names()));
+    add_draw_flag(app, opt->draw, "whichever the window measures faster on the scene, the View panel's "
+                                  "\"Draw with\"");
     return opt;
 }
 
@@ -42,7 +50,7 @@ Expected<AppState> window_state(const WindowOptions& opt, const std::string& def
     if (!opt.scene.empty()) state.scene = opt.scene;
     else if (!opt.preset.state) state.scene = default_scene;
     state.accel = opt.accel;
-    if (!opt.draw.empty()) state.view.draw_with = *kDrawWithNames.parse(opt.draw);  // CLI11 checked the name
+    apply_draw_flag(opt.draw, state);
     if (opt.camera.any()) {
         if (state.camera) {
             auto params = opt.camera.resolve(*state.camera);

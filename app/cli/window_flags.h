@@ -25,6 +25,13 @@ struct WindowOptions {
     std::string draw;                ///< --draw ("": the preset's, else raster)
 };
 
+/// Adds --draw raster|raycast|auto (View > Draw with) to a command that draws the
+/// window's frame; `auto_here` says how auto chooses in it, `applies_to` (if not
+/// empty) which of its views it is for. Sets `draw` as given.
+void add_draw_flag(CLI::App& app, std::string& draw, const std::string& auto_here, const std::string& applies_to = "");
+/// --draw as given over the state (nothing when not given: the preset's, else raster).
+void apply_draw_flag(const std::string& draw, AppState& state);
+
 /// Adds SCENE, --preset, the structure flags and the camera flags to the top-level
 /// command (before its subcommands parse theirs).
 std::shared_ptr<WindowOptions> add_window_flags(CLI::App& app, const std::string& default_scene);
