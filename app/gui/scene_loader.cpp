@@ -109,7 +109,7 @@ void SceneLoader::replace_request(Request request) {
 void SceneLoader::request(const std::string& source, const AccelConfig& config) {
     {
         std::lock_guard lock(mutex_);
-        replace_request(Request{++newest_id_, source, config, nullptr});
+        replace_request(Request{++newest_id_, source, config, nullptr, nullptr});
     }
     wake_.notify_all();
 }
@@ -118,7 +118,7 @@ void SceneLoader::request_rebuild(std::shared_ptr<const LoadedScene> scene, cons
     {
         std::lock_guard lock(mutex_);
         const std::string source = scene->source;
-        replace_request(Request{++newest_id_, source, config, std::move(scene)});
+        replace_request(Request{++newest_id_, source, config, std::move(scene), nullptr});
     }
     wake_.notify_all();
 }

@@ -69,8 +69,9 @@ TEST(StructureOverlay, BoxesComeLevelByLevelSoAMovingCameraDrawsWholeShallowLeve
                 EXPECT_TRUE(prefix <= budget || prefix == *first) << type << " budget " << budget;
                 const auto next = std::upper_bound(o.level_ends.begin(), o.level_ends.end(), prefix);
                 EXPECT_TRUE(next == o.level_ends.end() || *next > budget) << type << " budget " << budget;
-                if (std::string(type) == "kd" && !leaves_only)  // one plane per outline
+                if (std::string(type) == "kd" && !leaves_only) {  // one plane per outline
                     EXPECT_EQ(o.moving_quads(budget), prefix) << "budget " << budget;
+                }
             }
         }
     }

@@ -229,7 +229,9 @@ TEST(WideBvhCollapse, TheLeavesAreTheBinaryTreesAtAnyLeafSize) {
         EXPECT_EQ(wide.build_stats.leaves, binary_leaves.size());
         for (const auto& node : wide.nodes)
             for (int i = 0; i < node.child_count; ++i)
-                if (node.is_leaf(i)) EXPECT_TRUE(binary_leaves.count({node.first[i], node.count[i]}));
+                if (node.is_leaf(i)) {
+                    EXPECT_TRUE(binary_leaves.count({node.first[i], node.count[i]}));
+                }
     }
 }
 

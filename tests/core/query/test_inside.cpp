@@ -72,8 +72,12 @@ TEST(InsideByParity, PointsInAndOutClosedMeshesAreToldApart) {
         }
         const float m = std::max({std::abs(q.x), std::abs(q.y), std::abs(q.z)});
         const InsideTest c = inside_by_parity(q, [&](const Ray& ray) { return count_crossings(cube_bvh, ray, none); });
-        if (m < 0.99f) EXPECT_TRUE(c.inside) << m;
-        if (m > 1.01f) EXPECT_FALSE(c.inside) << m;
+        if (m < 0.99f) {
+            EXPECT_TRUE(c.inside) << m;
+        }
+        if (m > 1.01f) {
+            EXPECT_FALSE(c.inside) << m;
+        }
     }
     EXPECT_GT(inside, 20);
     EXPECT_GT(outside, 100);
