@@ -3,7 +3,8 @@
 // With no subcommand, `accelviz [SCENE] [--preset FILE] [structure and camera flags]`
 // opens the window (on what `render` would draw with the same flags). Subcommands:
 // render (images, headless), trace (one ray's events as JSON), bench (speed figures),
-// bench-view (the window's frame times).
+// bench-view (the window's frame times), bench-motion (refit against rebuild), query
+// (nearest point, inside), export and check (structures in the exchange format).
 #include <iostream>
 #include <vector>
 
@@ -33,7 +34,8 @@ int main(int argc, char** argv) {
     const std::string default_scene = default_window_scene();
     const auto window = add_window_flags(app, default_scene);
     const std::vector<Command> commands = {register_render(app), register_trace(app), register_bench(app),
-                                           register_bench_view(app), register_bench_motion(app), register_query(app)};
+                                           register_bench_view(app), register_bench_motion(app), register_query(app),
+                                           register_export(app), register_check(app)};
     // The mesh cache (core/geometry/mesh_cache.h), for the window and every command.
     bool no_cache = false;
     const std::string no_cache_help =

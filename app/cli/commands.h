@@ -21,5 +21,7 @@ Command register_bench(CLI::App& app);
 Command register_bench_view(CLI::App& app);
 Command register_bench_motion(CLI::App& app);
 Command register_query(CLI::App& app);
+Command register_export(CLI::App& app);
+Command register_check(CLI::App& app);
 
 }  // namespace accelviz::cli
