@@ -247,10 +247,6 @@ std::vector<Aabb> kd_cells(const StructureFile& f, const std::vector<uint32_t>& 
     return cell;
 }
 
-/// `box` shrunk by `tol` on every side (a triangle that only touches a cell within
-/// rounding need not be listed in it).
-Aabb shrunk(const Aabb& box, float tol) { return padded(box, -tol); }
-
 void check_kd(const StructureFile& f, const Mesh& mesh, Problems& problems) {
     const auto& nodes = f.kd_nodes;
     const uint64_t n_tris = mesh.triangle_count();
@@ -318,11 +314,12 @@ void check_kd(const StructureFile& f, const Mesh& mesh, Problems& problems) {
                 }
                 continue;
             }
-            if (!triangle_overlaps_box(mesh.vertex(t, 0), mesh.vertex(t, 1), mesh.vertex(t, 2), shrunk(cell[i], tol)))
+            if (!triangle_overlaps_box(mesh.vertex(t, 0), mesh.vertex(t, 1), mesh.vertex(t, 2), padded(cell[i], tol)))
                 continue;
             if (!std::binary_search(sorted[i].begin(), sorted[i].end(), t))
                 problems.add(i, "triangle " + std::to_string(t) + " overlaps leaf node " + std::to_string(i) +
-                                    "'s cell " + box_words(cell[i]) + " but is not in its list");
+                                    "'s cell " + box_words(cell[i]) +
+                                    " (or touches it) but is not in its list: a ray could hit it there and miss it");
         }
     }
 }
@@ -394,13 +391,14 @@ void check_grid(const StructureFile& f, const Mesh& mesh, Problems& problems) {
                     const Aabb c{{planes[0][size_t(i)], planes[1][size_t(j)], planes[2][size_t(k)]},
                                  {planes[0][size_t(i) + 1], planes[1][size_t(j) + 1], planes[2][size_t(k) + 1]}};
                     if (!triangle_overlaps_box(mesh.vertex(t, 0), mesh.vertex(t, 1), mesh.vertex(t, 2),
-                                               shrunk(c, tol)))
+                                               padded(c, tol)))
                         continue;
                     const int64_t e = entry_of[uint64_t(i) + uint64_t(nx) * (uint64_t(j) + uint64_t(ny) * uint64_t(k))];
                     if (e < 0 || !std::binary_search(sorted[size_t(e)].begin(), sorted[size_t(e)].end(), t))
                         problems.add(e < 0 ? std::nullopt : std::optional<uint64_t>(uint64_t(e)),
                                      "triangle " + std::to_string(t) + " overlaps cell (" + std::to_string(i) + ", " +
-                                         std::to_string(j) + ", " + std::to_string(k) + ") but is not listed there");
+                                         std::to_string(j) + ", " + std::to_string(k) +
+                                         ") (or touches it) but is not listed there: a ray could hit it there and miss it");
                 }
     }
 }
@@ -678,6 +676,24 @@ StructureFigures measure_structure(const StructureFile& f, const Mesh& mesh, con
     fig.box_tests_per_ray = double(counters.box_tests) / n;
     fig.triangle_tests_per_ray = double(counters.triangle_tests) / n;
     return fig;
+}
+
+}  // namespace accelviz
+
+namespace accelviz {
+
+Expected<std::shared_ptr<const Accelerator>> load_structure_file(const std::string& path, const Mesh& mesh,
+                                                                 const std::string& source) {
+    auto file = read_structure_file(path);
+    if (!file) return Error{file.error()};
+    auto crc = mesh_crc32(source, mesh);
+    if (!crc) return Error{crc.error()};
+    const StructureCheck check = check_structure(*file, mesh, *crc, 1);
+    if (!check.valid())
+        return Error{path + " is not a valid structure over " + source + " (" + std::to_string(check.problem_count) +
+                     " problem" + (check.problem_count == 1 ? "" : "s") + "; the first: " +
+                     check.problems.front().message + "): accelviz check lists them"};
+    return structure_accelerator(*file, mesh);
 }
 
 }  // namespace accelviz

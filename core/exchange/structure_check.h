@@ -41,8 +41,9 @@ float containment_tolerance(const Mesh& mesh);
 /// reachable), 2 to 8 children per BVH interior node and no empty leaves, boxes
 /// that are boxes, each child box inside its parent's (the amount it sticks out),
 /// every triangle in exactly one BVH leaf and inside that leaf's box, a KD
-/// triangle in every leaf cell it overlaps, grid cells in range and each triangle
-/// in every cell it overlaps; and what our traversal needs (depth, leaf sizes).
+/// triangle in every leaf cell it overlaps or touches (within the tolerance: a ray
+/// that hits it on the cell's face must find it there), grid cells in range and
+/// each triangle in every cell it overlaps or touches; and what our traversal needs (depth, leaf sizes).
 StructureCheck check_structure(const StructureFile& file, const Mesh& mesh, std::optional<uint32_t> mesh_crc,
                                size_t max_listed = 50);
 
@@ -75,5 +76,15 @@ struct SahCosts {
 /// right closest hits (our own BVH: exact against brute force) to count mismatches.
 StructureFigures measure_structure(const StructureFile& file, const Mesh& mesh, const Accelerator& accel,
                                    std::span<const Ray> rays, const Accelerator& reference, SahCosts costs);
+
+}  // namespace accelviz
+
+namespace accelviz {
+
+/// A structure file read, checked over `mesh` (named `source`, for its checksum) and
+/// laid out for our traversal: what `trace --structure` and the window load. Errors:
+/// the file's own, or "not valid" with the first problem (accelviz check lists all).
+Expected<std::shared_ptr<const Accelerator>> load_structure_file(const std::string& path, const Mesh& mesh,
+                                                                 const std::string& source);
 
 }  // namespace accelviz

@@ -39,6 +39,31 @@ grep -q "node 5's box sticks out of its parent's" <<<"$out" || fail "node 5 not 
 python3 -c 'import json,sys; d=json.load(sys.stdin); assert d["valid"] is False and any(p["node"]==5 for p in d["problems"])' <<<"$json" ||
   fail "--json does not name node 5"
 
+# --hits: a traversal's answers (here ours, from trace) agree; a wrong one is listed with
+# the trace command that steps it through the file's tree, and that command runs.
+"$av" export builtin:teapot --accel bvh --out "$dir/t.json" >/dev/null
+{
+  echo "x,y,triangle,t"
+  for p in 32,24 40,30 20,25 3,3; do
+    "$av" trace builtin:teapot --pixel $p --width 64 --height 48 --json |
+      python3 -c 'import json,sys; d=json.load(sys.stdin); r=d["result"]; print("%d,%d,%d,%r" % (d["pixel"][0], d["pixel"][1], r["tri"] if r["hit"] else -1, r.get("t", 0)))'
+  done
+} >"$dir/hits.csv"
+cat "$dir/hits.csv"
+out=$("$av" check builtin:teapot "$dir/t.json" --hits "$dir/hits.csv" --width 64 --height 48) || fail "our own hits: $out"
+grep -q "4 pixels; 4 agree with brute force, 0 differ" <<<"$out" || fail "our own hits do not agree: $out"
+sed 's/^40,30,\([0-9]*\),/40,30,7,/' "$dir/hits.csv" >"$dir/wrong.csv"
+set +e
+out=$("$av" check builtin:teapot "$dir/t.json" --hits "$dir/wrong.csv" --width 64 --height 48); rc=$?
+set -e
+echo "$out"
+[ $rc -eq 1 ] || fail "a wrong hit exited $rc"
+grep -q "pixel (40, 30): yours triangle 7" <<<"$out" || fail "the wrong pixel is not listed"
+cmd=$(grep -m1 "accelviz trace" <<<"$out" | sed 's/^ *accelviz //')
+[ -n "$cmd" ] || fail "no trace command"
+# shellcheck disable=SC2086
+"$av" $cmd | grep -q "^hit: triangle" || fail "the trace command did not step the ray: $cmd"
+
 # The Python example: a median-split BVH, valid, with its figures beside ours.
 python3 "$examples/median_bvh.py" "$mesh" "$dir/student.json"
 out=$("$av" check "$mesh" "$dir/student.json" --json) || fail "the example's tree is not valid: $out"
