@@ -14,6 +14,10 @@ void add_accel_flags(CLI::App& command, AccelConfig& config) {
         ->check(CLI::IsMember(accel_type_names()))
         ->default_str("bvh");
 
+    command.add_option("--structure", config.structure_file,
+                       "A structure from a file (docs/structure-format.md, e.g. a student's tree; accelviz check "
+                       "says whether it is valid) instead of building one: the other structure flags are ignored");
+
     // Shared by several structures (unset: each structure's default).
     command.add_option("--leaf-size", config.leaf_size,
                        "Leaf size limit (bvh: 1.." + std::to_string(kBvhMaxLeafSize) +

@@ -25,7 +25,6 @@ struct TraceOptions {
     std::string pixel;
     int width = 1280, height = 720;
     bool json = false;
-    std::string structure;  ///< --structure: a structure file instead of a build
     CameraFlags camera;
     AccelConfig accel;
 };
@@ -40,7 +39,7 @@ int run_trace(const TraceOptions& opt) {
     const Mesh* mesh = &picked->mesh;
     const int x = picked->x, y = picked->y;
     auto accel = [&] {
-        if (!opt.structure.empty()) return load_structure_file(opt.structure, *mesh, opt.scene);
+        if (!opt.accel.structure_file.empty()) return load_structure_file(opt.accel.structure_file, *mesh, opt.scene);
         const StepProgress progress("trace", "building " + std::string(to_string(opt.accel.type)));
         return build_accelerator(*mesh, opt.accel);
     }();
@@ -91,9 +90,6 @@ Command register_trace(CLI::App& app) {
     sub->add_option("--width", opt->width, "Image width in pixels")->check(whole_number(1, 16384))->capture_default_str();
     sub->add_option("--height", opt->height, "Image height in pixels")->check(whole_number(1, 16384))->capture_default_str();
     sub->add_flag("--json", opt->json, "One JSON object: events (array), result, counters");
-    sub->add_option("--structure", opt->structure,
-                    "Trace through a structure from a file (docs/structure-format.md; e.g. a student's tree) "
-                    "instead of building one");
     opt->camera.add_to(*sub);
     add_accel_flags(*sub, opt->accel);
     return {sub, [opt] { return run_trace(*opt); }};

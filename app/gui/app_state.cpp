@@ -162,6 +162,7 @@ nlohmann::json accel_config_json(const AccelConfig& a) {
     if (a.leaf_size) j["leaf_size"] = *a.leaf_size;
     if (a.cost_trav) j["cost_trav"] = *a.cost_trav;
     if (a.cost_isect) j["cost_isect"] = *a.cost_isect;
+    if (!a.structure_file.empty()) j["file"] = a.structure_file;  // a structure from a file, not built
     return j;
 }
 
@@ -210,6 +211,7 @@ void read_accel(const nlohmann::json& j, AccelConfig& a) {
     a.leaf_size = read(j, "leaf_size", a.leaf_size, "structure");
     a.cost_trav = read(j, "cost_trav", a.cost_trav, "structure");
     a.cost_isect = read(j, "cost_isect", a.cost_isect, "structure");
+    a.structure_file = read(j, "file", a.structure_file, "structure");
 }
 
 }  // namespace
@@ -386,6 +388,12 @@ Expected<AppState> load_app_state_file(const std::string& path) {
     if (scene.rfind("builtin:", 0) != 0 && fs::path(scene).is_relative()) {
         const fs::path beside = fs::path(path).parent_path() / scene;
         if (fs::is_regular_file(beside, ec)) state->scene = beside.lexically_normal().string();
+    }
+    // A structure file, likewise: beside the preset when it is there.
+    std::string& tree = state->accel.structure_file;
+    if (!tree.empty() && fs::path(tree).is_relative()) {
+        const fs::path beside = fs::path(path).parent_path() / tree;
+        if (fs::is_regular_file(beside, ec)) tree = beside.lexically_normal().string();
     }
     return state;
 }

@@ -16,6 +16,7 @@
 #include "app/gui/camera_control.h"
 #include "app/gui/view_labels.h"
 #include "app/gui/widget_audit.h"
+#include "core/exchange/structure_file.h"
 #include "core/render/colormap.h"
 #include "core/render/views.h"
 
@@ -629,7 +630,10 @@ void take_screenshot(Renderer& renderer, Session& session, const FrameInput& inp
 FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, const FrameInput& input) {
     // 1. Work finished on the loader thread, and files dropped on the window.
     session.take_finished_load(state);
-    for (const std::string& path : input.dropped_paths) session.open_scene(state, path);
+    for (const std::string& path : input.dropped_paths) {
+        if (looks_like_structure_file(path)) session.use_structure_file(state, path);  // a tree (a student's)
+        else session.open_scene(state, path);
+    }
 
     // GPU copies and the structure overlay now, so the panels and the legend of
     // this very frame describe what it draws (and a headless frame is complete).

@@ -159,10 +159,64 @@ void ScenePanel::draw_timeline(AppState& state, Session& session, double dt) {
 
 // [SECTION] Structure
 
+namespace {
+
+/// A structure from a file (a student's tree): which file, valid or not, its problems
+/// one per line; "Build ours instead" goes back to building. True when it asks for a rebuild.
+bool draw_structure_file(AccelConfig& a, const Session& session) {
+    const size_t slash = a.structure_file.find_last_of('/');
+    const std::string name = slash == std::string::npos ? a.structure_file : a.structure_file.substr(slash + 1);
+    ImGui::TextWrapped("From file: %s", name.c_str());
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", a.structure_file.c_str());
+    bool rebuild = false;
+    if (ImGui::Button("Build ours instead")) {
+        a.structure_file.clear();
+        rebuild = true;
+    }
+    const LoadedScene* scene = session.scene.get();
+    const CheckedStructureFile* file = scene && scene->accel_config.structure_file == a.structure_file
+                                           ? scene->structure_file.get()
+                                           : nullptr;
+    if (!file) {
+        hint("Reading and checking the file...");
+        return rebuild;
+    }
+    const StructureCheck& check = file->check;
+    if (check.valid()) {
+        hint("Valid: our traversal runs through it (heat maps, stepper, Stats as for ours).");
+        return rebuild;
+    }
+    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.42f, 0.42f, 1.0f));
+    ImGui::TextWrapped("NOT VALID: %llu problem%s. Red boxes: the nodes named. Rays go through brute force.",
+                       (unsigned long long)check.problem_count, check.problem_count == 1 ? "" : "s");
+    ImGui::PopStyleColor();
+    // As tall as the first few problems wrapped (the rest scroll).
+    const ImGuiStyle& style = ImGui::GetStyle();
+    const float wrap = ImGui::GetContentRegionAvail().x - 2 * style.WindowPadding.x - style.ScrollbarSize;
+    float height = 2 * style.WindowPadding.y;
+    for (size_t i = 0; i < check.problems.size() && i < 4; ++i)
+        height += ImGui::CalcTextSize(check.problems[i].message.c_str(), nullptr, false, wrap).y + style.ItemSpacing.y;
+    if (ImGui::BeginChild("##problems", ImVec2(0, height), true)) {
+        for (const StructureProblem& p : check.problems) ImGui::TextWrapped("%s", p.message.c_str());
+        if (check.problem_count > check.problems.size())
+            ImGui::TextDisabled("... and %llu more (accelviz check lists them all)",
+                                (unsigned long long)(check.problem_count - check.problems.size()));
+    }
+    ImGui::EndChild();
+    return rebuild;
+}
+
+}  // namespace
+
 void StructurePanel::draw(AppState& state, Session& session) {
     if (!ImGui::CollapsingHeader("Structure", ImGuiTreeNodeFlags_DefaultOpen)) return;
     AccelConfig& a = state.accel;
     bool rebuild = false;
+    if (!a.structure_file.empty()) {
+        if (draw_structure_file(a, session)) session.rebuild_structure(state);
+        draw_overlay_settings(state, session);
+        return;
+    }
     ImGui::PushItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);
     // "###": the combo reads "Structure" like the section's header, but has its own ID.
     rebuild |= enum_combo("Structure###structure_type", a.type, accel_type_names(), parse_accel_type);
@@ -208,8 +262,24 @@ void StructurePanel::draw(AppState& state, Session& session) {
         ImGui::SetTooltip("mt: Moller-Trumbore, the lecture's barycentric solve.\n"
                           "watertight: Woop, Benthin & Wald 2013; no ray slips between two triangles.");
     ImGui::PopItemWidth();
+    // Or a structure from a file (docs/structure-format.md): a student's tree, checked.
+    ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);
+    const bool entered = ImGui::InputTextWithHint("##structure_file", "tree.json", &file_text,
+                                                  ImGuiInputTextFlags_EnterReturnsTrue);
+    ImGui::SameLine();
+    if ((ImGui::Button("From file") || entered) && !file_text.empty()) {
+        session.use_structure_file(state, file_text);
+        return;
+    }
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("Load a structure from a file (a student's BVH, KD tree or grid; docs/structure-format.md)\n"
+                          "instead of building one. Dropping the file on the window does the same.");
     if (rebuild) session.rebuild_structure(state);
+    draw_overlay_settings(state, session);
+}
 
+void StructurePanel::draw_overlay_settings(AppState& state, const Session& session) {
+    const AccelConfig& a = state.accel;
     // What of it the 3D view shows.
     OverlaySettings& o = state.overlay;
     ImGui::Checkbox("Show structure", &o.show_structure);
@@ -299,6 +369,36 @@ void StatsPanel::draw(const AppState&, const Session& session) {
         histogram_of = scene->accel;
     }
     draw_histogram(histogram);
+    if (const CheckedStructureFile* file = scene->structure_file.get()) {
+        // A structure from a file: its own shape (our build statistics do not apply).
+        if (!file->check.valid()) return;
+        const bool same_file = !figures_of.expired() && !figures_of.owner_before(scene->structure_file) &&
+                               !scene->structure_file.owner_before(figures_of);
+        if (!same_file) {
+            figures = measure_structure(*file->file, *scene->mesh, *scene->accel, {}, *scene->accel, {});
+            figures_of = scene->structure_file;
+        }
+        if (!ImGui::BeginTable("file_stats", 2, ImGuiTableFlags_RowBg | ImGuiTableFlags_SizingStretchProp)) return;
+        auto row = [](const char* key, const std::string& value) {
+            ImGui::TableNextRow();
+            ImGui::TableNextColumn();
+            ImGui::TextUnformatted(key);
+            ImGui::TableNextColumn();
+            ImGui::TextUnformatted(value.c_str());
+        };
+        char number[32];
+        std::snprintf(number, sizeof number, "%.4g", figures.sah_cost);
+        row("SAH cost (C_trav = C_isect = 1)", number);
+        row("nodes", std::to_string(figures.nodes));
+        row("leaves", std::to_string(figures.leaves));
+        row("depth", std::to_string(figures.depth));
+        std::snprintf(number, sizeof number, "%.2f", file->file->type == AccelType::Bvh ? figures.avg_children
+                                                                                       : figures.references);
+        row(file->file->type == AccelType::Bvh ? "children per node" : "references per triangle", number);
+        if (!file->file->builder.empty()) row("built by", file->file->builder);
+        ImGui::EndTable();
+        return;
+    }
     const nlohmann::json stats = scene->accel->stats();
     if (!ImGui::BeginTable("stats", 2, ImGuiTableFlags_RowBg | ImGuiTableFlags_SizingStretchProp)) return;
     for (const auto& [key, value] : stats.items()) {
@@ -556,6 +656,8 @@ void StatsBar::draw(const AppState& state, const Session& session, double frame_
         std::snprintf(text, sizeof text, "%s  |  %zu triangles  |  structure: %s", state.scene.c_str(),
                       scene->mesh->triangle_count(), std::string(to_string(scene->accel_config.type)).c_str());
         line = text;
+        if (const CheckedStructureFile* file = scene->structure_file.get())
+            line += file->check.valid() ? " from a file" : " from a file, NOT VALID (rays: brute force)";
         // The steppers draw their own boxes in place of the whole structure's.
         const bool stepper_3d = (state.stepper.open && state.stepper.ray) || session.build_stepper.shows_3d(state);
         if (state.overlay.show_structure && !session.overlay.boxes.empty() && !stepper_3d) {

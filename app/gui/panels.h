@@ -32,7 +32,11 @@ private:
 /// The structure and its build parameters (a change rebuilds it on the worker),
 /// and what of it the 3D view shows.
 struct StructurePanel {
+    std::string file_text;  ///< the "From file" field
     void draw(AppState& state, Session& session);
+
+private:
+    void draw_overlay_settings(AppState& state, const Session& session);
 };
 
 /// The current structure's build statistics and what the overlay's colours mean.
@@ -41,6 +45,9 @@ struct StatsPanel {
     /// The leaf-size / cell-occupancy histogram of `histogram_of` (remade when the structure changes).
     std::weak_ptr<const Accelerator> histogram_of;
     LeafHistogram histogram;
+    /// A structure from a file: its shape (remade when another file is loaded).
+    std::weak_ptr<const CheckedStructureFile> figures_of;
+    StructureFigures figures;
     void draw(const AppState& state, const Session& session);
 };
 

@@ -1,5 +1,6 @@
 #include "app/gui/scene_loader.h"
 
+#include "core/exchange/structure_check.h"
 #include "core/geometry/scene.h"
 
 namespace accelviz {
@@ -71,8 +72,28 @@ LoadResult rebuild(const LoadedScene& from, const AccelConfig& config,
     scene->load_seconds = from.load_seconds;
     scene->accel_config = config;
     start_stage(progress, 0);
-    if (on_stage) on_stage("Building " + std::string(to_string(config.type)));
     const auto start = std::chrono::steady_clock::now();
+    if (!config.structure_file.empty()) {
+        // A structure from a file: read and checked, never trusted. Valid: our traversal
+        // runs through it. Not valid: rays go through brute force, and the overlay draws
+        // the file's nodes with the faulty ones red.
+        if (on_stage) on_stage("Reading " + short_name(config.structure_file));
+        auto crc = mesh_crc32(from.source, *scene->mesh);
+        if (!crc) return Error{crc.error()};
+        auto checked = read_and_check_structure(config.structure_file, *scene->mesh, *crc);
+        if (!checked) return Error{checked.error()};
+        scene->structure_file = std::make_shared<const CheckedStructureFile>(std::move(*checked));
+        scene->accel_config.type = scene->structure_file->file->type;
+        scene->accel = scene->structure_file->accel;
+        if (!scene->accel) {
+            AccelConfig naive;
+            naive.type = AccelType::Naive;
+            scene->accel = *build_accelerator(*scene->mesh, naive);
+        }
+        scene->build_seconds = seconds_since(start);
+        return std::shared_ptr<const LoadedScene>(std::move(scene));
+    }
+    if (on_stage) on_stage("Building " + std::string(to_string(config.type)));
     auto accel = build_accelerator(*scene->mesh, config, progress);
     if (!accel) return Error{accel.error()};
     scene->accel = std::move(*accel);

@@ -18,6 +18,7 @@
 #include <thread>
 
 #include "core/accel/factory.h"
+#include "core/exchange/structure_check.h"
 #include "core/geometry/mesh.h"
 #include "core/util/expected.h"
 #include "core/util/work_progress.h"
@@ -36,6 +37,9 @@ struct LoadedScene {
     double build_seconds = 0;  ///< the build, or for a refitted scene the refit
     bool refitted = false;     ///< the structure is an earlier time's BVH refitted to this mesh
     std::optional<std::string> degenerate_note;  ///< "k of N triangles have zero area ..." (degenerate_note)
+    /// The structure file read when accel_config.structure_file is set (then `accel` is
+    /// its structure, or brute force when the file is not valid); null otherwise.
+    std::shared_ptr<const CheckedStructureFile> structure_file;
 };
 
 using LoadResult = Expected<std::shared_ptr<const LoadedScene>>;

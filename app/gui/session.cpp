@@ -18,6 +18,11 @@ void Session::open_scene_at_time(const AppState& state, double t, bool refit) {
     else loader.request(*source, state.accel);
 }
 
+void Session::use_structure_file(AppState& state, const std::string& path) {
+    state.accel.structure_file = path;
+    rebuild_structure(state);
+}
+
 void Session::rebuild_structure(const AppState& state) {
     if (!scene) return;
     keep_camera_on_load = true;
@@ -107,7 +112,9 @@ void Session::upload_to_gpu(const OverlaySettings& settings) {
     key.show_structure = overlay_settings.show_structure;
     key.mesh_opacity = overlay_settings.mesh_opacity;
     if (overlay_generation != scene_generation || !(key == overlay_settings)) {
-        overlay = make_structure_overlay(*scene->accel, settings);
+        const CheckedStructureFile* file = scene->structure_file.get();
+        overlay = file && !file->check.valid() ? make_file_overlay(*file->file, file->check, settings)
+                                               : make_structure_overlay(*scene->accel, settings);
         if (!overlay_boxes) overlay_boxes = std::make_unique<BoxBuffer>();
         if (!overlay_quads) overlay_quads = std::make_unique<ColouredBuffer>();
         overlay_boxes->upload(overlay.boxes);

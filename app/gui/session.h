@@ -135,6 +135,9 @@ struct Session {
     /// Starts building the state's structure over the current mesh (on the
     /// worker); the camera stays.
     void rebuild_structure(const AppState& state);
+    /// Uses the structure in `path` (docs/structure-format.md; a student's tree) over
+    /// the current mesh instead of building one: read and checked on the worker.
+    void use_structure_file(AppState& state, const std::string& path);
     /// Takes a finished load, if any: swaps the scene in and updates the state's
     /// scene and camera; on failure sets `message` and keeps everything as it was.
     void take_finished_load(AppState& state);

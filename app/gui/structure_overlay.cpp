@@ -1,6 +1,7 @@
 #include "app/gui/structure_overlay.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "core/accel/bvh.h"
@@ -284,6 +285,122 @@ void grid_overlay(const UniformGrid& grid, StructureOverlay& out) {
     out.legend = text;
 }
 
+// [SECTION] A structure file that is not valid: its own nodes, the faulty ones red
+
+constexpr Rgba8 kFaultRed{255, 40, 40, 255};
+/// The other boxes, faint, so that the red ones stand out.
+constexpr uint8_t kFaintAlpha = 80;
+
+bool drawable(const Aabb& b) {
+    for (int a = 0; a < 3; ++a)
+        if (!std::isfinite(b.lo[a]) || !std::isfinite(b.hi[a])) return false;
+    return true;
+}
+
+/// Depth of every node reached from the root, each once (-1: not reached), following
+/// only child indices in range: safe on a file with cycles or shared nodes.
+template <class Children>
+std::vector<int> file_depths(size_t count, Children&& children, int& deepest) {
+    std::vector<int> depth(count, -1);
+    if (count == 0) return depth;
+    depth[0] = 0;
+    std::vector<uint32_t> queue = {0};
+    for (size_t q = 0; q < queue.size(); ++q) {
+        const uint32_t n = queue[q];
+        for (uint32_t c : children(n)) {
+            if (c >= count || depth[c] >= 0) continue;
+            depth[c] = depth[n] + 1;
+            deepest = std::max(deepest, depth[c]);
+            queue.push_back(c);
+        }
+    }
+    return depth;
+}
+
+void file_overlay(const StructureFile& f, const StructureCheck& check, const OverlaySettings& s,
+                  StructureOverlay& out) {
+    auto bad = [&](uint64_t i) { return std::binary_search(check.bad_nodes.begin(), check.bad_nodes.end(), i); };
+    if (f.type == AccelType::Grid) {
+        // Listed cells, the faulty entries red: a grid has no levels.
+        const Vec3 e = f.bounds.extent();
+        const float nx = float(std::max(f.resolution[0], 1u)), ny = float(std::max(f.resolution[1], 1u)),
+                    nz = float(std::max(f.resolution[2], 1u));
+        const Vec3 size{e.x / nx, e.y / ny, e.z / nz};
+        size_t most = 1;
+        for (const FileGridCell& c : f.cells) most = std::max(most, c.triangles.size());
+        for (size_t i = 0; i < f.cells.size(); ++i) {
+            const FileGridCell& c = f.cells[i];
+            const Vec3 lo{f.bounds.lo.x + size.x * float(c.cell[0]), f.bounds.lo.y + size.y * float(c.cell[1]),
+                          f.bounds.lo.z + size.z * float(c.cell[2])};
+            const Aabb box{lo, {lo.x + size.x, lo.y + size.y, lo.z + size.z}};
+            if (!drawable(box)) continue;
+            const bool fault = bad(i);
+            if (!fault && c.triangles.empty()) continue;
+            out.boxes.push_back({box.lo, box.hi, fault ? kFaultRed : level_colour(double(c.triangles.size()) / double(most), kFaintAlpha)});
+        }
+        return;
+    }
+    const bool is_bvh = f.type == AccelType::Bvh;
+    const size_t count = is_bvh ? f.bvh_nodes.size() : f.kd_nodes.size();
+    const std::vector<int> depth = file_depths(
+        count,
+        [&](uint32_t n) {
+            if (is_bvh) return f.bvh_nodes[n].children;
+            const FileKdNode& k = f.kd_nodes[n];
+            return k.is_leaf() ? std::vector<uint32_t>{} : std::vector<uint32_t>{k.children[0], k.children[1]};
+        },
+        out.deepest_level);
+    // A KD node's box: its cell, cut from the root's by the planes above it.
+    std::vector<Aabb> kd_cell(is_bvh ? 0 : count, f.bounds);
+    if (!is_bvh) {
+        std::vector<uint32_t> by_depth;
+        for (uint32_t i = 0; i < count; ++i)
+            if (depth[i] >= 0) by_depth.push_back(i);
+        std::stable_sort(by_depth.begin(), by_depth.end(), [&](uint32_t a, uint32_t b) { return depth[a] < depth[b]; });
+        for (uint32_t i : by_depth) {
+            const FileKdNode& n = f.kd_nodes[i];
+            if (n.is_leaf()) continue;
+            for (int side = 0; side < 2; ++side) {
+                const uint32_t c = n.children[size_t(side)];
+                if (c >= count || depth[c] != depth[i] + 1) continue;
+                kd_cell[c] = kd_cell[i];
+                if (side == 0) kd_cell[c].hi[n.axis] = std::min(kd_cell[c].hi[n.axis], n.split);
+                else kd_cell[c].lo[n.axis] = std::max(kd_cell[c].lo[n.axis], n.split);
+            }
+        }
+    }
+    auto box_of = [&](size_t i) { return is_bvh ? f.bvh_nodes[i].box : kd_cell[i]; };
+    auto leaf = [&](size_t i) { return is_bvh ? !f.bvh_nodes[i].interior : f.kd_nodes[i].is_leaf(); };
+    std::vector<size_t> per_level;
+    for (size_t i = 0; i < count; ++i)
+        if (depth[i] >= 0 && (!s.leaves_only || leaf(i))) count_level(per_level, depth[i]);
+    const ShownLevels shown = shown_levels(s, out.deepest_level, per_level);
+    const LevelRange levels = shown.range;
+    LevelOrderedBoxes ordered(levels);
+    for (size_t i = 0; i < count; ++i) {
+        const Aabb box = box_of(i);
+        if (!drawable(box)) continue;
+        if (bad(i)) {  // always drawn, with the first level shown (so a moving camera keeps it too)
+            ordered.add({box.lo, box.hi, kFaultRed}, levels.lo);
+            continue;
+        }
+        if (depth[i] < 0 || !levels.contains(depth[i]) || (s.leaves_only && !leaf(i))) continue;
+        const double x = level_position(depth[i], levels.lo, levels.hi);
+        if (is_bvh || s.leaves_only) {
+            ordered.add({box.lo, box.hi, level_colour(x, kFaintAlpha)}, depth[i]);
+            continue;
+        }
+        const FileKdNode& n = f.kd_nodes[i];
+        if (n.is_leaf() || !(n.split >= box.lo[n.axis] && n.split <= box.hi[n.axis])) continue;
+        ColouredQuad quad;
+        const std::array<Vec3, 4> corners = plane_across_box(box, n.axis, n.split);
+        std::copy(corners.begin(), corners.end(), quad.corners);
+        quad.colour = level_colour(x, 70);
+        ordered.add(quad, depth[i]);
+    }
+    ordered.finish(out);
+}
+
 }  // namespace
 
 uint64_t LeafHistogram::total() const {
@@ -348,6 +465,18 @@ size_t StructureOverlay::moving_quads(size_t budget) const {
     if (quad_level_ends.empty()) return quads.size();
     const size_t levels = std::min(moving_levels(budget), quad_level_ends.size());
     return levels == 0 ? 0 : quad_level_ends[levels - 1];
+}
+
+StructureOverlay make_file_overlay(const StructureFile& file, const StructureCheck& check,
+                                   const OverlaySettings& settings) {
+    StructureOverlay out;
+    file_overlay(file, check, settings, out);
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "NOT VALID: %llu problem%s (Structure panel); red: the nodes they name. Rays go through brute force",
+                  (unsigned long long)check.problem_count, check.problem_count == 1 ? "" : "s");
+    out.legend = text;
+    return out;
 }
 
 StructureOverlay make_structure_overlay(const Accelerator& accel, const OverlaySettings& settings) {

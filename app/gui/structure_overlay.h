@@ -15,6 +15,7 @@
 #include "app/gl/renderer.h"
 #include "app/gui/app_state.h"
 #include "core/accel/accelerator.h"
+#include "core/exchange/structure_check.h"
 
 namespace accelviz {
 
@@ -41,6 +42,12 @@ private:
 
 /// The overlay of `accel` under `settings` (naive: nothing).
 StructureOverlay make_structure_overlay(const Accelerator& accel, const OverlaySettings& settings);
+
+/// The overlay of a structure file that is not valid (check_structure found problems):
+/// its own nodes by depth (BVH boxes, KD planes, grid cells), every node a problem
+/// names in red whatever the levels shown.
+StructureOverlay make_file_overlay(const StructureFile& file, const StructureCheck& check,
+                                   const OverlaySettings& settings);
 
 /// How the triangles are spread over the leaves (BVH, KD tree, octree) or the
 /// cells (grid): counts[k] = number of leaves / cells holding k triangle

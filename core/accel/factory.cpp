@@ -1,5 +1,7 @@
 #include "core/accel/factory.h"
 
+#include "core/exchange/structure_check.h"
+
 #include "core/accel/brute_force.h"
 #include "core/accel/bvh_build.h"
 #include "core/accel/memory_budget.h"
@@ -60,6 +62,10 @@ std::optional<Error> validate(const AccelConfig& config) {
 
 Expected<std::shared_ptr<const Accelerator>> build_accelerator(const Mesh& mesh, const AccelConfig& requested,
                                                                WorkProgress* progress) {
+    if (!requested.structure_file.empty()) {
+        start_stage(progress, 0);
+        return load_structure_file(requested.structure_file, mesh, "");
+    }
     if (auto err = validate(requested)) return *err;
     std::string budget_note;  // what the memory budget lowered, if anything
     const Expected<AccelConfig> fitted =

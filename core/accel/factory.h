@@ -36,6 +36,11 @@ struct AccelConfig {
     /// Every structure: the bytes its build may take (--memory-budget; 0 = half the
     /// physical memory). Not part of what a preset or the panels describe.
     uint64_t memory_budget = 0;
+    /// A structure read from this file (docs/structure-format.md; e.g. a student's
+    /// tree, `--structure`) instead of one built: when set, the other fields are
+    /// ignored (the file says what it is; leaves run Möller–Trumbore) and a file that is
+    /// not valid over the mesh is an error naming its first problem.
+    std::string structure_file;
 };
 
 /// Whether the structure `config.type` can be built with these parameters (the

@@ -41,6 +41,9 @@ public:
         if (node) out_.bad_nodes.push_back(*node);
         if (out_.problems.size() < max_listed_) out_.problems.push_back({node, std::move(message)});
     }
+    /// Names `node` among the bad ones without a problem of its own (the other party
+    /// of a problem: the parent a child's box sticks out of).
+    void mark(uint64_t node) { out_.bad_nodes.push_back(node); }
     void finish() {
         std::sort(out_.bad_nodes.begin(), out_.bad_nodes.end());
         out_.bad_nodes.erase(std::unique(out_.bad_nodes.begin(), out_.bad_nodes.end()), out_.bad_nodes.end());
@@ -203,9 +206,11 @@ void check_bvh(const StructureFile& f, const Mesh& mesh, Problems& problems) {
         const FileBvhNode& n = nodes[i];
         if (parent[i] != UINT32_MAX && is_box(n.box) && is_box(nodes[parent[i]].box)) {
             const Overhang o = overhang(n.box, nodes[parent[i]].box);
-            if (o.amount > tol)
+            if (o.amount > tol) {
                 problems.add(i, "node " + std::to_string(i) + "'s box sticks out of its parent's (node " +
                                     std::to_string(parent[i]) + ") by " + number(o.amount) + " on " + o.face);
+                problems.mark(parent[i]);
+            }
         }
         if (n.interior || n.first + n.count > f.order.size()) continue;
         for (uint64_t k = n.first; k < n.first + n.count; ++k) {
@@ -682,18 +687,37 @@ StructureFigures measure_structure(const StructureFile& f, const Mesh& mesh, con
 
 namespace accelviz {
 
-Expected<std::shared_ptr<const Accelerator>> load_structure_file(const std::string& path, const Mesh& mesh,
-                                                                 const std::string& source) {
+Expected<CheckedStructureFile> read_and_check_structure(const std::string& path, const Mesh& mesh,
+                                                        std::optional<uint32_t> mesh_crc, size_t max_listed) {
     auto file = read_structure_file(path);
     if (!file) return Error{file.error()};
-    auto crc = mesh_crc32(source, mesh);
-    if (!crc) return Error{crc.error()};
-    const StructureCheck check = check_structure(*file, mesh, *crc, 1);
+    CheckedStructureFile out;
+    out.check = check_structure(*file, mesh, mesh_crc, max_listed);
+    out.file = std::make_shared<const StructureFile>(std::move(*file));
+    if (out.check.valid()) {
+        auto accel = structure_accelerator(*out.file, mesh);
+        if (!accel) return Error{path + ": " + accel.error()};
+        out.accel = std::move(*accel);
+    }
+    return out;
+}
+
+Expected<std::shared_ptr<const Accelerator>> load_structure_file(const std::string& path, const Mesh& mesh,
+                                                                 const std::string& source) {
+    std::optional<uint32_t> crc;
+    if (!source.empty()) {
+        auto c = mesh_crc32(source, mesh);
+        if (!c) return Error{c.error()};
+        crc = *c;
+    }
+    auto checked = read_and_check_structure(path, mesh, crc, 1);
+    if (!checked) return Error{checked.error()};
+    const StructureCheck& check = checked->check;
     if (!check.valid())
-        return Error{path + " is not a valid structure over " + source + " (" + std::to_string(check.problem_count) +
+        return Error{path + " is not a valid structure over this mesh (" + std::to_string(check.problem_count) +
                      " problem" + (check.problem_count == 1 ? "" : "s") + "; the first: " +
                      check.problems.front().message + "): accelviz check lists them"};
-    return structure_accelerator(*file, mesh);
+    return checked->accel;
 }
 
 }  // namespace accelviz

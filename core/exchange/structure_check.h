@@ -27,7 +27,7 @@ struct StructureProblem {
 struct StructureCheck {
     std::vector<StructureProblem> problems;  ///< the first max_listed ones
     uint64_t problem_count = 0;              ///< all of them
-    std::vector<uint64_t> bad_nodes;         ///< every node a problem names, sorted, once (what the window draws red)
+    std::vector<uint64_t> bad_nodes;         ///< every node a problem is about (and a box's parent), sorted, once: what the window draws red
     bool valid() const { return problem_count == 0; }
 };
 
@@ -81,9 +81,21 @@ StructureFigures measure_structure(const StructureFile& file, const Mesh& mesh, 
 
 namespace accelviz {
 
-/// A structure file read, checked over `mesh` (named `source`, for its checksum) and
-/// laid out for our traversal: what `trace --structure` and the window load. Errors:
-/// the file's own, or "not valid" with the first problem (accelviz check lists all).
+/// A structure file read and checked over `mesh`, and, when it is valid, laid out for
+/// our traversal: what the window loads (it draws an invalid file's nodes, the faulty
+/// ones red). `mesh_crc`: the mesh's checksum, when known, to check the file's against.
+struct CheckedStructureFile {
+    std::shared_ptr<const StructureFile> file;
+    StructureCheck check;
+    std::shared_ptr<const Accelerator> accel;  ///< null when the file is not valid
+};
+Expected<CheckedStructureFile> read_and_check_structure(const std::string& path, const Mesh& mesh,
+                                                        std::optional<uint32_t> mesh_crc, size_t max_listed = 50);
+
+/// read_and_check_structure, with `source` (the mesh's OBJ path or built-in name;
+/// empty: not checked) naming the mesh for its checksum; an invalid file is an error
+/// with its first problem (accelviz check lists all): `trace --structure` and every
+/// command's `--structure`.
 Expected<std::shared_ptr<const Accelerator>> load_structure_file(const std::string& path, const Mesh& mesh,
                                                                  const std::string& source);
 

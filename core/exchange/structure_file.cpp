@@ -526,6 +526,15 @@ Expected<StructureFile> parse_structure_binary(const std::string& bytes) {
     return f;
 }
 
+bool looks_like_structure_file(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::string head(4096, '\0');
+    in.read(head.data(), std::streamsize(head.size()));
+    head.resize(size_t(in.gcount()));
+    return head.rfind(std::string(kBinaryMagic, sizeof kBinaryMagic), 0) == 0 ||
+           head.find(std::string("\"") + kFormatName + "\"") != std::string::npos;
+}
+
 Expected<StructureFile> read_structure_file(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) return Error{path + ": cannot open: " + std::strerror(errno)};

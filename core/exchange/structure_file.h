@@ -89,6 +89,10 @@ Expected<StructureFile> parse_structure_json(const std::string& text);
 std::string structure_binary(const StructureFile& file);
 Expected<StructureFile> parse_structure_binary(const std::string& bytes);
 
+/// Whether `path` looks like a structure file (the binary magic, or "accelviz-structure"
+/// in its first 4 KiB): how the window tells a dropped tree from a dropped mesh.
+bool looks_like_structure_file(const std::string& path);
+
 /// Reads `path`: binary if it starts with the binary variant's magic, else JSON.
 /// Errors start with the path.
 Expected<StructureFile> read_structure_file(const std::string& path);

@@ -1,0 +1,119 @@
+// A structure from a file (a student's tree) in the window: dropped on it or typed
+// into the Structure panel, read and checked on the worker; a valid one is drawn
+// and traced like ours, an invalid one drawn with the nodes its problems name in red.
+#include <chrono>
+#include <cstdio>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "app/gui/headless.h"
+#include "app/gui/session.h"
+#include "core/accel/factory.h"
+#include "core/exchange/structure_file.h"
+#include "core/geometry/scene.h"
+#include "golden.h"
+
+namespace accelviz {
+namespace {
+
+const std::string kBrokenTree = std::string(ACCELVIZ_TREES_DIR) + "/teapot_student_broken.json";
+
+void draw_until_loaded(HeadlessApp& app, AppState& state) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+    while ((app.session().loader.busy() || app.session().loader.has_result()) &&
+           std::chrono::steady_clock::now() < deadline) {
+        app.draw(state, {});
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    app.draw(state, {});
+}
+
+/// Our median BVH of builtin:teapot written to a file, as a student's tool would.
+std::string write_our_tree(const char* name) {
+    const Mesh mesh = *load_scene("builtin:teapot", MeshCache::Skip);
+    AccelConfig c;
+    c.type = AccelType::Bvh;
+    c.bvh.builder = BvhBuilder::Median;
+    auto accel = build_accelerator(mesh, c);
+    auto file = export_structure(**accel, mesh, {"builtin:teapot", 0, *mesh_crc32("builtin:teapot", mesh)});
+    const std::string path = ::testing::TempDir() + name;
+    EXPECT_FALSE(write_structure_file(*file, path).has_value());
+    return path;
+}
+
+TEST(StructureFileView, ADroppedValidTreeIsDrawnAndTracedLikeOurs) {
+    auto app = HeadlessApp::create(480, 320);
+    ASSERT_TRUE(app) << app.error();
+    AppState state;
+    state.scene = "builtin:teapot";
+    state.accel.bvh.builder = BvhBuilder::Median;
+    (*app)->session().open_scene(state, state.scene);
+    draw_until_loaded(**app, state);
+    const size_t our_boxes = (*app)->session().overlay.boxes.size();
+    ASSERT_GT(our_boxes, 0u);
+
+    const std::string tree = write_our_tree("valid_tree.json");
+    FrameInput drop;
+    drop.dropped_paths = {tree};
+    (*app)->draw(state, drop);
+    draw_until_loaded(**app, state);
+    const Session& session = (*app)->session();
+    ASSERT_NE(session.scene, nullptr);
+    EXPECT_EQ(state.scene, "builtin:teapot") << "a tree is not a scene: the mesh stays";
+    EXPECT_EQ(state.accel.structure_file, tree);
+    ASSERT_NE(session.scene->structure_file, nullptr) << session.message;
+    EXPECT_TRUE(session.scene->structure_file->check.valid());
+    EXPECT_EQ(session.scene->accel->name(), "bvh") << "our traversal, through the file's tree";
+    EXPECT_EQ(session.overlay.boxes.size(), our_boxes) << "the same tree, the same boxes";
+    EXPECT_EQ(session.overlay.legend.find("NOT VALID"), std::string::npos);
+}
+
+TEST(StructureFileView, AnInvalidTreeIsDrawnWithItsFaultyNodesRed) {
+    auto app = HeadlessApp::create(480, 320);
+    ASSERT_TRUE(app) << app.error();
+    AppState state;
+    state.scene = "builtin:teapot";
+    state.accel.structure_file = kBrokenTree;
+    (*app)->session().open_scene(state, state.scene);
+    draw_until_loaded(**app, state);
+    const Session& session = (*app)->session();
+    ASSERT_NE(session.scene, nullptr) << session.message;
+    ASSERT_NE(session.scene->structure_file, nullptr);
+    const StructureCheck& check = session.scene->structure_file->check;
+    EXPECT_FALSE(check.valid());
+    EXPECT_EQ(check.bad_nodes, (std::vector<uint64_t>{130, 193, 194})) << "the children sticking out and their parent";
+    EXPECT_EQ(session.scene->accel->name(), "naive") << "rays go through brute force: they get the right answers";
+    size_t red = 0;
+    for (const BoxInstance& b : session.overlay.boxes) red += b.colour.r == 255 && b.colour.g == 40 && b.colour.a == 255;
+    EXPECT_EQ(red, 3u);
+    EXPECT_NE(session.overlay.legend.find("NOT VALID: 2 problems"), std::string::npos) << session.overlay.legend;
+}
+
+TEST(StructureFileView, AnUnreadableTreeIsAMessageAndTheStructureStays) {
+    auto app = HeadlessApp::create(320, 240);
+    ASSERT_TRUE(app) << app.error();
+    AppState state;
+    state.scene = "builtin:cube";
+    (*app)->session().open_scene(state, state.scene);
+    draw_until_loaded(**app, state);
+    const auto before = (*app)->session().scene;
+    const std::string bad = ::testing::TempDir() + "not_a_tree.json";
+    std::FILE* f = std::fopen(bad.c_str(), "w");
+    std::fputs("{\"format\": \"accelviz-structure\", \"version\": 1, \"type\": \"bvh\"}", f);
+    std::fclose(f);
+    (*app)->session().use_structure_file(state, bad);
+    draw_until_loaded(**app, state);
+    EXPECT_EQ((*app)->session().scene, before);
+    EXPECT_NE((*app)->session().message.find("\"mesh\" is missing"), std::string::npos) << (*app)->session().message;
+}
+
+TEST(StructureFileView, StudentTreeWithAnInvalidNodeMatchesGolden) {
+    AppState state;
+    state.scene = "builtin:teapot";
+    state.accel.structure_file = kBrokenTree;
+    EXPECT_TRUE(testing::view_matches_golden(state, WindowView::Gui, 960, 600, "teapot_student_tree_invalid"));
+}
+
+}  // namespace
+}  // namespace accelviz
