@@ -121,9 +121,11 @@ std::string leaf_sizes_words(const std::vector<uint64_t>& sizes) {
 
 /// The trace command that steps pixel (x, y)'s ray as check saw it: the same scene,
 /// image and camera, through the file's structure when it is valid.
-std::string trace_command(const CheckOptions& opt, int x, int y, bool through_tree) {
-    std::string c = "accelviz trace " + opt.scene + " --pixel " + std::to_string(x) + "," + std::to_string(y) +
-                    " --width " + std::to_string(opt.width) + " --height " + std::to_string(opt.height);
+/// (`window`: the command that opens the window with the stepper on that ray instead.)
+std::string trace_command(const CheckOptions& opt, int x, int y, bool through_tree, bool window = false) {
+    std::string c = (window ? "accelviz " : "accelviz trace ") + opt.scene + " --pixel " + std::to_string(x) + "," +
+                    std::to_string(y) + " --width " + std::to_string(opt.width) + " --height " +
+                    std::to_string(opt.height);
     if (!opt.camera.eye.empty()) c += " --eye " + opt.camera.eye;
     if (!opt.camera.target.empty()) c += " --target " + opt.camera.target;
     if (!opt.camera.up.empty()) c += " --up " + opt.camera.up;
@@ -158,7 +160,8 @@ std::optional<Error> compare_hits(const CheckOptions& opt, const Mesh& mesh, con
         differ.push_back({{"pixel", {d.yours.x, d.yours.y}},
                           {"yours", hit_json(d.yours.tri, d.yours.t)},
                           {"right", hit_json(d.right.tri, d.right.t)},
-                          {"trace", trace_command(opt, d.yours.x, d.yours.y, tree_valid)}});
+                          {"trace", trace_command(opt, d.yours.x, d.yours.y, tree_valid)},
+                          {"window", trace_command(opt, d.yours.x, d.yours.y, tree_valid, true)}});
     }
     out["hits"] = {{"file", opt.hits}, {"pixels", cmp.pixels}, {"agree", cmp.agree}, {"ties", cmp.ties},
                    {"differ_count", cmp.differ.size()}, {"differ", differ}};
@@ -175,9 +178,10 @@ std::optional<Error> compare_hits(const CheckOptions& opt, const Mesh& mesh, con
                 cmp.differ.size(), cmp.differ.empty() ? "" : ":");
     for (size_t i = 0; i < cmp.differ.size() && i < opt.max_problems; ++i) {
         const PixelDisagreement& d = cmp.differ[i];
-        std::printf("  pixel (%d, %d): yours %s; brute force: %s\n    %s\n", d.yours.x, d.yours.y,
-                    words(d.yours.tri, d.yours.t).c_str(), words(d.right.tri, d.right.t).c_str(),
-                    trace_command(opt, d.yours.x, d.yours.y, tree_valid).c_str());
+        std::printf("  pixel (%d, %d): yours %s; brute force: %s\n    %s\n    %s   (in the window)\n", d.yours.x,
+                    d.yours.y, words(d.yours.tri, d.yours.t).c_str(), words(d.right.tri, d.right.t).c_str(),
+                    trace_command(opt, d.yours.x, d.yours.y, tree_valid).c_str(),
+                    trace_command(opt, d.yours.x, d.yours.y, tree_valid, true).c_str());
     }
     if (cmp.differ.size() > opt.max_problems)
         std::printf("  ... and %zu more (--max-problems)\n", cmp.differ.size() - opt.max_problems);

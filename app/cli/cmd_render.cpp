@@ -126,12 +126,7 @@ int run_render_step(const RenderOptions& opt) {
     AppState state;
     state.scene = opt.scene;
     state.accel = opt.accel;
-    state.camera = stepper_side_view(picked->camera, picked->ray);
-    state.overlay.mesh_opacity = 0.5f;  // as the window does when the stepper opens: the boxes lie inside the mesh
-    state.stepper.open = true;
-    state.stepper.ray = picked->ray;
-    state.stepper.pixel = std::array<int, 2>{picked->x, picked->y};
-    state.stepper.step = opt.step < 0 ? 0 : size_t(opt.step);
+    open_stepper_on(state, *picked, opt.step < 0 ? 0 : size_t(opt.step));
     auto image = render_gui_view_headless(state, WindowView::Step, opt.width, opt.height);
     if (!image) return fail(image.error());
     if (auto err = write_png(*image, opt.out)) return fail(err->message);

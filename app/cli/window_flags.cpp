@@ -1,7 +1,9 @@
 #include "app/cli/window_flags.h"
 
 #include "app/cli/accel_flags.h"
+#include "app/cli/flag_checks.h"
 #include "app/cli/progress.h"
+#include "app/gui/stepper_panel.h"
 #include "core/geometry/scene.h"
 
 namespace accelviz::cli {
@@ -37,7 +39,25 @@ std::shared_ptr<WindowOptions> add_window_flags(CLI::App& app, const std::string
                  "leaves. Without SCENE or --preset, starts at the first preset");
     add_draw_flag(app, opt->draw, "whichever the window measures faster on the scene, the View panel's "
                                   "\"Draw with\"");
+    app.add_option("--pixel", opt->pixel,
+                   "Open the traversal stepper on the ray of pixel X,Y (0,0 = top left) of a --width x --height "
+                   "image under the camera flags: the ray `accelviz trace --pixel X,Y` prints");
+    app.add_option("--width", opt->width, "With --pixel: the image's width")
+        ->check(whole_number(1, 16384))
+        ->capture_default_str();
+    app.add_option("--height", opt->height, "With --pixel: the image's height")
+        ->check(whole_number(1, 16384))
+        ->capture_default_str();
     return opt;
+}
+
+void open_stepper_on(AppState& state, const PixelRay& picked, size_t step) {
+    state.camera = stepper_side_view(picked.camera, picked.ray);
+    state.overlay.mesh_opacity = 0.5f;  // as the window does when the stepper opens: the boxes lie inside the mesh
+    state.stepper.open = true;
+    state.stepper.ray = picked.ray;
+    state.stepper.pixel = std::array<int, 2>{picked.x, picked.y};
+    state.stepper.step = step;
 }
 
 Expected<AppState> window_state(const WindowOptions& opt, const std::string& default_scene) {
@@ -51,6 +71,15 @@ Expected<AppState> window_state(const WindowOptions& opt, const std::string& def
     else if (!opt.preset.state) state.scene = default_scene;
     state.accel = opt.accel;
     apply_draw_flag(opt.draw, state);
+    if (!opt.pixel.empty()) {
+        auto picked = [&] {
+            const StepProgress progress("window", "loading " + state.scene + " for --pixel");
+            return pixel_ray(state.scene, opt.pixel, opt.width, opt.height, opt.camera);
+        }();
+        if (!picked) return Error{picked.error()};
+        open_stepper_on(state, *picked, 0);
+        return state;
+    }
     if (opt.camera.any()) {
         if (state.camera) {
             auto params = opt.camera.resolve(*state.camera);

@@ -23,7 +23,13 @@ struct WindowOptions {
     CameraFlags camera;
     bool lecture = false;            ///< --lecture
     std::string draw;                ///< --draw ("": the preset's, else raster)
+    std::string pixel;               ///< --pixel X,Y: open the stepper on that pixel's ray
+    int width = 1280, height = 720;  ///< --width, --height: the image --pixel is in
 };
+
+/// Opens the traversal stepper on `picked`'s ray, seen from the side, at `step`: what
+/// `render --view step` and the window's --pixel show.
+void open_stepper_on(AppState& state, const PixelRay& picked, size_t step);
 
 /// Adds --draw raster|raycast|auto (View > Draw with) to a command that draws the
 /// window's frame; `auto_here` says how auto chooses in it, `applies_to` (if not

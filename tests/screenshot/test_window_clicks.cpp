@@ -588,6 +588,16 @@ TEST(WindowFlags, TheWindowOpensOnWhatTheFlagsSay) {
         EXPECT_EQ(state["camera"]["target"], json::parse("[0.0, 0.5, 0.0]"));
         EXPECT_NE(w.snapshot()["status"].get<std::string>().find("structure: kd"), std::string::npos);
     }
+    // A structure from a file and a pixel to step (what `accelviz check --hits` prints).
+    {
+        const std::string tree = std::string(ACCELVIZ_TREES_DIR) + "/teapot_student_broken.json";
+        Window w;
+        w.start("builtin:teapot", {"--structure", tree, "--pixel", "32,24", "--width", "64", "--height", "48"});
+        const json state = w.settled_state();
+        EXPECT_EQ(state["structure"]["file"], tree);
+        EXPECT_TRUE(state["stepper"]["open"].get<bool>());
+        EXPECT_EQ(state["stepper"]["pixel"], json::parse("[32, 24]"));
+    }
     // A preset, with a flag of each kind over it.
     const std::filesystem::path preset = std::filesystem::temp_directory_path() /
                                          ("accelviz-window-flags-" + std::to_string(getpid()) + ".json");
@@ -614,6 +624,25 @@ TEST(WindowFlags, TheWindowOpensOnWhatTheFlagsSay) {
             return s["status"].get<std::string>().find("Preset 22/") != std::string::npos;
         });
     }
+}
+
+TEST(WindowClicks, AStudentsTreeTypedIntoTheStructurePanelIsCheckedAndDrawn) {
+    Window w;
+    w.start("builtin:teapot");
+    const std::string tree = std::string(ACCELVIZ_TREES_DIR) + "/teapot_student_broken.json";
+    w.type_into("##structure_file", tree);
+    const json loaded = w.wait_for("the student's tree, checked", [&](const json& s) {
+        return !s["busy"].get<bool>() && s["state"]["structure"].value("file", "") == tree &&
+               s["status"].get<std::string>().find("from a file, NOT VALID") != std::string::npos;
+    });
+    EXPECT_TRUE(loaded["state"]["structure"]["type"] == "bvh");
+    w.visible("Build ours instead");  // the panel lists the problems and offers the way back
+    w.click("Build ours instead");
+    const json ours = w.wait_for("our own BVH again", [](const json& s) {
+        return !s["busy"].get<bool>() && !s["state"]["structure"].contains("file") &&
+               s["status"].get<std::string>().find("from a file") == std::string::npos;
+    });
+    EXPECT_EQ(ours["state"]["structure"]["type"], "bvh");
 }
 
 TEST(WindowClicks, StepperPicksTheRayOfTheClickedPixel) {
