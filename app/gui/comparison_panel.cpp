@@ -64,10 +64,17 @@ ComparisonPanel::~ComparisonPanel() {
 void ComparisonPanel::start(const Key& key, std::shared_ptr<const LoadedScene> scene) {
     if (progress_) progress_->cancel();  // an older measurement still running is not wanted
     requested_mesh_ = scene->mesh;
+    requested_file_ = scene->accel_config.structure_file;
+    MeasureOptions with_file = options;
+    if (scene->structure_file && scene->structure_file->check.valid()) {
+        // The student's tree beside ours: its "build" is reading and checking the file.
+        AccelConfig file_config = scene->accel_config;
+        with_file.extra_structures.push_back({"file's tree", file_config});
+    }
     error_.clear();
     progress_ = std::make_shared<WorkProgress>();
     row_ = std::make_shared<std::atomic<int>>(0);
-    job_.submit([key, scene = std::move(scene), progress = progress_, row = row_, options = options]() mutable {
+    job_.submit([key, scene = std::move(scene), progress = progress_, row = row_, options = with_file]() mutable {
         Result result{key, scene, std::nullopt, ""};
         options.progress = progress.get();
         options.current_row = row.get();
@@ -103,7 +110,8 @@ void ComparisonPanel::update(const AppState& state, const std::shared_ptr<const 
     shown_view_ = key;
     // A new mesh is measured at once; a moved camera or a resized view when asked (a
     // measurement builds every structure: not on every drag).
-    if (requested_mesh_.lock() != scene->mesh || measure_again_) {
+    if (requested_mesh_.lock() != scene->mesh || requested_file_ != scene->accel_config.structure_file ||
+        measure_again_) {
         measure_again_ = false;
         start(key, scene);
     }

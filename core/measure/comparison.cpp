@@ -71,7 +71,8 @@ Expected<StructureComparison> measure_structures(const Mesh& mesh, const Camera&
 
     // One thread for builds and rays alike: like with like on any machine.
     tbb::task_arena one_thread(1);
-    const auto structures = comparison_structures();
+    auto structures = comparison_structures();
+    structures.insert(structures.end(), options.extra_structures.begin(), options.extra_structures.end());
     for (size_t i = 0; i < structures.size(); ++i) {
         // Named references, not a structured binding: the build's lambda captures them.
         const std::string& label = structures[i].first;

@@ -74,6 +74,9 @@ struct MeasureOptions {
     WorkProgress* progress = nullptr;
     /// Set to the row being measured (0-based), for a progress label.
     std::atomic<int>* current_row = nullptr;
+    /// Measured after ours, in this order: e.g. a structure from a file (a student's
+    /// tree, AccelConfig::structure_file), whose "build" is reading and checking it.
+    std::vector<std::pair<std::string, AccelConfig>> extra_structures;
 };
 
 /// The rays measured: `count` pixels of `camera`'s image drawn with Rng(seed)

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <set>
 
+#include "core/exchange/structure_file.h"
 #include "core/geometry/scene.h"
 #include "core/measure/comparison.h"
 #include "core/traversal/observers.h"
@@ -189,4 +190,33 @@ TEST(Amortization, TheChartPlotsBuildPlusRaysTimesTimePerRay) {
     EXPECT_EQ(chart.break_even[1].row, 2u);
     for (const auto& point : chart.break_even)
         EXPECT_NEAR(point.total_ms, comparison.rows[0].total_ms(point.rays), 1e-9);
+}
+
+TEST(Comparison, AStructureFromAFileIsMeasuredAfterOursAndExact) {
+    // Our KD tree written out as a student's tool would, then measured as an extra row.
+    const Mesh& mesh = teapot();
+    AccelConfig kd;
+    kd.type = AccelType::Kd;
+    auto built = build_accelerator(mesh, kd);
+    ASSERT_TRUE(built);
+    auto file = export_structure(**built, mesh, {"builtin:teapot?n=4", 0, std::nullopt});
+    ASSERT_TRUE(file);
+    const std::string path = ::testing::TempDir() + "comparison_kd.json";
+    ASSERT_FALSE(write_structure_file(*file, path).has_value());
+    MeasureOptions options = small_options();
+    AccelConfig from_file;
+    from_file.type = AccelType::Kd;
+    from_file.structure_file = path;
+    options.extra_structures = {{"file's tree", from_file}};
+    const Camera camera(default_camera(mesh.bounds()), 64, 48);
+    auto measured = measure_structures(mesh, camera, options);
+    ASSERT_TRUE(measured) << measured.error();
+    ASSERT_EQ(measured->rows.size(), 6u);
+    const StructureMeasurement& ours = measured->rows[2];
+    const StructureMeasurement& theirs = measured->rows[5];
+    EXPECT_EQ(theirs.label, "file's tree");
+    EXPECT_EQ(theirs.mismatches, 0u);
+    EXPECT_EQ(theirs.nodes_per_ray, ours.nodes_per_ray) << "the same tree, the same walk";
+    EXPECT_EQ(theirs.triangle_tests_per_ray, ours.triangle_tests_per_ray);
+    EXPECT_EQ(theirs.repeats_per_ray, ours.repeats_per_ray);
 }
