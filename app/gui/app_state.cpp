@@ -379,7 +379,7 @@ Expected<AppState> load_app_state_file(const std::string& path) {
     nlohmann::json json;
     try {
         json = nlohmann::json::parse(in);
-    } catch (const nlohmann::json::parse_error& e) {
+    } catch (const nlohmann::json::exception& e) {  // parse_error, or out_of_range for a number like 1e999
         return Error{path + ": not valid JSON: " + without_json_tag(e.what())};  // "parse error at line 3, column 5: ..."
     }
     auto state = app_state_from_json(json);

@@ -372,7 +372,7 @@ Expected<StructureFile> parse_structure_json(const std::string& text) {
     nlohmann::json doc;
     try {
         doc = nlohmann::json::parse(text);
-    } catch (const nlohmann::json::parse_error& e) {
+    } catch (const nlohmann::json::exception& e) {  // parse_error, or out_of_range for a number like 1e999
         return Error{std::string("not JSON: ") + e.what()};
     }
     const Where top{"the file"};

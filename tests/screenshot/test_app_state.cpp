@@ -143,6 +143,11 @@ TEST(AppStateFile, ErrorsNameTheFileAndTheProblem) {
     EXPECT_NE(truncated.error().find("truncated.json: not valid JSON"), std::string::npos) << truncated.error();
     EXPECT_NE(truncated.error().find("line 2"), std::string::npos) << truncated.error();
     EXPECT_EQ(truncated.error().find('\n'), std::string::npos);
+    // A number too big for a double: nlohmann throws out_of_range, not parse_error.
+    std::ofstream(dir / "huge.json") << "{\"scene\": \"builtin:cube\", \"view\": {\"ui_scale\": 1e999}}";
+    auto huge = load_app_state_file((dir / "huge.json").string());
+    ASSERT_FALSE(huge);
+    EXPECT_NE(huge.error().find("huge.json: not valid JSON: number overflow"), std::string::npos) << huge.error();
 }
 
 TEST(CameraControl, OrbitKeepsDistanceToTargetAndStaysOffThePole) {

@@ -289,6 +289,7 @@ TEST(StructureFile, MalformedFilesAreClearErrors) {
     };
     const std::string head = R"({"format":"accelviz-structure","version":1,"type":"bvh","mesh":{"triangles":4},)";
     EXPECT_NE(error("{nope").find("not JSON"), std::string::npos);
+    EXPECT_NE(error(R"({"format": 1e999})").find("not JSON"), std::string::npos);  // out_of_range, not parse_error
     EXPECT_NE(error(R"({"format":"x"})").find("\"format\""), std::string::npos);
     EXPECT_NE(error(R"({"format":"accelviz-structure","version":2})").find("reads version 1"), std::string::npos);
     EXPECT_NE(error(head + R"("order":[0],"nodes":[{"box":[0,0,0,1,1]}]})").find("node 0: \"box\" must be 6 numbers"),
