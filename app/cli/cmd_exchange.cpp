@@ -17,6 +17,7 @@
 #include "app/cli/progress.h"
 #include "app/cli/ray_batch.h"
 #include "app/cli/scene_input.h"
+#include "core/accel/bvh.h"
 #include "core/exchange/pixel_hits.h"
 #include "core/exchange/structure_check.h"
 #include "core/exchange/structure_file.h"
@@ -260,11 +261,20 @@ int run_check(const CheckOptions& opt) {
     auto ours_file = export_structure(**ours, *mesh, file->mesh);
     if (!ours_file) return fail(ours_file.error());
     const SahCosts costs{opt.cost_trav, opt.cost_isect};
+    // The right answers: brute force's, through our binary BVH (exact against it).
+    std::shared_ptr<const Accelerator> reference = *ours;
+    if (!structure_if<Bvh>(*reference)) {
+        AccelConfig bvh;
+        bvh.type = AccelType::Bvh;
+        auto built = build_accelerator(*mesh, bvh);
+        if (!built) return fail(built.error());
+        reference = *built;
+    }
     const StructureFigures yours_fig = [&] {
         const StepProgress progress("check", "tracing " + std::to_string(rays.size()) + " rays through the file's tree");
-        return measure_structure(*file, *mesh, **theirs, rays, **ours, costs);
+        return measure_structure(*file, *mesh, **theirs, rays, *reference, costs);
     }();
-    const StructureFigures ours_fig = measure_structure(*ours_file, *mesh, **ours, rays, **ours, costs);
+    const StructureFigures ours_fig = measure_structure(*ours_file, *mesh, **ours, rays, *reference, costs);
     const std::string ours_label = (*ours)->name() + " " + (*ours)->config().dump();
     if (opt.json) {
         out["costs"] = {{"trav", opt.cost_trav}, {"isect", opt.cost_isect}};
@@ -328,7 +338,7 @@ Command register_check(CLI::App& app) {
     auto opt = std::make_shared<CheckOptions>();
     CLI::App* sub = app.add_subcommand(
         "check", "Check a structure from a file (e.g. a student's BVH): what is wrong with it, node by node, or "
-                 "how good it is beside ours. Exit code 0 only when it is valid");
+                 "how good it is beside ours. Exit code 0 only when it is valid (and, with --hits, every pixel agrees)");
     sub->add_option("scene", opt->scene, "The OBJ file or builtin:NAME the structure was built over")->required();
     sub->add_option("tree", opt->tree, "The structure: JSON or binary (docs/structure-format.md)")->required();
     sub->add_option("--cost-trav", opt->cost_trav, "C_trav of the SAH cost reported for both trees")

@@ -64,7 +64,7 @@ ComparisonPanel::~ComparisonPanel() {
 void ComparisonPanel::start(const Key& key, std::shared_ptr<const LoadedScene> scene) {
     if (progress_) progress_->cancel();  // an older measurement still running is not wanted
     requested_mesh_ = scene->mesh;
-    requested_file_ = scene->accel_config.structure_file;
+    requested_file_ = scene->structure_file;
     MeasureOptions with_file = options;
     if (scene->structure_file && scene->structure_file->check.valid()) {
         // The student's tree beside ours: its "build" is reading and checking the file.
@@ -110,8 +110,7 @@ void ComparisonPanel::update(const AppState& state, const std::shared_ptr<const 
     shown_view_ = key;
     // A new mesh is measured at once; a moved camera or a resized view when asked (a
     // measurement builds every structure: not on every drag).
-    if (requested_mesh_.lock() != scene->mesh || requested_file_ != scene->accel_config.structure_file ||
-        measure_again_) {
+    if (requested_mesh_.lock() != scene->mesh || requested_file_.lock() != scene->structure_file || measure_again_) {
         measure_again_ = false;
         start(key, scene);
     }

@@ -74,7 +74,7 @@ private:
     /// The mesh last asked for; expired (or null) when none is, so that a new mesh at a
     /// freed one's address still counts as new.
     std::weak_ptr<const Mesh> requested_mesh_;
-    std::string requested_file_;  ///< the structure file measured beside ours ("": none)
+    std::weak_ptr<const CheckedStructureFile> requested_file_;  ///< the structure file (a load of it) measured beside ours
     Key shown_view_;                ///< the view of the last update, to tell when it changed
     std::optional<Result> result_;  ///< the last successful measurement (kept when a later one fails)
     std::string error_;             ///< the last measurement's error, if it failed

@@ -50,7 +50,9 @@ LoadResult load_and_refit(const std::string& source, const LoadedScene& previous
     auto scene = load_mesh(source, previous.accel_config, on_stage, progress);
     if (!scene) return Error{scene.error()};
     LoadedScene& next = **scene;
-    if (!previous.accel || !previous.mesh || previous.mesh->indices != next.mesh->indices)
+    // A structure from a file is read again (and checked against the moved mesh), not refitted.
+    if (!previous.accel || !previous.mesh || previous.mesh->indices != next.mesh->indices ||
+        !previous.accel_config.structure_file.empty())
         return rebuild(next, previous.accel_config, on_stage, progress);
     if (on_stage) on_stage("Refitting the BVH");
     const auto start = std::chrono::steady_clock::now();

@@ -23,8 +23,10 @@ float containment_tolerance(const Mesh& mesh) {
 
 namespace {
 
-/// Grids with more cells than this are refused (the check keeps a table per cell).
-constexpr uint64_t kMaxGridCells = uint64_t(1) << 26;
+/// Grids with more cells than this, or more along one axis, are refused (the check
+/// keeps a table per cell; ours has at most 2^24 cells and 1024 per axis).
+constexpr uint64_t kMaxGridCells = uint64_t(1) << 24;
+constexpr uint32_t kMaxGridCellsPerAxis = 1u << 16;
 
 std::string number(double x) {
     char buf[32];
@@ -39,7 +41,15 @@ public:
     void add(std::optional<uint64_t> node, std::string message) {
         ++out_.problem_count;
         if (node) out_.bad_nodes.push_back(*node);
-        if (out_.problems.size() < max_listed_) out_.problems.push_back({node, std::move(message)});
+        if (listing()) out_.problems.push_back({node, std::move(message)});
+    }
+    /// Whether a problem added now is listed in words (else only counted: callers
+    /// with many problems skip making their messages).
+    bool listing() const { return out_.problems.size() < max_listed_; }
+    /// A problem counted (and its node named) without words: the list is full.
+    void count(std::optional<uint64_t> node) {
+        ++out_.problem_count;
+        if (node) out_.bad_nodes.push_back(*node);
     }
     /// Names `node` among the bad ones without a problem of its own (the other party
     /// of a problem: the parent a child's box sticks out of).
@@ -117,13 +127,19 @@ uint32_t check_tree_shape(size_t node_count, ChildrenOf children_of, std::vector
                 continue;
             }
             if (depth[c] != UINT32_MAX) {
-                bool ancestor = c == n;
-                for (uint32_t a = n; !ancestor && a != UINT32_MAX && a != 0; a = parent[a]) ancestor = parent[a] == c;
-                if (c == 0) ancestor = true;
-                problems.add(n, ancestor ? "node " + std::to_string(n) + " names node " + std::to_string(c) +
-                                               " as a child, which is itself or above it: a cycle"
-                                         : "node " + std::to_string(c) + " has two parents: nodes " +
-                                               std::to_string(parent[c]) + " and " + std::to_string(n));
+                // Reached before: a second parent, or a cycle (a node above). Told apart
+                // without walking up the tree, which on a long chain named many times over
+                // would take quadratic time.
+                if (!problems.listing()) {
+                    problems.count(n);
+                } else if (c == 0 || c == n) {
+                    problems.add(n, "node " + std::to_string(n) + " names node " + std::to_string(c) +
+                                        " as a child, which is itself or the root: a cycle");
+                } else {
+                    problems.add(n, "node " + std::to_string(c) + " is reached a second time, from node " +
+                                        std::to_string(n) + " (first from node " + std::to_string(parent[c]) +
+                                        "): a node has one parent, and no node is its own ancestor");
+                }
                 continue;
             }
             depth[c] = depth[n] + 1;
@@ -159,10 +175,15 @@ void check_each_triangle_once(const std::vector<uint32_t>& times, const std::vec
     if (!missing.empty())
         problems.add(std::nullopt, std::to_string(missing.size()) + " triangle" + (missing.size() > 1 ? "s are" : " is") +
                                        " in no leaf (" + first_few(missing) + "): rays through them would miss");
-    for (uint32_t t : twice)
+    for (uint32_t t : twice) {
+        if (!problems.listing()) {
+            problems.count(where_first[t]);
+            continue;
+        }
         problems.add(where_first[t], "triangle " + std::to_string(t) + " is in " + std::to_string(times[t]) +
                                          " leaves (first in node " + std::to_string(where_first[t]) +
                                          "): a BVH holds each triangle once");
+    }
 }
 
 void check_bvh(const StructureFile& f, const Mesh& mesh, Problems& problems) {
@@ -184,10 +205,10 @@ void check_bvh(const StructureFile& f, const Mesh& mesh, Problems& problems) {
             problems.add(i, who + " has " + std::to_string(n.children.size()) + " children: at most " +
                                 std::to_string(kStructureMaxArity));
         if (!n.interior && n.count == 0) problems.add(i, who + " is a leaf with no triangles");
-        if (!n.interior && n.first + n.count > f.order.size())
+        if (!n.interior && (n.first > f.order.size() || n.count > f.order.size() - n.first))
             problems.add(i, who + "'s triangles order[" + std::to_string(n.first) + " .. " +
-                                std::to_string(n.first + n.count) + ") run past the end of \"order\" (" +
-                                std::to_string(f.order.size()) + " entries)");
+                                std::to_string(n.first) + " + " + std::to_string(n.count) +
+                                ") run past the end of \"order\" (" + std::to_string(f.order.size()) + " entries)");
         if (!n.interior && n.count > 0xFFFF)
             problems.add(i, who + " holds " + std::to_string(n.count) + " triangles: at most 65535 per leaf");
     }
@@ -201,6 +222,7 @@ void check_bvh(const StructureFile& f, const Mesh& mesh, Problems& problems) {
     // Boxes: each child inside its parent; each leaf's triangles inside the leaf.
     std::vector<uint32_t> times(n_tris, 0);
     std::vector<uint64_t> where_first(n_tris, 0);
+    std::vector<uint8_t> claimed(f.order.size(), 0);
     for (size_t i = 0; i < nodes.size(); ++i) {
         if (depth[i] == UINT32_MAX) continue;
         const FileBvhNode& n = nodes[i];
@@ -212,8 +234,14 @@ void check_bvh(const StructureFile& f, const Mesh& mesh, Problems& problems) {
                 problems.mark(parent[i]);
             }
         }
-        if (n.interior || n.first + n.count > f.order.size()) continue;
+        if (n.interior || n.first > f.order.size() || n.count > f.order.size() - n.first) continue;
         for (uint64_t k = n.first; k < n.first + n.count; ++k) {
+            if (claimed[k]) {  // another leaf's range: each entry of "order" belongs to one leaf
+                problems.add(i, "node " + std::to_string(i) + "'s range of \"order\" overlaps another leaf's (at " +
+                                    std::to_string(k) + ")");
+                break;
+            }
+            claimed[k] = 1;
             const uint32_t t = f.order[k];
             if (t >= n_tris) {
                 problems.add(i, "node " + std::to_string(i) + " holds order[" + std::to_string(k) + "] = " +
@@ -223,7 +251,9 @@ void check_bvh(const StructureFile& f, const Mesh& mesh, Problems& problems) {
             if (times[t]++ == 0) where_first[t] = i;
             if (!is_box(n.box)) continue;
             const Overhang o = overhang(mesh.triangle_bounds(t), n.box);
-            if (o.amount > tol)
+            if (o.amount <= tol) continue;
+            if (!problems.listing()) problems.count(i);
+            else
                 problems.add(i, "triangle " + std::to_string(t) + " sticks out of its leaf's box (node " +
                                     std::to_string(i) + ") by " + number(o.amount) + " on " + o.face);
         }
@@ -321,7 +351,9 @@ void check_kd(const StructureFile& f, const Mesh& mesh, Problems& problems) {
             }
             if (!triangle_overlaps_box(mesh.vertex(t, 0), mesh.vertex(t, 1), mesh.vertex(t, 2), padded(cell[i], tol)))
                 continue;
-            if (!std::binary_search(sorted[i].begin(), sorted[i].end(), t))
+            if (std::binary_search(sorted[i].begin(), sorted[i].end(), t)) continue;
+            if (!problems.listing()) problems.count(i);
+            else
                 problems.add(i, "triangle " + std::to_string(t) + " overlaps leaf node " + std::to_string(i) +
                                     "'s cell " + box_words(cell[i]) +
                                     " (or touches it) but is not in its list: a ray could hit it there and miss it");
@@ -337,16 +369,21 @@ void check_grid(const StructureFile& f, const Mesh& mesh, Problems& problems) {
         return;
     }
     const auto [nx, ny, nz] = f.resolution;
-    if (nx == 0 || ny == 0 || nz == 0 || uint64_t(nx) * ny * nz > kMaxGridCells) {
+    const auto axis_ok = [](uint32_t n) { return n >= 1 && n <= kMaxGridCellsPerAxis; };
+    if (!axis_ok(nx) || !axis_ok(ny) || !axis_ok(nz) || uint64_t(nx) * ny * nz > kMaxGridCells) {  // < 2^48: no wrap
         problems.add(std::nullopt, "\"resolution\" " + std::to_string(nx) + " x " + std::to_string(ny) + " x " +
-                                       std::to_string(nz) + ": each at least 1, and at most " +
-                                       std::to_string(kMaxGridCells) + " cells in all");
+                                       std::to_string(nz) + ": each 1 to " + std::to_string(kMaxGridCellsPerAxis) +
+                                       ", and at most " + std::to_string(kMaxGridCells) + " cells in all");
         return;
     }
     const Overhang scene = overhang(mesh.bounds(), f.bounds);
     if (scene.amount > tol)
         problems.add(std::nullopt, "the mesh sticks out of \"bounds\" by " + number(scene.amount) + " on " + scene.face);
-    std::vector<int64_t> entry_of(uint64_t(nx) * ny * nz, -1);
+    std::vector<int32_t> entry_of(uint64_t(nx) * ny * nz, -1);
+    if (f.cells.size() > size_t(INT32_MAX)) {
+        problems.add(std::nullopt, "more cell entries than a grid has cells");
+        return;
+    }
     std::vector<std::vector<uint32_t>> sorted(f.cells.size());
     for (size_t e = 0; e < f.cells.size(); ++e) {
         const auto [i, j, k] = f.cells[e].cell;
@@ -362,12 +399,18 @@ void check_grid(const StructureFile& f, const Mesh& mesh, Problems& problems) {
                                 std::to_string(entry_of[id]));
             continue;
         }
-        entry_of[id] = int64_t(e);
+        entry_of[id] = int32_t(e);
         sorted[e] = f.cells[e].triangles;
         std::sort(sorted[e].begin(), sorted[e].end());
         if (!sorted[e].empty() && sorted[e].back() >= n_tris)
             problems.add(e, "cell entry " + std::to_string(e) + " lists " + std::to_string(sorted[e].back()) +
                                 ", not a triangle: the mesh has " + std::to_string(n_tris));
+    }
+    uint64_t references = 0;
+    for (const FileGridCell& c : f.cells) references += c.triangles.size();
+    if (references >= uint64_t(UINT32_MAX)) {
+        problems.add(std::nullopt, "the cells list " + std::to_string(references) + " triangles in all: at most 2^32 - 1");
+        return;
     }
     // The planes as the grid walk places them (UniformGrid: computed in double).
     std::array<std::vector<float>, 3> planes;
@@ -399,8 +442,11 @@ void check_grid(const StructureFile& f, const Mesh& mesh, Problems& problems) {
                                                padded(c, tol)))
                         continue;
                     const int64_t e = entry_of[uint64_t(i) + uint64_t(nx) * (uint64_t(j) + uint64_t(ny) * uint64_t(k))];
-                    if (e < 0 || !std::binary_search(sorted[size_t(e)].begin(), sorted[size_t(e)].end(), t))
-                        problems.add(e < 0 ? std::nullopt : std::optional<uint64_t>(uint64_t(e)),
+                    if (e >= 0 && std::binary_search(sorted[size_t(e)].begin(), sorted[size_t(e)].end(), t)) continue;
+                    const std::optional<uint64_t> entry = e < 0 ? std::nullopt : std::optional<uint64_t>(uint64_t(e));
+                    if (!problems.listing()) problems.count(entry);
+                    else
+                        problems.add(entry,
                                      "triangle " + std::to_string(t) + " overlaps cell (" + std::to_string(i) + ", " +
                                          std::to_string(j) + ", " + std::to_string(k) +
                                          ") (or touches it) but is not listed there: a ray could hit it there and miss it");
@@ -574,9 +620,10 @@ void add_leaf_size(StructureFigures& fig, uint64_t size) {
 
 }  // namespace
 
-Expected<std::shared_ptr<const Accelerator>> structure_accelerator(const StructureFile& file, const Mesh& mesh) {
-    if (!check_structure(file, mesh, std::nullopt, 0).valid())
-        return Error{"the structure is not valid: accelviz check says why"};
+namespace {
+
+/// structure_accelerator for a file check_structure has passed.
+std::shared_ptr<const Accelerator> lay_out(const StructureFile& file, const Mesh& mesh) {
     switch (file.type) {
         case AccelType::Kd: return adapt(kd_tree_of(file, mesh));
         case AccelType::Grid: return adapt(grid_of(file, mesh));
@@ -586,6 +633,14 @@ Expected<std::shared_ptr<const Accelerator>> structure_accelerator(const Structu
     if (arity <= 2) return adapt(binary_bvh_of(file, mesh));
     if (arity <= 4) return adapt(wide_bvh_of<4>(file, mesh));
     return adapt(wide_bvh_of<8>(file, mesh));
+}
+
+}  // namespace
+
+Expected<std::shared_ptr<const Accelerator>> structure_accelerator(const StructureFile& file, const Mesh& mesh) {
+    if (!check_structure(file, mesh, std::nullopt, 0).valid())
+        return Error{"the structure is not valid: accelviz check says why"};
+    return lay_out(file, mesh);
 }
 
 StructureFigures measure_structure(const StructureFile& f, const Mesh& mesh, const Accelerator& accel,
@@ -694,11 +749,7 @@ Expected<CheckedStructureFile> read_and_check_structure(const std::string& path,
     CheckedStructureFile out;
     out.check = check_structure(*file, mesh, mesh_crc, max_listed);
     out.file = std::make_shared<const StructureFile>(std::move(*file));
-    if (out.check.valid()) {
-        auto accel = structure_accelerator(*out.file, mesh);
-        if (!accel) return Error{path + ": " + accel.error()};
-        out.accel = std::move(*accel);
-    }
+    if (out.check.valid()) out.accel = lay_out(*out.file, mesh);
     return out;
 }
 

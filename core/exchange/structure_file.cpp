@@ -406,7 +406,7 @@ Expected<StructureFile> parse_structure_json(const std::string& text) {
         const std::string hex = crc->is_string() ? crc->get<std::string>() : "";
         uint32_t value = 0;
         const auto r = std::from_chars(hex.data(), hex.data() + hex.size(), value, 16);
-        if (hex.empty() || hex.size() > 8 || r.ec != std::errc() || r.ptr != hex.data() + hex.size())
+        if (hex.size() != 8 || r.ec != std::errc() || r.ptr != hex.data() + hex.size())
             return malformed(at_mesh, "\"crc32\" must be 8 hexadecimal digits");
         file.mesh.crc32 = value;
     }
@@ -499,6 +499,8 @@ Expected<StructureFile> parse_structure_binary(const std::string& bytes) {
             node.interior = interior != 0;
             if (node.interior ? !r.get_ids(node.children) : !(r.get(node.first) && r.get(node.count)))
                 return truncated();
+            if (node.first > UINT32_MAX || node.count > UINT32_MAX)  // as JSON's whole numbers: no wrap-around later
+                return Error{"a leaf's first or count is over 2^32 - 1: corrupt"};
         }
     } else if (f.type == AccelType::Kd) {
         if (!r.get_box(f.bounds) || !r.get_count(n, 9)) return truncated();

@@ -67,6 +67,25 @@ TEST(StructureFileView, ADroppedValidTreeIsDrawnAndTracedLikeOurs) {
     EXPECT_EQ(session.scene->accel->name(), "bvh") << "our traversal, through the file's tree";
     EXPECT_EQ(session.overlay.boxes.size(), our_boxes) << "the same tree, the same boxes";
     EXPECT_EQ(session.overlay.legend.find("NOT VALID"), std::string::npos);
+    // Traced through the file's tree: the closest hits of brute force, with work counted.
+    AccelConfig naive;
+    naive.type = AccelType::Naive;
+    const auto brute = *build_accelerator(*session.scene->mesh, naive);
+    const Camera camera(*state.camera, 48, 32);
+    uint64_t hits = 0, nodes = 0;
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 48; ++x) {
+            const Ray ray = camera.ray(x, y);
+            CountingObserver counter;
+            const Hit got = session.scene->accel->intersect_closest(ray, counter);
+            const Hit want = brute->intersect_closest(ray);
+            ASSERT_EQ(got.tri, want.tri) << x << "," << y;
+            ASSERT_EQ(got.t, want.t);
+            hits += got.found();
+            nodes += counter.counters.nodes_visited;
+        }
+    EXPECT_GT(hits, 100u);
+    EXPECT_GT(nodes, 48u * 32u);
 }
 
 TEST(StructureFileView, AnInvalidTreeIsDrawnWithItsFaultyNodesRed) {

@@ -228,7 +228,8 @@ TEST(StructureCheck, CatchesEachBvhFaultWithItsNode) {
     EXPECT_TRUE(names(with([](auto& f) { f.bvh_nodes[2].count = 1; }), std::nullopt, "1 triangle is in no leaf (3)"));
     EXPECT_TRUE(names(with([](auto& f) { f.order[3] = 1; }), 1, "triangle 1 is in 2 leaves"));
     EXPECT_TRUE(names(with([](auto& f) { f.bvh_nodes[2] = {box(0, 3.8f), true, {0}, 0, 0}; }), 2, "cycle"));
-    EXPECT_TRUE(names(with([](auto& f) { f.bvh_nodes[0].children = {1, 1}; }), 0, "node 1 has two parents: nodes 0 and 0"));
+    EXPECT_TRUE(names(with([](auto& f) { f.bvh_nodes[0].children = {1, 1}; }), 0, "node 1 is reached a second time, from node 0"));
+    EXPECT_TRUE(names(with([](auto& f) { f.bvh_nodes[2].first = 1; }), 2, "overlaps another leaf's (at 1)"));
     EXPECT_TRUE(names(with([](auto& f) { f.bvh_nodes.push_back({box(0, 1), false, {}, 0, 1}); }), 3, "not reachable"));
     EXPECT_TRUE(names(with([](auto& f) { f.bvh_nodes[2] = {box(2, 3.8f), true, {}, 0, 0}; }), 2, "empty inner node"));
     EXPECT_TRUE(names(with([](auto& f) { f.bvh_nodes[0].children = {1}; }), 0, "one child"));
@@ -280,6 +281,8 @@ TEST(StructureCheck, CatchesKdAndGridFaults) {
     grid = good_grid();
     grid.resolution = {0, 1, 1};
     EXPECT_TRUE(names(check_structure(grid, mesh, std::nullopt), std::nullopt, "\"resolution\""));
+    grid.resolution = {4194304, 2097152, 2097152};  // 2^64 cells: a product that would wrap to 0
+    EXPECT_TRUE(names(check_structure(grid, mesh, std::nullopt), std::nullopt, "\"resolution\""));
 }
 
 TEST(StructureFile, MalformedFilesAreClearErrors) {
@@ -308,6 +311,15 @@ TEST(StructureFile, MalformedFilesAreClearErrors) {
     for (size_t n = 0; n < bytes.size(); ++n) EXPECT_FALSE(parse_structure_binary(bytes.substr(0, n)).ok()) << n;
     EXPECT_FALSE(parse_structure_binary(bytes + "x").ok());
     EXPECT_TRUE(parse_structure_binary(bytes).ok());
+    // A leaf's first near 2^64 (binary fields are 64 bits; first + count would wrap).
+    StructureFile wraps = good_bvh();
+    wraps.bvh_nodes[2].first = ~uint64_t(0);
+    wraps.bvh_nodes[2].count = 1;
+    EXPECT_FALSE(parse_structure_binary(structure_binary(wraps)).ok());
+    wraps.bvh_nodes[2].first = UINT32_MAX;  // in range for the parser: check refuses it without wrapping
+    auto read = parse_structure_binary(structure_binary(wraps));
+    ASSERT_TRUE(read.ok());
+    EXPECT_TRUE(names(check_structure(*read, mesh, std::nullopt), 2, "run past the end"));
 }
 
 }  // namespace
