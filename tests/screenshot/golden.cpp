@@ -3,9 +3,11 @@
 #include "app/gui/headless.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <sstream>
+#include <thread>
 
 namespace accelviz::testing {
 
@@ -90,6 +92,16 @@ std::string screenshot_out_dir() {
 MeasureClock ticking_clock() {
     auto now = std::make_shared<double>(0.0);
     return [now] { return *now += 1e-3; };
+}
+
+void draw_until_loaded(HeadlessApp& app, AppState& state, int seconds) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(seconds);
+    while ((app.session().loader.busy() || app.session().loader.has_result()) &&
+           std::chrono::steady_clock::now() < deadline) {
+        app.draw(state, {});
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    app.draw(state, {});
 }
 
 void use_ticking_clock(Session& session) {

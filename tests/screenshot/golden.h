@@ -53,4 +53,8 @@ MeasureClock ticking_clock();
 /// Where the tests write what they rendered (created on demand).
 std::string screenshot_out_dir();
 
+/// Draws frames until the session's loader has nothing left to hand over (at most
+/// `seconds`), then one more: a window session after a load, a rebuild or a drop.
+void draw_until_loaded(HeadlessApp& app, AppState& state, int seconds = 20);
+
 }  // namespace accelviz::testing

@@ -12,16 +12,8 @@
 namespace accelviz {
 namespace {
 
-/// Draws frames until the loader has nothing left to hand over (at most 10 s).
-void draw_until_loaded(HeadlessApp& app, AppState& state) {
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-    while ((app.session().loader.busy() || app.session().loader.has_result()) &&
-           std::chrono::steady_clock::now() < deadline) {
-        app.draw(state, {});
-        std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    }
-    app.draw(state, {});
-}
+using testing::draw_until_loaded;
+
 
 TEST(SceneErrors, BadObjDroppedOnWindowShowsMessageAndKeepsPreviousScene) {
     auto app = HeadlessApp::create(640, 400);

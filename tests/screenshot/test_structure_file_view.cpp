@@ -17,17 +17,10 @@
 namespace accelviz {
 namespace {
 
+using testing::draw_until_loaded;
+
 const std::string kBrokenTree = std::string(ACCELVIZ_TREES_DIR) + "/teapot_student_broken.json";
 
-void draw_until_loaded(HeadlessApp& app, AppState& state) {
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-    while ((app.session().loader.busy() || app.session().loader.has_result()) &&
-           std::chrono::steady_clock::now() < deadline) {
-        app.draw(state, {});
-        std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    }
-    app.draw(state, {});
-}
 
 /// Our median BVH of builtin:teapot written to a file, as a student's tool would.
 std::string write_our_tree(const char* name) {
