@@ -1,7 +1,5 @@
 // The window's behaviour on bad input, driven headless frame by frame: a bad OBJ
 // (dropped on the window) shows a message and keeps the previous scene.
-#include <chrono>
-#include <thread>
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,7 @@
 // A structure from a file (a student's tree) in the window: dropped on it or typed
 // into the Structure panel, read and checked on the worker; a valid one is drawn
 // and traced like ours, an invalid one drawn with the nodes its problems name in red.
-#include <chrono>
 #include <cstdio>
-#include <thread>
 
 #include <gtest/gtest.h>
 
