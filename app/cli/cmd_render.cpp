@@ -104,6 +104,8 @@ int run_window_view(const RenderOptions& opt, WindowView view, AppState state) {
 /// stepper at decision K of the BVH build.
 int run_build_step(const RenderOptions& opt, AppState state) {
     if (opt.step < 0) return fail("--view build-step needs --step K (the build decision to show, 0 = the root)");
+    if (!state.accel.structure_file.empty())
+        return fail("--view build-step steps our BVH build; a structure from a file (--structure) has no recorded construction");
     if (!opt.preset.state && !opt.accel_given) state.accel.type = AccelType::Bvh;
     if (state.accel.type != AccelType::Bvh)
         return fail("--view build-step steps a BVH build (--accel bvh, not " + accel_name(state) + ")");

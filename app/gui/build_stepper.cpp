@@ -104,7 +104,8 @@ BuildStepper::~BuildStepper() = default;
 // [SECTION] Per frame: recording and charts on workers
 
 void BuildStepper::update(AppState& state, const std::shared_ptr<const LoadedScene>& scene, bool wait) {
-    if (!state.build_step.active || !scene) {
+    // A tree from a file has no recorded construction: nothing to step (see draw_sidebar).
+    if (!state.build_step.active || !scene || scene->structure_file) {
         // Off: let go of a recording of another scene (a big mesh's takes ~230 bytes a node).
         if (trace_ && trace_->scene != scene) {
             trace_.reset();
@@ -161,6 +162,11 @@ bool BuildStepper::shows_3d(const AppState& state) const {
 
 bool BuildStepper::draw_sidebar(AppState& state) {
     if (!ImGui::CollapsingHeader("Construction", ImGuiTreeNodeFlags_DefaultOpen)) return false;
+    if (!state.accel.structure_file.empty()) {
+        // Stepping our build here would show another tree than the one drawn and traced.
+        ImGui::TextDisabled("The tree comes from a file: how it was built was not recorded.");
+        return false;
+    }
     if (state.accel.type != AccelType::Bvh) {
         ImGui::TextDisabled("Step the build of a BVH split by split.");
         if (!ImGui::Button("Use a BVH")) return false;

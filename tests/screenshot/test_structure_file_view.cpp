@@ -127,3 +127,28 @@ TEST(StructureFileView, StudentTreeWithAnInvalidNodeMatchesGolden) {
 
 }  // namespace
 }  // namespace accelviz
+
+namespace accelviz {
+namespace {
+
+TEST(StructureFileView, TheConstructionStepperDoesNotStepOurBuildOverAFilesTree) {
+    // Stepping our builder's recording here would show another tree than the one drawn.
+    auto app = HeadlessApp::create(480, 320);
+    ASSERT_TRUE(app) << app.error();
+    AppState state;
+    state.scene = "builtin:teapot";
+    state.build_step.active = true;
+    state.accel.structure_file = write_our_tree("stepped_tree.json");
+    (*app)->session().open_scene(state, state.scene);
+    testing::draw_until_loaded(**app, state);
+    for (int i = 0; i < 3; ++i) (*app)->draw(state, {});
+    const Session& session = (*app)->session();
+    ASSERT_NE(session.scene, nullptr) << session.message;
+    ASSERT_NE(session.scene->structure_file, nullptr);
+    EXPECT_EQ(session.build_stepper.trace(), nullptr);
+    EXPECT_FALSE(session.build_stepper.shows_3d(state));
+    EXPECT_FALSE(session.overlay.boxes.empty()) << "the file's tree is what the view draws";
+}
+
+}  // namespace
+}  // namespace accelviz
