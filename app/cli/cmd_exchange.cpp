@@ -135,22 +135,18 @@ std::string trace_command(const CheckOptions& opt, int x, int y, bool through_tr
     return c;
 }
 
-/// --hits: the file's per-pixel answers against brute force's (through our BVH, which
-/// is exact against it); prints the pixels that differ with a trace command each, and
+/// --hits: the file's per-pixel answers against brute force's (through `reference`,
+/// our binary BVH, which is exact against it); prints the pixels that differ with a trace command each, and
 /// puts the comparison in out["hits"].
-std::optional<Error> compare_hits(const CheckOptions& opt, const Mesh& mesh, const Camera& camera, bool tree_valid,
-                                  nlohmann::ordered_json& out) {
+std::optional<Error> compare_hits(const CheckOptions& opt, const Mesh& mesh, const Camera& camera,
+                                  const Accelerator& reference, bool tree_valid, nlohmann::ordered_json& out) {
     std::ifstream in(opt.hits, std::ios::binary);
     if (!in) return Error{opt.hits + ": cannot open"};
     std::ostringstream text;
     text << in.rdbuf();
     auto hits = parse_pixel_hits(std::move(text).str(), opt.width, opt.height);
     if (!hits) return Error{opt.hits + ": " + hits.error()};
-    AccelConfig bvh;
-    bvh.type = AccelType::Bvh;
-    auto reference = build_accelerator(mesh, bvh);
-    if (!reference) return Error{reference.error()};
-    const PixelHitComparison cmp = compare_pixel_hits(*hits, camera, mesh, **reference);
+    const PixelHitComparison cmp = compare_pixel_hits(*hits, camera, mesh, reference);
     nlohmann::ordered_json differ = nlohmann::ordered_json::array();
     auto hit_json = [](uint32_t tri, float t) {
         return tri == Hit::kNoHit ? nlohmann::ordered_json{{"triangle", -1}}
@@ -233,11 +229,24 @@ int run_check(const CheckOptions& opt) {
                             (unsigned long long)(check.problem_count - check.problems.size()));
         }
     }
+    auto camera = opt.camera.resolve(mesh->bounds());
+    if (!camera) return fail(camera.error());
+    // The right answers: brute force's, through our binary BVH (exact against it), built
+    // once when first needed (ours is that BVH for a binary file).
+    std::shared_ptr<const Accelerator> reference;
+    auto exact_reference = [&]() -> Expected<std::shared_ptr<const Accelerator>> {
+        if (reference) return reference;
+        AccelConfig bvh;
+        bvh.type = AccelType::Bvh;
+        auto built = build_accelerator(*mesh, bvh);
+        if (built) reference = *built;
+        return built;
+    };
     bool hits_differ = false;
     if (!opt.hits.empty()) {
-        auto camera = opt.camera.resolve(mesh->bounds());
-        if (!camera) return fail(camera.error());
-        if (auto err = compare_hits(opt, *mesh, Camera(*camera, opt.width, opt.height), check.valid(), out))
+        auto exact = exact_reference();
+        if (!exact) return fail(exact.error());
+        if (auto err = compare_hits(opt, *mesh, Camera(*camera, opt.width, opt.height), **exact, check.valid(), out))
             return fail(err->message);
         hits_differ = !out["hits"]["differ"].empty();
     }
@@ -247,8 +256,6 @@ int run_check(const CheckOptions& opt) {
     }
 
     // Measured: the file's structure and ours, through our traversal, on the camera's rays.
-    auto camera = opt.camera.resolve(mesh->bounds());
-    if (!camera) return fail(camera.error());
     const std::vector<Ray> rays = camera_rays(Camera(*camera, opt.width, opt.height));
     auto theirs = structure_accelerator(*file, *mesh);
     if (!theirs) return fail(theirs.error());
@@ -261,15 +268,8 @@ int run_check(const CheckOptions& opt) {
     auto ours_file = export_structure(**ours, *mesh, file->mesh);
     if (!ours_file) return fail(ours_file.error());
     const SahCosts costs{opt.cost_trav, opt.cost_isect};
-    // The right answers: brute force's, through our binary BVH (exact against it).
-    std::shared_ptr<const Accelerator> reference = *ours;
-    if (!structure_if<Bvh>(*reference)) {
-        AccelConfig bvh;
-        bvh.type = AccelType::Bvh;
-        auto built = build_accelerator(*mesh, bvh);
-        if (!built) return fail(built.error());
-        reference = *built;
-    }
+    if (!reference && structure_if<Bvh>(**ours)) reference = *ours;
+    if (auto exact = exact_reference(); !exact) return fail(exact.error());
     const StructureFigures yours_fig = [&] {
         const StepProgress progress("check", "tracing " + std::to_string(rays.size()) + " rays through the file's tree");
         return measure_structure(*file, *mesh, **theirs, rays, *reference, costs);

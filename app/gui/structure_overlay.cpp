@@ -350,25 +350,7 @@ void file_overlay(const StructureFile& f, const StructureCheck& check, const Ove
             return k.is_leaf() ? std::vector<uint32_t>{} : std::vector<uint32_t>{k.children[0], k.children[1]};
         },
         out.deepest_level);
-    // A KD node's box: its cell, cut from the root's by the planes above it.
-    std::vector<Aabb> kd_cell(is_bvh ? 0 : count, f.bounds);
-    if (!is_bvh) {
-        std::vector<uint32_t> by_depth;
-        for (uint32_t i = 0; i < count; ++i)
-            if (depth[i] >= 0) by_depth.push_back(i);
-        std::stable_sort(by_depth.begin(), by_depth.end(), [&](uint32_t a, uint32_t b) { return depth[a] < depth[b]; });
-        for (uint32_t i : by_depth) {
-            const FileKdNode& n = f.kd_nodes[i];
-            if (n.is_leaf()) continue;
-            for (int side = 0; side < 2; ++side) {
-                const uint32_t c = n.children[size_t(side)];
-                if (c >= count || depth[c] != depth[i] + 1) continue;
-                kd_cell[c] = kd_cell[i];
-                if (side == 0) kd_cell[c].hi[n.axis] = std::min(kd_cell[c].hi[n.axis], n.split);
-                else kd_cell[c].lo[n.axis] = std::max(kd_cell[c].lo[n.axis], n.split);
-            }
-        }
-    }
+    const std::vector<Aabb> kd_cell = is_bvh ? std::vector<Aabb>{} : file_kd_cells(f);
     auto box_of = [&](size_t i) { return is_bvh ? f.bvh_nodes[i].box : kd_cell[i]; };
     auto leaf = [&](size_t i) { return is_bvh ? !f.bvh_nodes[i].interior : f.kd_nodes[i].is_leaf(); };
     std::vector<size_t> per_level;

@@ -159,6 +159,14 @@ struct ChunkReferences {
 
 }  // namespace
 
+std::vector<float> grid_axis_planes(float lo, float hi, int n) {
+    std::vector<float> planes(size_t(n) + 1);
+    for (int i = 0; i <= n; ++i) planes[size_t(i)] = float(double(lo) + (double(hi) - double(lo)) * i / n);
+    planes.front() = lo;
+    planes.back() = hi;
+    return planes;
+}
+
 Expected<UniformGrid> build_uniform_grid(const Mesh& mesh, const GridConfig& config, WorkProgress* progress) {
     const auto start = std::chrono::steady_clock::now();
     if (auto err = validate(config)) return *err;
@@ -179,15 +187,7 @@ Expected<UniformGrid> build_uniform_grid(const Mesh& mesh, const GridConfig& con
     st.padding = pad;
     g.bounds = padded(scene, pad);
     g.res = choose_resolution(scene.extent(), st.triangles, config, st.notes);
-    for (int a = 0; a < 3; ++a) {
-        // Boundaries computed once, in double, and shared by build and walk.
-        const int n = g.res[a];
-        g.planes[a].resize(size_t(n) + 1);
-        const double lo = g.bounds.lo[a], hi = g.bounds.hi[a];
-        for (int i = 0; i <= n; ++i) g.planes[a][size_t(i)] = float(lo + (hi - lo) * i / n);
-        g.planes[a][0] = g.bounds.lo[a];
-        g.planes[a][size_t(n)] = g.bounds.hi[a];
-    }
+    for (int a = 0; a < 3; ++a) g.planes[a] = grid_axis_planes(g.bounds.lo[a], g.bounds.hi[a], g.res[a]);
     const uint64_t cells = uint64_t(g.res[0]) * g.res[1] * g.res[2];
     st.cells_per_axis = g.res;
     st.cells = cells;

@@ -117,6 +117,11 @@ private:
     int locate(int axis, float x, float d) const;
 };
 
+/// The cell boundaries along one axis: n + 1 values from lo to hi, lo + (hi - lo)·i/n
+/// computed in double and rounded to float, the two ends exactly lo and hi. Computed
+/// once, shared by the build and the walk (and by a grid read from a file).
+std::vector<float> grid_axis_planes(float lo, float hi, int n);
+
 /// Builds the grid. Errors: the reference budget (config.max_references) exceeded;
 /// WorkProgress::cancelled_error() once `progress` (units: chunks of triangles per
 /// pass) is cancelled.

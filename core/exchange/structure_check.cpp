@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <numeric>
 #include <sstream>
 
 #include "core/accel/bvh.h"
@@ -261,27 +260,6 @@ void check_bvh(const StructureFile& f, const Mesh& mesh, Problems& problems) {
     check_each_triangle_once(times, where_first, problems);
 }
 
-/// The cell of every KD node (root: the file's bounds), parents before children.
-std::vector<Aabb> kd_cells(const StructureFile& f, const std::vector<uint32_t>& depth,
-                           const std::vector<uint32_t>& parent) {
-    std::vector<Aabb> cell(f.kd_nodes.size());
-    std::vector<uint32_t> order(f.kd_nodes.size());
-    std::iota(order.begin(), order.end(), 0u);
-    std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return depth[a] < depth[b]; });
-    for (uint32_t i : order) {
-        if (depth[i] == UINT32_MAX) continue;
-        if (i == 0 || parent[i] == UINT32_MAX) {
-            cell[i] = f.bounds;
-            continue;
-        }
-        const FileKdNode& p = f.kd_nodes[parent[i]];
-        cell[i] = cell[parent[i]];
-        if (p.children[0] == i) cell[i].hi[p.axis] = std::min(cell[i].hi[p.axis], p.split);
-        else cell[i].lo[p.axis] = std::max(cell[i].lo[p.axis], p.split);
-    }
-    return cell;
-}
-
 void check_kd(const StructureFile& f, const Mesh& mesh, Problems& problems) {
     const auto& nodes = f.kd_nodes;
     const uint64_t n_tris = mesh.triangle_count();
@@ -308,7 +286,7 @@ void check_kd(const StructureFile& f, const Mesh& mesh, Problems& problems) {
     if (deepest > uint32_t(kKdMaxDepth))
         problems.add(std::nullopt, "the tree is " + std::to_string(deepest) + " levels deep; the KD walk here takes " +
                                        std::to_string(kKdMaxDepth));
-    const std::vector<Aabb> cell = kd_cells(f, depth, parent);
+    const std::vector<Aabb> cell = file_kd_cells(f);
     for (size_t i = 0; i < nodes.size(); ++i) {
         const FileKdNode& n = nodes[i];
         if (depth[i] == UINT32_MAX || n.is_leaf()) continue;
@@ -412,15 +390,9 @@ void check_grid(const StructureFile& f, const Mesh& mesh, Problems& problems) {
         problems.add(std::nullopt, "the cells list " + std::to_string(references) + " triangles in all: at most 2^32 - 1");
         return;
     }
-    // The planes as the grid walk places them (UniformGrid: computed in double).
+    // The planes as the grid walk places them.
     std::array<std::vector<float>, 3> planes;
-    for (int a = 0; a < 3; ++a) {
-        const uint32_t n = f.resolution[size_t(a)];
-        const double lo = f.bounds.lo[a], hi = f.bounds.hi[a];
-        for (uint32_t i = 0; i <= n; ++i) planes[size_t(a)].push_back(float(lo + (hi - lo) * i / n));
-        planes[size_t(a)].front() = f.bounds.lo[a];
-        planes[size_t(a)].back() = f.bounds.hi[a];
-    }
+    for (int a = 0; a < 3; ++a) planes[size_t(a)] = grid_axis_planes(f.bounds.lo[a], f.bounds.hi[a], int(f.resolution[size_t(a)]));
     auto cell_range = [&](int a, float lo, float hi) {
         const auto& p = planes[size_t(a)];
         const auto first = std::upper_bound(p.begin(), p.end(), lo) - p.begin() - 1;
@@ -468,6 +440,29 @@ StructureCheck check_structure(const StructureFile& file, const Mesh& mesh, std:
     }
     problems.finish();
     return out;
+}
+
+std::vector<Aabb> file_kd_cells(const StructureFile& f) {
+    const size_t count = f.kd_nodes.size();
+    std::vector<Aabb> cell(count, f.bounds);
+    if (count == 0) return cell;
+    std::vector<uint8_t> reached(count, 0);
+    reached[0] = 1;
+    std::vector<uint32_t> queue = {0};  // breadth first: a parent's cell before its children's
+    for (size_t q = 0; q < queue.size(); ++q) {
+        const FileKdNode& n = f.kd_nodes[queue[q]];
+        if (n.is_leaf()) continue;
+        for (int side = 0; side < 2; ++side) {
+            const uint32_t c = n.children[size_t(side)];
+            if (c >= count || reached[c]) continue;
+            reached[c] = 1;
+            cell[c] = cell[queue[q]];
+            if (side == 0) cell[c].hi[n.axis] = std::min(cell[c].hi[n.axis], n.split);
+            else cell[c].lo[n.axis] = std::max(cell[c].lo[n.axis], n.split);
+            queue.push_back(c);
+        }
+    }
+    return cell;
 }
 
 // [SECTION] Our traversal over a file's structure
@@ -580,12 +575,8 @@ UniformGrid grid_of(const StructureFile& f, const Mesh& mesh) {
     UniformGrid g;
     g.bounds = f.bounds;
     for (int a = 0; a < 3; ++a) {
-        const int n = int(f.resolution[size_t(a)]);
-        g.res[size_t(a)] = n;
-        const double lo = f.bounds.lo[a], hi = f.bounds.hi[a];
-        for (int i = 0; i <= n; ++i) g.planes[size_t(a)].push_back(float(lo + (hi - lo) * i / n));
-        g.planes[size_t(a)].front() = f.bounds.lo[a];
-        g.planes[size_t(a)].back() = f.bounds.hi[a];
+        g.res[size_t(a)] = int(f.resolution[size_t(a)]);
+        g.planes[size_t(a)] = grid_axis_planes(f.bounds.lo[a], f.bounds.hi[a], g.res[size_t(a)]);
     }
     const uint64_t cells = uint64_t(g.res[0]) * uint64_t(g.res[1]) * uint64_t(g.res[2]);
     std::vector<const FileGridCell*> entry(cells, nullptr);

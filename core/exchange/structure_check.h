@@ -47,6 +47,12 @@ float containment_tolerance(const Mesh& mesh);
 StructureCheck check_structure(const StructureFile& file, const Mesh& mesh, std::optional<uint32_t> mesh_crc,
                                size_t max_listed = 50);
 
+/// Every KD node's cell in a file's tree: the root's is the bounds, a child's its
+/// parent's cut at the parent's plane (the lower child below it). Safe on a file that
+/// is not a tree: each node gets the cell of the first parent that reaches it, and a
+/// node no parent reaches the bounds.
+std::vector<Aabb> file_kd_cells(const StructureFile& file);
+
 /// Our traversal over a valid structure from a file: a BVH of arity 2 as a Bvh, up
 /// to 4 or 8 as a WideBvh<4> / <8>, a KD tree as a KdTree, a grid as a UniformGrid.
 /// Errors: the file is not valid (check_structure first).

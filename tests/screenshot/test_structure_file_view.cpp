@@ -17,6 +17,16 @@ namespace {
 
 using testing::draw_until_loaded;
 
+/// A headless window session (width x height) with `state`'s scene and structure loaded.
+std::unique_ptr<HeadlessApp> session_with(AppState& state, int width, int height) {
+    auto app = HeadlessApp::create(width, height);
+    EXPECT_TRUE(app) << app.error();
+    if (!app) return nullptr;
+    (*app)->session().open_scene(state, state.scene);
+    draw_until_loaded(**app, state);
+    return std::move(*app);
+}
+
 const std::string kBrokenTree = std::string(ACCELVIZ_TREES_DIR) + "/teapot_student_broken.json";
 
 
@@ -34,22 +44,20 @@ std::string write_our_tree(const char* name) {
 }
 
 TEST(StructureFileView, ADroppedValidTreeIsDrawnAndTracedLikeOurs) {
-    auto app = HeadlessApp::create(480, 320);
-    ASSERT_TRUE(app) << app.error();
     AppState state;
     state.scene = "builtin:teapot";
     state.accel.bvh.builder = BvhBuilder::Median;
-    (*app)->session().open_scene(state, state.scene);
-    draw_until_loaded(**app, state);
-    const size_t our_boxes = (*app)->session().overlay.boxes.size();
+    auto app = session_with(state, 480, 320);
+    ASSERT_TRUE(app);
+    const size_t our_boxes = app->session().overlay.boxes.size();
     ASSERT_GT(our_boxes, 0u);
 
     const std::string tree = write_our_tree("valid_tree.json");
     FrameInput drop;
     drop.dropped_paths = {tree};
-    (*app)->draw(state, drop);
-    draw_until_loaded(**app, state);
-    const Session& session = (*app)->session();
+    app->draw(state, drop);
+    draw_until_loaded(*app, state);
+    const Session& session = app->session();
     ASSERT_NE(session.scene, nullptr);
     EXPECT_EQ(state.scene, "builtin:teapot") << "a tree is not a scene: the mesh stays";
     EXPECT_EQ(state.accel.structure_file, tree);
@@ -80,14 +88,12 @@ TEST(StructureFileView, ADroppedValidTreeIsDrawnAndTracedLikeOurs) {
 }
 
 TEST(StructureFileView, AnInvalidTreeIsDrawnWithItsFaultyNodesRed) {
-    auto app = HeadlessApp::create(480, 320);
-    ASSERT_TRUE(app) << app.error();
     AppState state;
     state.scene = "builtin:teapot";
     state.accel.structure_file = kBrokenTree;
-    (*app)->session().open_scene(state, state.scene);
-    draw_until_loaded(**app, state);
-    const Session& session = (*app)->session();
+    auto app = session_with(state, 480, 320);
+    ASSERT_TRUE(app);
+    const Session& session = app->session();
     ASSERT_NE(session.scene, nullptr) << session.message;
     ASSERT_NE(session.scene->structure_file, nullptr);
     const StructureCheck& check = session.scene->structure_file->check;
@@ -101,21 +107,19 @@ TEST(StructureFileView, AnInvalidTreeIsDrawnWithItsFaultyNodesRed) {
 }
 
 TEST(StructureFileView, AnUnreadableTreeIsAMessageAndTheStructureStays) {
-    auto app = HeadlessApp::create(320, 240);
-    ASSERT_TRUE(app) << app.error();
     AppState state;
     state.scene = "builtin:cube";
-    (*app)->session().open_scene(state, state.scene);
-    draw_until_loaded(**app, state);
-    const auto before = (*app)->session().scene;
+    auto app = session_with(state, 320, 240);
+    ASSERT_TRUE(app);
+    const auto before = app->session().scene;
     const std::string bad = ::testing::TempDir() + "not_a_tree.json";
     std::FILE* f = std::fopen(bad.c_str(), "w");
     std::fputs("{\"format\": \"accelviz-structure\", \"version\": 1, \"type\": \"bvh\"}", f);
     std::fclose(f);
-    (*app)->session().use_structure_file(state, bad);
-    draw_until_loaded(**app, state);
-    EXPECT_EQ((*app)->session().scene, before);
-    EXPECT_NE((*app)->session().message.find("\"mesh\" is missing"), std::string::npos) << (*app)->session().message;
+    app->session().use_structure_file(state, bad);
+    draw_until_loaded(*app, state);
+    EXPECT_EQ(app->session().scene, before);
+    EXPECT_NE(app->session().message.find("\"mesh\" is missing"), std::string::npos) << app->session().message;
 }
 
 TEST(StructureFileView, StudentTreeWithAnInvalidNodeMatchesGolden) {
@@ -125,24 +129,16 @@ TEST(StructureFileView, StudentTreeWithAnInvalidNodeMatchesGolden) {
     EXPECT_TRUE(testing::view_matches_golden(state, WindowView::Gui, 960, 600, "teapot_student_tree_invalid"));
 }
 
-}  // namespace
-}  // namespace accelviz
-
-namespace accelviz {
-namespace {
-
 TEST(StructureFileView, TheConstructionStepperDoesNotStepOurBuildOverAFilesTree) {
     // Stepping our builder's recording here would show another tree than the one drawn.
-    auto app = HeadlessApp::create(480, 320);
-    ASSERT_TRUE(app) << app.error();
     AppState state;
     state.scene = "builtin:teapot";
     state.build_step.active = true;
     state.accel.structure_file = write_our_tree("stepped_tree.json");
-    (*app)->session().open_scene(state, state.scene);
-    testing::draw_until_loaded(**app, state);
-    for (int i = 0; i < 3; ++i) (*app)->draw(state, {});
-    const Session& session = (*app)->session();
+    auto app = session_with(state, 480, 320);
+    ASSERT_TRUE(app);
+    for (int i = 0; i < 3; ++i) app->draw(state, {});
+    const Session& session = app->session();
     ASSERT_NE(session.scene, nullptr) << session.message;
     ASSERT_NE(session.scene->structure_file, nullptr);
     EXPECT_EQ(session.build_stepper.trace(), nullptr);
