@@ -101,11 +101,15 @@ int run_window_view(const RenderOptions& opt, WindowView view, AppState state) {
 }
 
 /// `--view build-step --step K`: the window's frame with the construction
-/// stepper at decision K of the BVH build.
+/// stepper at decision K of the BVH build, or at node K of a tree from a file.
 int run_build_step(const RenderOptions& opt, AppState state) {
     if (opt.step < 0) return fail("--view build-step needs --step K (the build decision to show, 0 = the root)");
-    if (!state.accel.structure_file.empty())
-        return fail("--view build-step steps our BVH build; a structure from a file (--structure) has no recorded construction");
+    if (!state.accel.structure_file.empty()) {
+        // The file's nodes in the order it numbers them (the window checks K against them).
+        state.build_step.active = true;
+        state.build_step.step = opt.step;
+        return run_window_view(opt, WindowView::BuildStep, std::move(state));
+    }
     if (!opt.preset.state && !opt.accel_given) state.accel.type = AccelType::Bvh;
     if (state.accel.type != AccelType::Bvh)
         return fail("--view build-step steps a BVH build (--accel bvh, not " + accel_name(state) + ")");
@@ -284,7 +288,7 @@ Command register_render(CLI::App& app) {
                     "raycast | raster | split (raster left, ray cast right, each --width wide) | depth-diff | "
                     "heat-nodes | heat-tris: the CPU renderers; structure (the window's 3D view with the "
                     "structure overlay) | gui (the whole window frame, panels included) | build-step (the window "
-                    "with the BVH construction stepper at --step) | step (the window with the traversal stepper "
+                    "with the BVH construction stepper at --step; with --structure, the file's node --step) | step (the window with the traversal stepper "
                     "at --step K on the ray of --pixel X,Y, the 3D view seeing the ray from the side: the camera "
                     "turned 35 degrees about up and 15 higher, aimed at the ray's point nearest its target, at 0.6 "
                     "times its distance) | comparison (the window with the comparison panel: every structure built "
@@ -312,7 +316,8 @@ Command register_render(CLI::App& app) {
                     "maximum)")
         ->check(number_between(1, 1e9));
     sub->add_option("--step", opt->step,
-                    "build-step: which decision of the BVH build to show (0 = the root's); step: events applied "
+                    "build-step: which decision of the BVH build to show (0 = the root's), or which node of "
+                    "the --structure file's tree (in its numbering); step: events applied "
                     "(0 = before the first, the default; past the end = the final state); fill-order: the "
                     "percentage of each loop's work done (0 to 100)")
         ->check(whole_number(0, INT32_MAX, ">= 0"));

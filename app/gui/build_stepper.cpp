@@ -104,8 +104,12 @@ BuildStepper::~BuildStepper() = default;
 // [SECTION] Per frame: recording and charts on workers
 
 void BuildStepper::update(AppState& state, const std::shared_ptr<const LoadedScene>& scene, bool wait) {
-    // A tree from a file has no recorded construction: nothing to step (see draw_sidebar).
-    if (!state.build_step.active || !scene || scene->structure_file) {
+    // A tree from a file has no recorded construction: its nodes are stepped in the
+    // file's order instead (see "A tree from a file" below).
+    const bool file_tree = scene && scene->structure_file;
+    file_scene_ = file_tree && scene->structure_file->file->type != AccelType::Grid;
+    if (!file_tree && file_trace_ && file_trace_->scene != scene) release_file();
+    if (!state.build_step.active || !scene || file_tree) {
         // Off: let go of a recording of another scene (a big mesh's takes ~230 bytes a node).
         if (trace_ && trace_->scene != scene) {
             trace_.reset();
@@ -113,6 +117,7 @@ void BuildStepper::update(AppState& state, const std::shared_ptr<const LoadedSce
             chart_requested_ = {};
             trace_requested_ = nullptr;
         }
+        if (file_tree && state.build_step.active) update_file(state, scene, wait);
         return;
     }
     if (trace_requested_ != scene.get()) {
@@ -145,6 +150,7 @@ void BuildStepper::update(AppState& state, const std::shared_ptr<const LoadedSce
 }
 
 void BuildStepper::handle_keys(AppState& state) {
+    if (state.build_step.active && file_trace_) return handle_file_keys(state);
     if (!state.build_step.active || !trace_ || trace_->steps.empty()) return;
     int& step = state.build_step.step;
     const int last = int(trace_->steps.size()) - 1;
@@ -155,16 +161,34 @@ void BuildStepper::handle_keys(AppState& state) {
 }
 
 bool BuildStepper::shows_3d(const AppState& state) const {
-    return state.build_step.active && trace_ && !trace_->steps.empty();
+    return state.build_step.active && ((trace_ && !trace_->steps.empty()) || (file_trace_ && file_node_));
+}
+
+bool BuildStepper::has_panel(const AppState& state, const LoadedScene* scene) const {
+    if (!state.build_step.active) return false;
+    if (scene && scene->structure_file) return scene->structure_file->file->type != AccelType::Grid;
+    return state.accel.type == AccelType::Bvh;
 }
 
 // [SECTION] Sidebar
 
-bool BuildStepper::draw_sidebar(AppState& state) {
+bool BuildStepper::draw_sidebar(AppState& state, const LoadedScene* scene) {
     if (!ImGui::CollapsingHeader("Construction", ImGuiTreeNodeFlags_DefaultOpen)) return false;
     if (!state.accel.structure_file.empty()) {
-        // Stepping our build here would show another tree than the one drawn and traced.
-        ImGui::TextDisabled("The tree comes from a file: how it was built was not recorded.");
+        // Stepping our build here would show another tree than the one drawn and traced:
+        // the file's own nodes are stepped, in the order it numbers them.
+        const StructureFile* file =
+            scene && scene->structure_file ? scene->structure_file->file.get() : nullptr;
+        if (file && file->type == AccelType::Grid) {
+            ImGui::TextDisabled("A grid from a file has no nodes to step.");
+            return false;
+        }
+        ImGui::Checkbox("Step the file's nodes in order", &state.build_step.active);
+        ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+        ImGui::TextWrapped("%s", state.build_step.active
+                                     ? "Left/Right step, Home/End jump (the camera: mouse)."
+                                     : "Node by node as the file numbers them: a recursive builder's order.");
+        ImGui::PopStyleColor();
         return false;
     }
     if (state.accel.type != AccelType::Bvh) {
@@ -190,11 +214,18 @@ void BuildStepper::draw_panel(AppState& state, float x, float y, float w, float 
     const ImGuiWindowFlags flags = ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoCollapse |
                                    ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoBringToFrontOnFocus;
     bool open = true;
-    if (!ImGui::Begin("Construction (BVH build)", &open, flags)) {
+    // Two windows in the same place: ImGui 1.86 keeps a window's first title.
+    if (!ImGui::Begin(file_scene_ ? "Construction order (the file's nodes)" : "Construction (BVH build)", &open, flags)) {
         ImGui::End();
         return;
     }
     if (!open) state.build_step.active = false;
+    if (file_scene_) {
+        if (file_trace_) draw_file_panel(state, view_aspect);
+        else ImGui::TextWrapped("Reading the file's tree ...");
+        ImGui::End();
+        return;
+    }
     if (!trace_) {
         ImGui::TextWrapped("%s", state.accel.type == AccelType::Bvh ? "Recording the build ..."
                                                            : "The construction stepper needs a BVH (Structure: bvh).");
@@ -544,6 +575,7 @@ void BuildStepper::upload_step(const BuildStep& step, Rgb background) {
 }
 
 void BuildStepper::draw_3d(Renderer& renderer, const MeshBuffer& mesh, int step_index, Rgb background) {
+    if (file_trace_ && file_node_) return draw_file_3d(renderer, mesh, background);
     if (!trace_ || trace_->steps.empty()) {
         renderer.draw_mesh(mesh, {});
         return;
@@ -551,6 +583,7 @@ void BuildStepper::draw_3d(Renderer& renderer, const MeshBuffer& mesh, int step_
     shown_step_ = std::clamp(step_index, 0, int(trace_->steps.size()) - 1);
     if (uploaded_trace_ != trace_.get() || uploaded_step_ != shown_step_ || !(uploaded_background_ == background)) {
         upload_step(trace_->steps[size_t(shown_step_)], background);
+        uploaded_file_node_.reset();  // the buffers no longer hold a file's node
         uploaded_trace_ = trace_.get();
         uploaded_step_ = shown_step_;
         uploaded_background_ = background;
@@ -562,6 +595,255 @@ void BuildStepper::draw_3d(Renderer& renderer, const MeshBuffer& mesh, int step_
     // test there, and fills in only the triangles of other nodes.
     renderer.draw_mesh(*left_tris_, {.base_colour = leaf ? kLeafTriangles : Rgb{kLeftColour.r, kLeftColour.g, kLeftColour.b}});
     renderer.draw_mesh(*right_tris_, {.base_colour = Rgb{kRightColour.r, kRightColour.g, kRightColour.b}});
+    renderer.draw_mesh(mesh, {.base_colour = kDimMesh});
+    renderer.draw_quads(*plane_);
+    renderer.draw_boxes(*boxes_);
+}
+
+}  // namespace accelviz
+
+namespace accelviz {
+
+// [SECTION] A tree from a file: its nodes in the file's order
+
+namespace {
+
+/// A child's colour: the binary tree's two, then six more for a wide node's lanes.
+constexpr std::array<Rgba8, kStructureMaxArity> kChildColours = {{
+    kLeftColour, kRightColour, {235, 110, 235, 255}, {90, 215, 235, 255},
+    {190, 230, 70, 255}, {255, 110, 130, 255}, {165, 130, 255, 255}, {215, 185, 140, 255},
+}};
+constexpr Rgba8 kFaultyNode{255, 40, 40, 255};  ///< the overlay's red for a node check faults
+
+Rgb rgb(Rgba8 c) { return {c.r, c.g, c.b}; }
+
+bool finite_box(const Aabb& b) {
+    for (int a = 0; a < 3; ++a)
+        if (!std::isfinite(b.lo[a]) || !std::isfinite(b.hi[a])) return false;
+    return true;
+}
+
+/// Node `step` of the file's tree (clamped), computed on the worker.
+std::shared_ptr<const FileNodeStep> file_step_of(const FileOrderTrace& trace, int step) {
+    if (trace.order.size() == 0) return nullptr;
+    const uint64_t node = uint64_t(std::clamp<int64_t>(step, 0, int64_t(trace.order.size()) - 1));
+    // The costs are the panel's to weigh (its sliders); the step keeps the counts and areas.
+    return std::make_shared<const FileNodeStep>(file_node_step(*trace.scene->structure_file->file, trace.order, node,
+                                                               trace.scene->mesh->triangle_count(), SahCosts{}));
+}
+
+}  // namespace
+
+void BuildStepper::release_file() {
+    file_trace_.reset();
+    file_node_.reset();
+    file_requested_ = nullptr;
+    file_step_requested_ = -1;
+    uploaded_file_node_.reset();
+}
+
+void BuildStepper::update_file(AppState& state, const std::shared_ptr<const LoadedScene>& scene, bool wait) {
+    if (scene->structure_file->file->type == AccelType::Grid) return;  // cells, not nodes
+    int& step = state.build_step.step;
+    step = std::max(step, 0);
+    if (file_requested_ != scene.get()) {
+        release_file();
+        file_requested_ = scene.get();
+        file_step_requested_ = step;
+        file_job_.submit([scene, step] {
+            auto trace = std::make_shared<FileOrderTrace>();
+            trace->scene = scene;
+            trace->order = file_tree_order(*scene->structure_file->file);
+            std::shared_ptr<const FileOrderTrace> done = std::move(trace);
+            return FileStepResult{done, file_step_of(*done, step)};
+        });
+    } else if (file_trace_ && file_trace_->order.size() > 0) {
+        step = std::min(step, int(file_trace_->order.size()) - 1);
+        if (step != file_step_requested_) {
+            file_step_requested_ = step;
+            std::shared_ptr<const FileOrderTrace> trace = file_trace_;
+            file_job_.submit([trace, step] { return FileStepResult{trace, file_step_of(*trace, step)}; });
+        }
+    }
+    if (wait) file_job_.wait();
+    if (auto done = file_job_.take()) {
+        file_trace_ = std::move(done->trace);
+        file_node_ = std::move(done->node);
+    }
+    if (file_trace_ && file_trace_->order.size() > 0) step = std::min(step, int(file_trace_->order.size()) - 1);
+}
+
+void BuildStepper::handle_file_keys(AppState& state) {
+    if (file_trace_->order.size() == 0) return;
+    int& step = state.build_step.step;
+    const int last = int(file_trace_->order.size()) - 1;
+    if (ImGui::IsKeyPressed(GLFW_KEY_RIGHT, true)) step = std::min(step + 1, last);
+    if (ImGui::IsKeyPressed(GLFW_KEY_LEFT, true)) step = std::max(step - 1, 0);
+    if (ImGui::IsKeyPressed(GLFW_KEY_HOME, false)) step = 0;
+    if (ImGui::IsKeyPressed(GLFW_KEY_END, false)) step = last;
+}
+
+void BuildStepper::draw_file_panel(AppState& state, double view_aspect) {
+    const FileTreeOrder& order = file_trace_->order;
+    const CheckedStructureFile& checked = *file_trace_->scene->structure_file;
+    const StructureFile& file = *checked.file;
+    const bool kd = file.type == AccelType::Kd;
+    if (order.size() == 0) {
+        ImGui::TextWrapped("The file's tree has no nodes.");
+        return;
+    }
+    BuildStepSettings& s = state.build_step;
+    const int last = int(order.size()) - 1;
+    s.step = std::clamp(s.step, 0, last);
+
+    // Timeline: |< < > >| and the scrubber, as over our build.
+    if (ImGui::Button("|<")) s.step = 0;
+    ImGui::SameLine();
+    if (ImGui::Button("<")) s.step = std::max(0, s.step - 1);
+    ImGui::SameLine();
+    if (ImGui::Button(">")) s.step = std::min(last, s.step + 1);
+    ImGui::SameLine();
+    if (ImGui::Button(">|")) s.step = last;
+    ImGui::SameLine();
+    if (ImGui::Button("next split")) {
+        for (int k = s.step + 1; k <= last; ++k)
+            if (kd ? !file.kd_nodes[size_t(k)].is_leaf() : file.bvh_nodes[size_t(k)].interior) {
+                s.step = k;
+                break;
+            }
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("frame node") && state.camera && file_node_ && finite_box(file_node_->box) &&
+        !file_node_->box.empty())
+        frame_bounds(*state.camera, file_node_->box, view_aspect);
+    ImGui::SetNextItemWidth(-FLT_MIN);
+    const std::string scrub_format = "node %d (of 0.." + std::to_string(last) + ")";
+    ImGui::SliderInt("##scrub", &s.step, 0, last, scrub_format.c_str(), ImGuiSliderFlags_AlwaysClamp);
+    ImGui::PushTextWrapPos(0.0f);
+    ImGui::TextDisabled("The nodes as the file numbers them: a builder that writes each node as it makes it "
+                        "(a node, then its first child's subtree) numbers them in construction order.");
+
+    const FileNodeStep* node = file_node_.get();
+    if (!node || node->node != uint64_t(s.step)) {
+        ImGui::TextUnformatted("reading the node ...");
+        if (!node) {
+            ImGui::PopTextWrapPos();
+            return;
+        }
+    }
+    // Where the node is in the tree.
+    if (!node->reached)
+        ImGui::Text("Node %llu: no path from the root (node 0) leads here", (unsigned long long)node->node);
+    else if (node->parent)
+        ImGui::Text("Node %llu, depth %u, child of node %llu", (unsigned long long)node->node, node->depth,
+                    (unsigned long long)*node->parent);
+    else
+        ImGui::Text("Node %llu: the root", (unsigned long long)node->node);
+
+    // What it holds, and what its split costs (the lecture's SAH, the file's boxes).
+    const SahCostModel model{s.cost_trav.value_or(1.0f), s.cost_isect.value_or(1.0f)};
+    const uint32_t n = uint32_t(node->triangle_count);
+    if (node->leaf) {
+        ImGui::Text("Leaf: %u triangles, cost N x C_isect = %s", n, cost_text(model.leaf_cost(n)).c_str());
+    } else {
+        if (kd)
+            ImGui::Text("Split at %s = %.4g: %u triangles under it", kAxisNames[node->axis], double(node->split), n);
+        else
+            ImGui::Text("Interior, %zu children: %u triangles under it", node->children.size(), n);
+        std::string terms = cost_text(model.cost_trav);
+        float cost = model.cost_trav;
+        for (size_t k = 0; k < node->children.size(); ++k) {
+            const auto count = uint32_t(node->triangles[k].size());
+            const float p = node->child_probability[k];
+            swatch(im(kChildColours[k % kChildColours.size()]));
+            const char* side = !kd ? "" : k == 0 ? "below, " : "above, ";
+            ImGui::Text("%snode %llu: %u triangles, S/S_N = %.2f", side, (unsigned long long)node->children[k],
+                        count, double(p));
+            cost += p * float(count) * model.cost_isect;
+            terms += text_of(" + %.2f", double(p)) + " x " + std::to_string(count) + " x " + cost_text(model.cost_isect);
+        }
+        ImGui::TextDisabled("C = C_trav + sum S_c/S_N N_c C_isect = %s = %s (a leaf: %s)", terms.c_str(),
+                            cost_text(cost).c_str(), cost_text(model.leaf_cost(n)).c_str());
+        if (cost >= model.leaf_cost(n))
+            ImGui::TextDisabled("The split costs more than a leaf would: the SAH would stop here.");
+    }
+
+    // What check says of this node or its children (a child's box sticking out of
+    // this one), in the overlay's red.
+    const auto& bad = checked.check.bad_nodes;
+    if (std::binary_search(bad.begin(), bad.end(), node->node)) {
+        ImGui::PushStyleColor(ImGuiCol_Text, im(kFaultyNode));
+        bool listed = false;
+        for (const StructureProblem& p : checked.check.problems) {
+            const bool about_child =
+                p.node && std::find(node->children.begin(), node->children.end(), *p.node) != node->children.end();
+            if (p.node == node->node || about_child) {
+                ImGui::Bullet();
+                ImGui::TextWrapped("%s", p.message.c_str());
+                listed = true;
+            }
+        }
+        if (!listed) ImGui::TextUnformatted("A problem involves this node (accelviz check lists them all).");
+        ImGui::PopStyleColor();
+    }
+    ImGui::PopTextWrapPos();
+
+    // The costs' sliders: the numbers above follow them.
+    ImGui::Separator();
+    float trav = model.cost_trav, isect = model.cost_isect;
+    ImGui::PushItemWidth(ImGui::GetContentRegionAvail().x * 0.5f);
+    if (ImGui::SliderFloat("C_trav", &trav, 0.0f, 10.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp)) s.cost_trav = trav;
+    if (ImGui::SliderFloat("C_isect", &isect, 0.05f, 10.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp))
+        s.cost_isect = isect;
+    ImGui::PopItemWidth();
+}
+
+void BuildStepper::draw_file_3d(Renderer& renderer, const MeshBuffer& mesh, Rgb background) {
+    const FileNodeStep& node = *file_node_;
+    if (uploaded_file_node_ != file_node_ || !(uploaded_background_ == background)) {
+        const Mesh& scene_mesh = *file_trace_->scene->mesh;
+        auto subset = [&](const std::vector<uint32_t>& ids) {
+            Mesh part;
+            part.positions = scene_mesh.positions;
+            part.indices.reserve(ids.size());
+            for (uint32_t t : ids) part.indices.push_back(scene_mesh.indices[t]);
+            return part;
+        };
+        child_tris_.resize(node.triangles.size());
+        for (size_t k = 0; k < node.triangles.size(); ++k) {
+            if (!child_tris_[k]) child_tris_[k] = std::make_unique<MeshBuffer>();
+            child_tris_[k]->upload(subset(node.triangles[k]));
+        }
+        const auto& bad = file_trace_->scene->structure_file->check.bad_nodes;
+        const bool faulty = std::binary_search(bad.begin(), bad.end(), node.node);
+        std::vector<BoxInstance> boxes;
+        if (finite_box(node.box) && !node.box.empty()) {
+            const Vec3 grow = node.box.extent() * 0.015f;  // its edges would lie on its children's
+            boxes.push_back({node.box.lo - grow, node.box.hi + grow, faulty ? kFaultyNode : node_box_colour(background)});
+        }
+        for (size_t k = 0; k < node.child_boxes.size(); ++k)
+            if (finite_box(node.child_boxes[k]) && !node.child_boxes[k].empty())
+                boxes.push_back({node.child_boxes[k].lo, node.child_boxes[k].hi, kChildColours[k % kChildColours.size()]});
+        if (!boxes_) boxes_ = std::make_unique<BoxBuffer>();
+        boxes_->upload(boxes);
+        std::vector<ColouredQuad> quads;
+        if (node.axis >= 0 && finite_box(node.box) && std::isfinite(node.split)) {
+            ColouredQuad quad;  // a KD node's plane across its cell
+            const std::array<Vec3, 4> corners = plane_across_box(node.box, node.axis, node.split);
+            std::copy(corners.begin(), corners.end(), quad.corners);
+            quad.colour = kPlaneColour;
+            quads.push_back(quad);
+        }
+        if (!plane_) plane_ = std::make_unique<ColouredBuffer>();
+        plane_->upload_quads(quads);
+        uploaded_file_node_ = file_node_;
+        uploaded_background_ = background;
+        uploaded_trace_ = nullptr;  // the buffers no longer hold a step of our build
+    }
+    // The node's triangles in their child's colour, then the whole mesh dimmed (see draw_3d).
+    for (size_t k = 0; k < node.triangles.size(); ++k)
+        renderer.draw_mesh(*child_tris_[k], {.base_colour = node.leaf ? kLeafTriangles
+                                                                      : rgb(kChildColours[k % kChildColours.size()])});
     renderer.draw_mesh(mesh, {.base_colour = kDimMesh});
     renderer.draw_quads(*plane_);
     renderer.draw_boxes(*boxes_);

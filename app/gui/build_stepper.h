@@ -1,6 +1,8 @@
 #pragma once
 /// The construction stepper: the BVH build
-/// replayed decision by decision. The builder runs once with a BuildRecorder (on a
+/// replayed decision by decision; or, for a tree from a file (a student's BVH or
+/// KD tree), the file's nodes in the order it numbers them
+/// (core/exchange/file_tree_order.h: a recursive builder's construction order). The builder runs once with a BuildRecorder (on a
 /// worker: the UI thread never builds), and its decisions become a timeline; the
 /// window shows, for the decision at the scrubber, the node being split (its box,
 /// its triangles, the two children's boxes and triangles in two colours) and its
@@ -21,6 +23,7 @@
 #include "app/gui/scene_loader.h"
 #include "core/accel/bvh_build.h"
 #include "core/accel/sah_chart.h"
+#include "core/exchange/file_tree_order.h"
 
 namespace accelviz {
 
@@ -32,6 +35,12 @@ struct BuildTrace {
     int scene_width = 2;                       ///< children per node of the scene's BVH (4, 8: collapsed from bvh)
     std::vector<BuildStep> steps;              ///< one per node, in the builder's order (no candidate lists)
     double build_ms = 0;
+};
+
+/// A tree from a file, ready to step node by node.
+struct FileOrderTrace {
+    std::shared_ptr<const LoadedScene> scene;  ///< whose structure_file it orders (keeps it alive)
+    FileTreeOrder order;
 };
 
 /// The chart parameters for `settings` over a tree built with `built`.
@@ -53,8 +62,11 @@ public:
     /// of the step shown. `wait`: block until both are done (headless renders).
     void update(AppState& state, const std::shared_ptr<const LoadedScene>& scene, bool wait);
     /// The sidebar's "Construction" section: the switch, and a hint. True when the
-    /// user asked for a BVH (the caller rebuilds the structure).
-    bool draw_sidebar(AppState& state);
+    /// user asked for a BVH (the caller rebuilds the structure). `scene`: the one shown.
+    bool draw_sidebar(AppState& state, const LoadedScene* scene);
+    /// True if the Construction panel is to be drawn: the stepper is on, over our
+    /// BVH build or over the nodes of a BVH or KD tree from a file.
+    bool has_panel(const AppState& state, const LoadedScene* scene) const;
     /// The Construction panel (a fixed window at x, y of w x h): the timeline
     /// controls, the node, the SAH chart and its sliders. `view_aspect`: the 3D
     /// view's, for framing the node.
@@ -67,13 +79,17 @@ public:
     /// node's and children's boxes (GL thread, inside the 3D view).
     void draw_3d(Renderer& renderer, const MeshBuffer& mesh, int step, Rgb background);
 
-    bool busy() const { return trace_job_.busy() || chart_job_.busy(); }
-    bool has_result() const { return trace_job_.has_result() || chart_job_.has_result(); }
+    bool busy() const { return trace_job_.busy() || chart_job_.busy() || file_job_.busy(); }
+    bool has_result() const { return trace_job_.has_result() || chart_job_.has_result() || file_job_.has_result(); }
     void set_on_finished(const std::function<void()>& callback) {
         trace_job_.on_finished = callback;
         chart_job_.on_finished = callback;
+        file_job_.on_finished = callback;
     }
     const BuildTrace* trace() const { return trace_.get(); }
+    /// A file's tree being stepped, and the node shown (null until computed).
+    const FileOrderTrace* file_trace() const { return file_trace_.get(); }
+    const FileNodeStep* file_node() const { return file_node_.get(); }
 
 private:
     struct ChartKey {
@@ -87,8 +103,18 @@ private:
         std::shared_ptr<const BuildTrace> trace;  ///< keeps key.trace alive
         SahChart chart;
     };
+    struct FileStepResult {
+        std::shared_ptr<const FileOrderTrace> trace;
+        std::shared_ptr<const FileNodeStep> node;  ///< null: the tree has no nodes
+    };
     void draw_chart(const SahChart& chart, const BuildStep& step, float width);
     void upload_step(const BuildStep& step, Rgb background);
+    // A tree from a file (build_stepper.cpp, "A tree from a file").
+    void update_file(AppState& state, const std::shared_ptr<const LoadedScene>& scene, bool wait);
+    void release_file();
+    void draw_file_panel(AppState& state, double view_aspect);
+    void handle_file_keys(AppState& state);
+    void draw_file_3d(Renderer& renderer, const MeshBuffer& mesh, Rgb background);
 
     LatestJob<std::shared_ptr<const BuildTrace>> trace_job_;
     const LoadedScene* trace_requested_ = nullptr;  ///< the scene recording was asked for
@@ -105,6 +131,16 @@ private:
     std::unique_ptr<BoxBuffer> boxes_;
     std::unique_ptr<ColouredBuffer> plane_;
     int shown_step_ = -1;  ///< the step draw_3d shows (clamped)
+
+    // A tree from a file: its order (once per scene) and the node shown (per step), on a worker.
+    bool file_scene_ = false;  ///< the scene's tree is a BVH or KD tree from a file (set by update)
+    LatestJob<FileStepResult> file_job_;
+    const LoadedScene* file_requested_ = nullptr;
+    int file_step_requested_ = -1;
+    std::shared_ptr<const FileOrderTrace> file_trace_;
+    std::shared_ptr<const FileNodeStep> file_node_;
+    std::shared_ptr<const FileNodeStep> uploaded_file_node_;  ///< the node the buffers hold (kept alive: compared by address)
+    std::vector<std::unique_ptr<MeshBuffer>> child_tris_;
 };
 
 }  // namespace accelviz

@@ -317,7 +317,7 @@ FramePlan plan_frame(AppState& state, Session& session, const FrameInput& input)
     keep_one_right_panel(state, session);
     // The construction stepper: its recorded build and chart (on workers; headless waits).
     session.build_stepper.update(state, session.scene, input.deterministic);
-    const bool build_panel = state.build_step.active && state.accel.type == AccelType::Bvh;
+    const bool build_panel = session.build_stepper.has_panel(state, session.scene.get());
     plan.right_panel = build_panel              ? RightPanel::Build
                        : state.stepper.open     ? RightPanel::Stepper
                        : state.comparison.open  ? RightPanel::Comparison
@@ -428,7 +428,7 @@ void draw_sidebar(AppState& state, Session& session, const Layout& layout, int h
         }
         session.view_panel.draw(state, session,
                                 layout.view.height > 0 ? double(layout.view.width) / layout.view.height : 1.0);
-        if (session.build_stepper.draw_sidebar(state)) session.rebuild_structure(state);
+        if (session.build_stepper.draw_sidebar(state, session.scene.get())) session.rebuild_structure(state);
         session.stats_panel.draw(state, session);
     }
     ImGui::End();

@@ -90,19 +90,33 @@ Expected<HeadlessRender> render_headless(const AppState& state, std::shared_ptr<
     input.draw_ui = view != WindowView::Structure;
     if (view == WindowView::BuildStep) {
         // The whole window with the construction stepper at build_step.step: check
-        // the step against the recorded build first (the stepper would clamp it).
-        if (state.accel.type != AccelType::Bvh) return Error{"the build-step view needs a BVH (--accel bvh)"};
+        // the step against the recorded build (or the file's nodes) first (the
+        // stepper would clamp it).
+        Session& session = (*app)->session();
+        const bool file_tree = session.scene && session.scene->structure_file;
+        if (!file_tree && state.accel.type != AccelType::Bvh)
+            return Error{"the build-step view needs a BVH (--accel bvh)"};
         frame_state.build_step.active = true;
         frame_state.stepper.open = frame_state.comparison.open = frame_state.two_bvhs.open = false;  // one right panel
-        Session& session = (*app)->session();
         session.build_stepper.update(frame_state, session.scene, true);
-        const BuildTrace* trace = session.build_stepper.trace();
-        if (!trace) return Error{"the build-step view needs a BVH (--accel bvh)"};
-        if (trace->steps.empty()) return Error{"the scene has no triangles: the BVH build made no decisions to step"};
-        if (state.build_step.step < 0 || size_t(state.build_step.step) >= trace->steps.size())
-            return Error{"--step " + std::to_string(state.build_step.step) + " is out of range: the build made " +
-                         std::to_string(trace->steps.size()) + " decisions (0.." +
-                         std::to_string(trace->steps.size() - 1) + ")"};
+        const int step = state.build_step.step;
+        if (file_tree) {
+            const FileOrderTrace* file = session.build_stepper.file_trace();
+            if (!file) return Error{"a grid from a file has no nodes to step (the build-step view steps a BVH or KD tree)"};
+            const size_t nodes = file->order.size();
+            if (nodes == 0) return Error{"the file's tree has no nodes to step"};
+            if (step < 0 || size_t(step) >= nodes)
+                return Error{"--step " + std::to_string(step) + " is out of range: the file's tree has " +
+                             std::to_string(nodes) + " nodes (0.." + std::to_string(nodes - 1) + ")"};
+        } else {
+            const BuildTrace* trace = session.build_stepper.trace();
+            if (!trace) return Error{"the build-step view needs a BVH (--accel bvh)"};
+            if (trace->steps.empty()) return Error{"the scene has no triangles: the BVH build made no decisions to step"};
+            if (step < 0 || size_t(step) >= trace->steps.size())
+                return Error{"--step " + std::to_string(step) + " is out of range: the build made " +
+                             std::to_string(trace->steps.size()) + " decisions (0.." +
+                             std::to_string(trace->steps.size() - 1) + ")"};
+        }
     }
     if (view == WindowView::Step) {
         frame_state.stepper.open = true;

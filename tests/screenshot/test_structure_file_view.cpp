@@ -7,6 +7,7 @@
 
 #include "app/gui/headless.h"
 #include "app/gui/session.h"
+#include "core/exchange/file_tree_order.h"
 #include "core/accel/factory.h"
 #include "core/exchange/structure_file.h"
 #include "core/geometry/scene.h"
@@ -129,21 +130,49 @@ TEST(StructureFileView, StudentTreeWithAnInvalidNodeMatchesGolden) {
     EXPECT_TRUE(testing::view_matches_golden(state, WindowView::Gui, 960, 600, "teapot_student_tree_invalid"));
 }
 
-TEST(StructureFileView, TheConstructionStepperDoesNotStepOurBuildOverAFilesTree) {
-    // Stepping our builder's recording here would show another tree than the one drawn.
+TEST(StructureFileView, TheConstructionStepperStepsTheFilesNodesInItsOrder) {
+    // Stepping our builder's recording here would show another tree than the one drawn:
+    // the stepper steps the file's own nodes, numbered as the file numbers them.
+    auto app = HeadlessApp::create(480, 320);
+    ASSERT_TRUE(app) << app.error();
     AppState state;
     state.scene = "builtin:teapot";
     state.build_step.active = true;
+    state.build_step.step = 2;
     state.accel.structure_file = write_our_tree("stepped_tree.json");
-    auto app = session_with(state, 480, 320);
-    ASSERT_TRUE(app);
-    for (int i = 0; i < 3; ++i) app->draw(state, {});
-    const Session& session = app->session();
+    (*app)->session().open_scene(state, state.scene);
+    testing::draw_until_loaded(**app, state);
+    for (int i = 0; i < 3; ++i) (*app)->draw(state, {});
+    const Session& session = (*app)->session();
     ASSERT_NE(session.scene, nullptr) << session.message;
     ASSERT_NE(session.scene->structure_file, nullptr);
-    EXPECT_EQ(session.build_stepper.trace(), nullptr);
-    EXPECT_FALSE(session.build_stepper.shows_3d(state));
-    EXPECT_FALSE(session.overlay.boxes.empty()) << "the file's tree is what the view draws";
+    EXPECT_EQ(session.build_stepper.trace(), nullptr) << "no recording of our build";
+    ASSERT_NE(session.build_stepper.file_trace(), nullptr);
+    const FileNodeStep* node = session.build_stepper.file_node();
+    ASSERT_NE(node, nullptr);
+    EXPECT_EQ(node->node, 2u);
+    EXPECT_TRUE(session.build_stepper.shows_3d(state));
+    // The node shown is the file's node 2: its box and its children's.
+    const StructureFile& file = *session.scene->structure_file->file;
+    EXPECT_EQ(node->box, file.bvh_nodes[2].box);
+    ASSERT_EQ(node->children.size(), file.bvh_nodes[2].children.size());
+    for (size_t k = 0; k < node->children.size(); ++k) EXPECT_EQ(node->children[k], file.bvh_nodes[2].children[k]);
+    // Past the end: the last node (the stepper clamps, as over our build).
+    state.build_step.step = 1 << 20;
+    for (int i = 0; i < 3; ++i) (*app)->draw(state, {});
+    EXPECT_EQ(state.build_step.step, int(file.bvh_nodes.size()) - 1);
+    ASSERT_NE(session.build_stepper.file_node(), nullptr);
+    EXPECT_EQ(session.build_stepper.file_node()->node, file.bvh_nodes.size() - 1);
+}
+
+TEST(StructureFileView, AFaultyNodeOfAStudentTreeSteppedMatchesGolden) {
+    // Node 130 of the broken tree: its children's boxes stick out of its box (red).
+    AppState state;
+    state.scene = "builtin:teapot";
+    state.accel.structure_file = kBrokenTree;
+    state.build_step.active = true;
+    state.build_step.step = 130;
+    EXPECT_TRUE(testing::view_matches_golden(state, WindowView::BuildStep, 960, 600, "teapot_student_tree_node130"));
 }
 
 }  // namespace

@@ -636,6 +636,18 @@ TEST(WindowClicks, AStudentsTreeTypedIntoTheStructurePanelIsCheckedAndDrawn) {
                s["status"].get<std::string>().find("from a file, NOT VALID") != std::string::npos;
     });
     EXPECT_TRUE(loaded["state"]["structure"]["type"] == "bvh");
+    // Its nodes in the file's order: the Construction panel steps them, by keys and buttons.
+    w.toggle("Step the file's nodes in order", "/build_step/active");
+    w.visible("next split", "Construction order (the file's nodes)");
+    w.key("End");
+    w.wait_for("End: the file's last node", [](const json& s) { return s["state"]["build_step"]["step"] == 254; });
+    w.key("Home");
+    w.wait_for("Home: the root", [](const json& s) { return s["state"]["build_step"]["step"] == 0; });
+    w.key("Right");
+    w.wait_for("Right: node 1", [](const json& s) { return s["state"]["build_step"]["step"] == 1; });
+    w.click("next split", "Construction order");
+    w.wait_for("the next interior node", [](const json& s) { return s["state"]["build_step"]["step"].get<int>() > 1; });
+    w.toggle("Step the file's nodes in order", "/build_step/active");
     w.visible("Build ours instead");  // the panel lists the problems and offers the way back
     w.click("Build ours instead");
     const json ours = w.wait_for("our own BVH again", [](const json& s) {
