@@ -111,8 +111,15 @@ int run_build_step(const RenderOptions& opt, AppState state) {
         return run_window_view(opt, WindowView::BuildStep, std::move(state));
     }
     if (!opt.preset.state && !opt.accel_given) state.accel.type = AccelType::Bvh;
+    if (state.accel.type == AccelType::Kd) {
+        // Our KD tree's nodes in the order its build made them.
+        state.build_step.active = true;
+        state.build_step.step = opt.step;
+        return run_window_view(opt, WindowView::BuildStep, std::move(state));
+    }
     if (state.accel.type != AccelType::Bvh)
-        return fail("--view build-step steps a BVH build (--accel bvh, not " + accel_name(state) + ")");
+        return fail("--view build-step steps a BVH build or a KD tree's nodes (--accel bvh|kd, not " +
+                    accel_name(state) + ")");
     // The shared flags (--leaf-size, --cost-*) as the tree and the chart take them.
     if (state.accel.leaf_size) state.accel.bvh.max_leaf_size = *state.accel.leaf_size;
     if (state.accel.cost_trav) state.accel.bvh.cost_trav = *state.accel.cost_trav;
@@ -288,7 +295,7 @@ Command register_render(CLI::App& app) {
                     "raycast | raster | split (raster left, ray cast right, each --width wide) | depth-diff | "
                     "heat-nodes | heat-tris: the CPU renderers; structure (the window's 3D view with the "
                     "structure overlay) | gui (the whole window frame, panels included) | build-step (the window "
-                    "with the BVH construction stepper at --step; with --structure, the file's node --step) | step (the window with the traversal stepper "
+                    "with the BVH construction stepper at --step; with --accel kd or --structure, the tree's node --step) | step (the window with the traversal stepper "
                     "at --step K on the ray of --pixel X,Y, the 3D view seeing the ray from the side: the camera "
                     "turned 35 degrees about up and 15 higher, aimed at the ray's point nearest its target, at 0.6 "
                     "times its distance) | comparison (the window with the comparison panel: every structure built "
@@ -317,7 +324,7 @@ Command register_render(CLI::App& app) {
         ->check(number_between(1, 1e9));
     sub->add_option("--step", opt->step,
                     "build-step: which decision of the BVH build to show (0 = the root's), or which node of "
-                    "the --structure file's tree (in its numbering); step: events applied "
+                    "the KD tree or the --structure file's tree (in its numbering); step: events applied "
                     "(0 = before the first, the default; past the end = the final state); fill-order: the "
                     "percentage of each loop's work done (0 to 100)")
         ->check(whole_number(0, INT32_MAX, ">= 0"));

@@ -15,6 +15,7 @@
 #include "app/gui/panel_widgets.h"
 #include "core/accel/accelerator.h"
 #include "core/accel/factory.h"
+#include "core/accel/kd_tree.h"
 #include "core/accel/sah.h"
 #include "core/accel/wide_bvh.h"
 
@@ -107,9 +108,9 @@ void BuildStepper::update(AppState& state, const std::shared_ptr<const LoadedSce
     // A tree from a file has no recorded construction: its nodes are stepped in the
     // file's order instead (see "A tree from a file" below).
     const bool file_tree = scene && scene->structure_file;
-    file_scene_ = file_tree && scene->structure_file->file->type != AccelType::Grid;
-    if (!file_tree && file_trace_ && file_trace_->scene != scene) release_file();
-    if (!state.build_step.active || !scene || file_tree) {
+    file_scene_ = steps_nodes(scene.get());
+    if (!file_scene_ && file_trace_ && file_trace_->scene != scene) release_file();
+    if (!state.build_step.active || !scene || file_tree || file_scene_) {
         // Off: let go of a recording of another scene (a big mesh's takes ~230 bytes a node).
         if (trace_ && trace_->scene != scene) {
             trace_.reset();
@@ -117,7 +118,7 @@ void BuildStepper::update(AppState& state, const std::shared_ptr<const LoadedSce
             chart_requested_ = {};
             trace_requested_ = nullptr;
         }
-        if (file_tree && state.build_step.active) update_file(state, scene, wait);
+        if (file_scene_ && state.build_step.active) update_file(state, scene, wait);
         return;
     }
     if (trace_requested_ != scene.get()) {
@@ -166,8 +167,8 @@ bool BuildStepper::shows_3d(const AppState& state) const {
 
 bool BuildStepper::has_panel(const AppState& state, const LoadedScene* scene) const {
     if (!state.build_step.active) return false;
-    if (scene && scene->structure_file) return scene->structure_file->file->type != AccelType::Grid;
-    return state.accel.type == AccelType::Bvh;
+    if (steps_nodes(scene)) return true;
+    return !(scene && scene->structure_file) && state.accel.type == AccelType::Bvh;
 }
 
 // [SECTION] Sidebar
@@ -188,6 +189,15 @@ bool BuildStepper::draw_sidebar(AppState& state, const LoadedScene* scene) {
         ImGui::TextWrapped("%s", state.build_step.active
                                      ? "Left/Right step, Home/End jump (the camera: mouse)."
                                      : "Node by node as the file numbers them: a recursive builder's order.");
+        ImGui::PopStyleColor();
+        return false;
+    }
+    if (state.accel.type == AccelType::Kd) {
+        // Our KD tree node by node, in the order its build made them.
+        ImGui::Checkbox("Step the KD build node by node", &state.build_step.active);
+        ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+        ImGui::TextWrapped("%s", state.build_step.active ? "Left/Right step, Home/End jump (the camera: mouse)."
+                                                         : "Each node's plane, its two cells and their triangles.");
         ImGui::PopStyleColor();
         return false;
     }
@@ -215,14 +225,17 @@ void BuildStepper::draw_panel(AppState& state, float x, float y, float w, float 
                                    ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoBringToFrontOnFocus;
     bool open = true;
     // Two windows in the same place: ImGui 1.86 keeps a window's first title.
-    if (!ImGui::Begin(file_scene_ ? "Construction order (the file's nodes)" : "Construction (BVH build)", &open, flags)) {
+    const char* title = !file_scene_                  ? "Construction (BVH build)"
+                        : file_trace_ && !file_trace_->check ? "Construction (KD tree, node by node)"
+                                                             : "Construction order (the file's nodes)";
+    if (!ImGui::Begin(title, &open, flags)) {
         ImGui::End();
         return;
     }
     if (!open) state.build_step.active = false;
     if (file_scene_) {
         if (file_trace_) draw_file_panel(state, view_aspect);
-        else ImGui::TextWrapped("Reading the file's tree ...");
+        else ImGui::TextWrapped("Reading the tree ...");
         ImGui::End();
         return;
     }
@@ -623,16 +636,38 @@ bool finite_box(const Aabb& b) {
     return true;
 }
 
-/// Node `step` of the file's tree (clamped), computed on the worker.
+/// Node `step` of the trace's tree (clamped), computed on the worker.
 std::shared_ptr<const FileNodeStep> file_step_of(const FileOrderTrace& trace, int step) {
     if (trace.order.size() == 0) return nullptr;
     const uint64_t node = uint64_t(std::clamp<int64_t>(step, 0, int64_t(trace.order.size()) - 1));
     // The costs are the panel's to weigh (its sliders); the step keeps the counts and areas.
-    return std::make_shared<const FileNodeStep>(file_node_step(*trace.scene->structure_file->file, trace.order, node,
-                                                               trace.scene->mesh->triangle_count(), SahCosts{}));
+    return std::make_shared<const FileNodeStep>(
+        file_node_step(*trace.file, trace.order, node, trace.scene->mesh->triangle_count(), SahCosts{}));
+}
+
+/// The tree of `scene` to step node by node: its file's, or our KD tree exported.
+std::shared_ptr<const FileOrderTrace> node_order_of(const std::shared_ptr<const LoadedScene>& scene) {
+    auto trace = std::make_shared<FileOrderTrace>();
+    trace->scene = scene;
+    if (scene->structure_file) {
+        trace->file = scene->structure_file->file;
+        trace->check = &scene->structure_file->check;
+    } else {
+        auto ours = export_structure(*scene->accel, *scene->mesh, {});
+        if (!ours) return nullptr;  // (steps_nodes: a KD tree, which exports)
+        trace->file = std::make_shared<const StructureFile>(std::move(*ours));
+    }
+    trace->order = file_tree_order(*trace->file);
+    return trace;
 }
 
 }  // namespace
+
+bool steps_nodes(const LoadedScene* scene) {
+    if (!scene) return false;
+    if (scene->structure_file) return scene->structure_file->file->type != AccelType::Grid;
+    return scene->accel && structure_if<KdTree>(*scene->accel) != nullptr;
+}
 
 void BuildStepper::release_file() {
     file_trace_.reset();
@@ -643,7 +678,6 @@ void BuildStepper::release_file() {
 }
 
 void BuildStepper::update_file(AppState& state, const std::shared_ptr<const LoadedScene>& scene, bool wait) {
-    if (scene->structure_file->file->type == AccelType::Grid) return;  // cells, not nodes
     int& step = state.build_step.step;
     step = std::max(step, 0);
     if (file_requested_ != scene.get()) {
@@ -651,11 +685,8 @@ void BuildStepper::update_file(AppState& state, const std::shared_ptr<const Load
         file_requested_ = scene.get();
         file_step_requested_ = step;
         file_job_.submit([scene, step] {
-            auto trace = std::make_shared<FileOrderTrace>();
-            trace->scene = scene;
-            trace->order = file_tree_order(*scene->structure_file->file);
-            std::shared_ptr<const FileOrderTrace> done = std::move(trace);
-            return FileStepResult{done, file_step_of(*done, step)};
+            std::shared_ptr<const FileOrderTrace> trace = node_order_of(scene);
+            return FileStepResult{trace, trace ? file_step_of(*trace, step) : nullptr};
         });
     } else if (file_trace_ && file_trace_->order.size() > 0) {
         step = std::min(step, int(file_trace_->order.size()) - 1);
@@ -685,11 +716,10 @@ void BuildStepper::handle_file_keys(AppState& state) {
 
 void BuildStepper::draw_file_panel(AppState& state, double view_aspect) {
     const FileTreeOrder& order = file_trace_->order;
-    const CheckedStructureFile& checked = *file_trace_->scene->structure_file;
-    const StructureFile& file = *checked.file;
+    const StructureFile& file = *file_trace_->file;
     const bool kd = file.type == AccelType::Kd;
     if (order.size() == 0) {
-        ImGui::TextWrapped("The file's tree has no nodes.");
+        ImGui::TextWrapped("The tree has no nodes.");
         return;
     }
     BuildStepSettings& s = state.build_step;
@@ -720,8 +750,13 @@ void BuildStepper::draw_file_panel(AppState& state, double view_aspect) {
     const std::string scrub_format = "node %d (of 0.." + std::to_string(last) + ")";
     ImGui::SliderInt("##scrub", &s.step, 0, last, scrub_format.c_str(), ImGuiSliderFlags_AlwaysClamp);
     ImGui::PushTextWrapPos(0.0f);
-    ImGui::TextDisabled("The nodes as the file numbers them: a builder that writes each node as it makes it "
-                        "(a node, then its first child's subtree) numbers them in construction order.");
+    if (file_trace_->check)
+        ImGui::TextDisabled("The nodes as the file numbers them: a builder that writes each node as it makes it "
+                            "(a node, then its first child's subtree) numbers them in construction order.");
+    else
+        ImGui::TextDisabled("Our KD build's nodes in the order it made them: a split makes its two children "
+                            "(below, above the plane); the lower child's subtree is built first. A triangle "
+                            "that straddles the plane goes to both.");
 
     const FileNodeStep* node = file_node_.get();
     if (!node || node->node != uint64_t(s.step)) {
@@ -741,7 +776,13 @@ void BuildStepper::draw_file_panel(AppState& state, double view_aspect) {
         ImGui::Text("Node %llu: the root", (unsigned long long)node->node);
 
     // What it holds, and what its split costs (the lecture's SAH, the file's boxes).
-    const SahCostModel model{s.cost_trav.value_or(1.0f), s.cost_isect.value_or(1.0f)};
+    // Our KD tree: the costs it was built with, and its bonus for cutting off empty
+    // space; a file's tree: unit costs (its builder's are not in the file).
+    const bool ours = !file_trace_->check;
+    const KdConfig& built = file_trace_->scene->accel_config.kd;
+    const SahCostModel model{s.cost_trav.value_or(ours ? built.cost_trav : 1.0f),
+                             s.cost_isect.value_or(ours ? built.cost_isect : 1.0f)};
+    const float empty_bonus = ours ? built.empty_bonus : 0.0f;
     const uint32_t n = uint32_t(node->triangle_count);
     if (node->leaf) {
         ImGui::Text("Leaf: %u triangles, cost N x C_isect = %s", n, cost_text(model.leaf_cost(n)).c_str());
@@ -762,6 +803,20 @@ void BuildStepper::draw_file_panel(AppState& state, double view_aspect) {
             cost += p * float(count) * model.cost_isect;
             terms += text_of(" + %.2f", double(p)) + " x " + std::to_string(count) + " x " + cost_text(model.cost_isect);
         }
+        if (kd) {
+            // The KD tree's lesson: a primitive in several nodes.
+            size_t listed = 0;
+            for (const auto& under : node->triangles) listed += under.size();
+            if (listed > n)
+                ImGui::Text("%zu triangles straddle the plane: they are in both", listed - size_t(n));
+        }
+        bool a_side_empty = false;
+        for (const auto& under : node->triangles) a_side_empty |= under.empty();
+        if (a_side_empty && empty_bonus > 0.0f) {
+            // The KD build's SAH: a plane that cuts off empty space costs (1 - bonus) of it.
+            cost *= 1.0f - empty_bonus;
+            terms = "(" + terms + ") x (1 - " + cost_text(empty_bonus) + ": a side is empty)";
+        }
         ImGui::TextDisabled("C = C_trav + sum S_c/S_N N_c C_isect = %s = %s (a leaf: %s)", terms.c_str(),
                             cost_text(cost).c_str(), cost_text(model.leaf_cost(n)).c_str());
         if (cost >= model.leaf_cost(n))
@@ -770,11 +825,11 @@ void BuildStepper::draw_file_panel(AppState& state, double view_aspect) {
 
     // What check says of this node or its children (a child's box sticking out of
     // this one), in the overlay's red.
-    const auto& bad = checked.check.bad_nodes;
-    if (std::binary_search(bad.begin(), bad.end(), node->node)) {
+    const StructureCheck* check = file_trace_->check;
+    if (check && std::binary_search(check->bad_nodes.begin(), check->bad_nodes.end(), node->node)) {
         ImGui::PushStyleColor(ImGuiCol_Text, im(kFaultyNode));
         bool listed = false;
-        for (const StructureProblem& p : checked.check.problems) {
+        for (const StructureProblem& p : check->problems) {
             const bool about_child =
                 p.node && std::find(node->children.begin(), node->children.end(), *p.node) != node->children.end();
             if (p.node == node->node || about_child) {
@@ -814,8 +869,8 @@ void BuildStepper::draw_file_3d(Renderer& renderer, const MeshBuffer& mesh, Rgb 
             if (!child_tris_[k]) child_tris_[k] = std::make_unique<MeshBuffer>();
             child_tris_[k]->upload(subset(node.triangles[k]));
         }
-        const auto& bad = file_trace_->scene->structure_file->check.bad_nodes;
-        const bool faulty = std::binary_search(bad.begin(), bad.end(), node.node);
+        const StructureCheck* check = file_trace_->check;
+        const bool faulty = check && std::binary_search(check->bad_nodes.begin(), check->bad_nodes.end(), node.node);
         std::vector<BoxInstance> boxes;
         if (finite_box(node.box) && !node.box.empty()) {
             const Vec3 grow = node.box.extent() * 0.015f;  // its edges would lie on its children's

@@ -37,11 +37,20 @@ struct BuildTrace {
     double build_ms = 0;
 };
 
-/// A tree from a file, ready to step node by node.
+/// A tree in the exchange format, ready to step node by node: a file's (a
+/// student's BVH or KD tree), or our KD tree exported, whose node numbers are the
+/// order its build made them (a split makes its two children; the lower child's
+/// subtree is built first).
 struct FileOrderTrace {
-    std::shared_ptr<const LoadedScene> scene;  ///< whose structure_file it orders (keeps it alive)
+    std::shared_ptr<const LoadedScene> scene;   ///< keeps the mesh (and a file's check) alive
+    std::shared_ptr<const StructureFile> file;  ///< the tree stepped
+    const StructureCheck* check = nullptr;      ///< a file's check (its faulty nodes); null for ours
     FileTreeOrder order;
 };
+
+/// True if the stepper walks `scene`'s tree node by node: a BVH or KD tree from a
+/// file, or our KD tree (its build is not recorded decision by decision like the BVH's).
+bool steps_nodes(const LoadedScene* scene);
 
 /// The chart parameters for `settings` over a tree built with `built`.
 BvhConfig chart_config(const BvhConfig& built, const BuildStepSettings& settings);
@@ -65,7 +74,7 @@ public:
     /// user asked for a BVH (the caller rebuilds the structure). `scene`: the one shown.
     bool draw_sidebar(AppState& state, const LoadedScene* scene);
     /// True if the Construction panel is to be drawn: the stepper is on, over our
-    /// BVH build or over the nodes of a BVH or KD tree from a file.
+    /// BVH build, our KD tree's nodes, or the nodes of a BVH or KD tree from a file.
     bool has_panel(const AppState& state, const LoadedScene* scene) const;
     /// The Construction panel (a fixed window at x, y of w x h): the timeline
     /// controls, the node, the SAH chart and its sliders. `view_aspect`: the 3D
@@ -133,7 +142,7 @@ private:
     int shown_step_ = -1;  ///< the step draw_3d shows (clamped)
 
     // A tree from a file: its order (once per scene) and the node shown (per step), on a worker.
-    bool file_scene_ = false;  ///< the scene's tree is a BVH or KD tree from a file (set by update)
+    bool file_scene_ = false;  ///< the scene's tree is stepped node by node: a file's BVH or KD tree, or our KD tree (update)
     LatestJob<FileStepResult> file_job_;
     const LoadedScene* file_requested_ = nullptr;
     int file_step_requested_ = -1;

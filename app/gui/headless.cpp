@@ -94,19 +94,21 @@ Expected<HeadlessRender> render_headless(const AppState& state, std::shared_ptr<
         // stepper would clamp it).
         Session& session = (*app)->session();
         const bool file_tree = session.scene && session.scene->structure_file;
-        if (!file_tree && state.accel.type != AccelType::Bvh)
-            return Error{"the build-step view needs a BVH (--accel bvh)"};
+        if (!file_tree && state.accel.type != AccelType::Bvh && state.accel.type != AccelType::Kd)
+            return Error{"the build-step view needs a BVH or a KD tree (--accel bvh|kd)"};
+        const bool node_order = file_tree || state.accel.type == AccelType::Kd;  // node by node
         frame_state.build_step.active = true;
         frame_state.stepper.open = frame_state.comparison.open = frame_state.two_bvhs.open = false;  // one right panel
         session.build_stepper.update(frame_state, session.scene, true);
         const int step = state.build_step.step;
-        if (file_tree) {
+        if (node_order) {
             const FileOrderTrace* file = session.build_stepper.file_trace();
             if (!file) return Error{"a grid from a file has no nodes to step (the build-step view steps a BVH or KD tree)"};
             const size_t nodes = file->order.size();
-            if (nodes == 0) return Error{"the file's tree has no nodes to step"};
+            const std::string whose = file_tree ? "the file's tree" : "the KD tree";
+            if (nodes == 0) return Error{whose + " has no nodes to step"};
             if (step < 0 || size_t(step) >= nodes)
-                return Error{"--step " + std::to_string(step) + " is out of range: the file's tree has " +
+                return Error{"--step " + std::to_string(step) + " is out of range: " + whose + " has " +
                              std::to_string(nodes) + " nodes (0.." + std::to_string(nodes - 1) + ")"};
         } else {
             const BuildTrace* trace = session.build_stepper.trace();

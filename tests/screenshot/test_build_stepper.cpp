@@ -9,6 +9,7 @@
 
 #include "app/gui/headless.h"
 #include "app/gui/session.h"
+#include "core/accel/kd_tree.h"
 #include "golden.h"
 
 namespace accelviz {
@@ -134,6 +135,56 @@ TEST(BuildStepHeadless, RecordingFollowsTheSceneAndIsReleasedWhenOff) {
     (*app)->session().set_scene(state, std::move(*again), true);
     (*app)->draw(state, {});
     EXPECT_EQ((*app)->session().build_stepper.trace(), nullptr);
+}
+
+TEST(BuildStepHeadless, OurKdTreeIsSteppedNodeByNodeInItsBuildOrder) {
+    // The KD build is not recorded decision by decision: its nodes, numbered in the order
+    // the build made them, are stepped as a file's are, with each node's cell and plane.
+    auto app = HeadlessApp::create(320, 240);
+    ASSERT_TRUE(app) << app.error();
+    AppState state;
+    state.scene = "builtin:teapot";
+    state.accel.type = AccelType::Kd;
+    state.build_step.active = true;
+    LoadResult loaded = load_and_build(state.scene, state.accel);
+    ASSERT_TRUE(loaded) << loaded.error();
+    (*app)->session().set_scene(state, std::move(*loaded), false);
+    for (int i = 0; i < 2; ++i) (*app)->draw(state, {});
+    const Session& session = (*app)->session();
+    const KdTree* kd = structure_if<KdTree>(*session.scene->accel);
+    ASSERT_NE(kd, nullptr);
+    EXPECT_EQ(session.build_stepper.trace(), nullptr) << "no BVH build recorded";
+    const FileOrderTrace* trace = session.build_stepper.file_trace();
+    ASSERT_NE(trace, nullptr);
+    EXPECT_EQ(trace->check, nullptr) << "our own tree: nothing to fault";
+    EXPECT_EQ(trace->order.size(), kd->nodes.size());
+    const FileNodeStep* root = session.build_stepper.file_node();
+    ASSERT_NE(root, nullptr);
+    EXPECT_EQ(root->node, 0u);
+    EXPECT_EQ(root->axis, kd->nodes[0].axis);
+    EXPECT_EQ(root->split, kd->nodes[0].split);
+    EXPECT_EQ(root->box, kd->bounds);
+    EXPECT_EQ(root->children, (std::vector<uint64_t>{kd->nodes[0].lower_child(), kd->nodes[0].upper_child()}));
+    // Every node comes after its parent: the build made it when it split the parent.
+    for (uint64_t n = 1; n < trace->order.size(); ++n) ASSERT_LT(trace->order.parent[n], int64_t(n)) << n;
+    // A key steps to the next node.
+    ImGuiIO& io = ImGui::GetIO();
+    io.KeysDown[GLFW_KEY_RIGHT] = true;
+    (*app)->draw(state, {});
+    io.KeysDown[GLFW_KEY_RIGHT] = false;
+    for (int i = 0; i < 2; ++i) (*app)->draw(state, {});
+    EXPECT_EQ(state.build_step.step, 1);
+    ASSERT_NE(session.build_stepper.file_node(), nullptr);
+    EXPECT_EQ(session.build_stepper.file_node()->node, 1u);
+}
+
+TEST(BuildStepGolden, KdTreeNodeWithItsPlaneAndCells) {
+    AppState state;
+    state.scene = "builtin:teapot";
+    state.accel.type = AccelType::Kd;
+    state.build_step.active = true;
+    state.build_step.step = 1;
+    EXPECT_TRUE(view_matches_golden(state, WindowView::BuildStep, 960, 600, "teapot_kd_build_node1"));
 }
 
 }  // namespace
