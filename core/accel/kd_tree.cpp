@@ -7,6 +7,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "core/accel/kd_sah.h"
 #include "core/geometry/triangle_box.h"
 #include "core/util/sort_floats.h"
 
@@ -44,10 +45,6 @@ int kd_max_depth(const KdConfig& config, size_t triangles) {
 
 namespace {
 
-double area(const Aabb& b) {
-    const double x = double(b.hi.x) - b.lo.x, y = double(b.hi.y) - b.lo.y, z = double(b.hi.z) - b.lo.z;
-    return 2.0 * (x * y + y * z + z * x);
-}
 
 struct Plane {
     int axis = -1;
@@ -55,54 +52,16 @@ struct Plane {
     double cost = 0;
 };
 
-/// References going below / above plane s on `axis` (see SpatialRef: below iff
-/// box.lo < s, above iff box.hi > s; a box with neither — a point exactly on the
-/// plane — goes below).
-bool goes_below(const SpatialRef& r, int axis, float s) { return r.box.lo[axis] < s || !(r.box.hi[axis] > s); }
-bool goes_above(const SpatialRef& r, int axis, float s) { return r.box.hi[axis] > s; }
 
-/// The SAH over every reference-box boundary strictly inside the node, on all
-/// three axes: cost(s) = C_trav + C_isect · (A_below·N_below + A_above·N_above) / A,
-/// times (1 - empty_bonus) when one side is empty. The lower and upper bounds are
-/// sorted per axis (sort_ascending: linear for big nodes).
+/// The cheapest plane of the SAH sweep (kd_sah.h); axis -1 when no plane lies
+/// strictly inside the node.
 Plane best_sah_plane(const std::vector<SpatialRef>& refs, const Aabb& box, const KdConfig& c,
                      std::vector<float>& los, std::vector<float>& his, SortScratch& scratch) {
     Plane best;
     best.cost = kInfinity;
-    const size_t n = refs.size();
-    const double node_area = area(box);
-    for (int a = 0; a < 3; ++a) {
-        const int b = (a + 1) % 3, d = (a + 2) % 3;
-        const double e_b = double(box.hi[b]) - box.lo[b], e_d = double(box.hi[d]) - box.lo[d];
-        const double cross_section = e_b * e_d, perimeter_half = e_b + e_d;
-        los.resize(n);
-        his.resize(n);
-        for (size_t i = 0; i < n; ++i) {
-            los[i] = refs[i].box.lo[a];
-            his[i] = refs[i].box.hi[a];
-        }
-        sort_ascending(los, scratch);
-        sort_ascending(his, scratch);
-        // Sweep the candidates (the merged, sorted lo and hi values) upwards.
-        // below = #{lo < s}, above = n - #{hi <= s}.
-        size_t i_lo = 0, i_hi = 0;
-        while (i_lo < n || i_hi < n) {
-            const float s = i_hi >= n || (i_lo < n && los[i_lo] < his[i_hi]) ? los[i_lo] : his[i_hi];
-            // Counts for this s: all lo < s were passed already; then consume values == s.
-            const size_t below = i_lo;
-            while (i_lo < n && los[i_lo] == s) ++i_lo;
-            while (i_hi < n && his[i_hi] == s) ++i_hi;
-            const size_t above = n - i_hi;
-            if (!(s > box.lo[a] && s < box.hi[a])) continue;  // a plane on the boundary cuts nothing off
-            // The children's areas, linear in s: 2·(e_b·e_c + (extent along a)·(e_b + e_c)).
-            const double area_lower = 2.0 * (cross_section + (double(s) - box.lo[a]) * perimeter_half);
-            const double area_upper = 2.0 * (cross_section + (double(box.hi[a]) - s) * perimeter_half);
-            double cost = c.cost_trav + c.cost_isect * (area_lower * double(below) + area_upper * double(above)) /
-                                            node_area;
-            if (below == 0 || above == 0) cost *= 1.0 - c.empty_bonus;
-            if (cost < best.cost) best = {a, s, cost};
-        }
-    }
+    sweep_kd_sah(refs, box, c, los, his, scratch, [&](int a, float s, size_t, size_t, double cost) {
+        if (cost < best.cost) best = {a, s, cost};
+    });
     return best;
 }
 
@@ -160,7 +119,7 @@ Subtree build_subtree(const BuildContext& ctx, WorkItem root, double budget, siz
             continue;
         }
         is_root = false;
-        const double p = area(item.box) / ctx.root_area;  // hit probability, for the tree's SAH cost
+        const double p = kd_area(item.box) / ctx.root_area;  // hit probability, for the tree's SAH cost
 
         // Choose a plane, or decide on a leaf.
         Plane plane;
@@ -247,7 +206,7 @@ Expected<KdTree> build_kd_tree(const Mesh& mesh, const KdConfig& config, WorkPro
     st.depth_limit = uint32_t(depth_limit);
     const float pad = tree.begin_build(mesh, config, start);
     if (st.triangles == 0) return tree;
-    const BuildContext ctx{mesh, config, pad, area(tree.bounds), depth_limit};
+    const BuildContext ctx{mesh, config, pad, kd_area(tree.bounds), depth_limit};
     const double budget = config.max_duplication * st.triangles;
     SubtreeCounts counts;  // the whole tree's: the top's and every subtree's
 
