@@ -112,10 +112,12 @@ struct OverlaySettings {
 /// on turns the other off.
 struct BuildStepSettings {
     bool active = false;  ///< the Construction panel is open: the 3D view shows the node being split
-    int step = 0;         ///< the decision shown: 0 = the root's, in the builder's order (depth first)
+    /// The decision shown: 0 = the root's, in the BVH builder's order (depth first); or,
+    /// stepping a KD tree or a file's tree node by node, the node number.
+    int step = 0;
     std::optional<int> bins;           ///< chart only: B for binned SAH
-    std::optional<float> cost_trav;    ///< chart only: C_trav
-    std::optional<float> cost_isect;   ///< chart only: C_isect
+    std::optional<float> cost_trav;    ///< charts and the panel's costs only (the tree stays): C_trav
+    std::optional<float> cost_isect;   ///< charts and the panel's costs only: C_isect
     bool operator==(const BuildStepSettings&) const = default;
 };
 

@@ -109,7 +109,9 @@ void BuildStepper::update(AppState& state, const std::shared_ptr<const LoadedSce
     // file's order instead (see "A tree from a file" below).
     const bool file_tree = scene && scene->structure_file;
     file_scene_ = steps_nodes(scene.get());
-    if (!file_scene_ && file_trace_ && file_trace_->scene != scene) release_file();
+    from_file_ = file_tree;
+    // Off, or another scene: let go of the tree stepped (and the scene it keeps alive).
+    if (file_trace_ && (!state.build_step.active || file_trace_->scene != scene)) release_file();
     if (!state.build_step.active || !scene || file_tree || file_scene_) {
         // Off: let go of a recording of another scene (a big mesh's takes ~230 bytes a node).
         if (trace_ && trace_->scene != scene) {
@@ -182,6 +184,7 @@ bool BuildStepper::draw_sidebar(AppState& state, const LoadedScene* scene) {
             scene && scene->structure_file ? scene->structure_file->file.get() : nullptr;
         if (file && file->type == AccelType::Grid) {
             ImGui::TextDisabled("A grid from a file has no nodes to step.");
+            state.build_step.active = false;  // (it would keep the arrow keys from the camera)
             return false;
         }
         ImGui::Checkbox("Step the file's nodes in order", &state.build_step.active);
@@ -224,10 +227,10 @@ void BuildStepper::draw_panel(AppState& state, float x, float y, float w, float 
     const ImGuiWindowFlags flags = ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoCollapse |
                                    ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoBringToFrontOnFocus;
     bool open = true;
-    // Two windows in the same place: ImGui 1.86 keeps a window's first title.
-    const char* title = !file_scene_                  ? "Construction (BVH build)"
-                        : file_trace_ && !file_trace_->check ? "Construction (KD tree, node by node)"
-                                                             : "Construction order (the file's nodes)";
+    // Three windows in the same place (ImGui names a window by its title).
+    const char* title = !file_scene_ ? "Construction (BVH build)"
+                        : from_file_ ? "Construction order (the file's nodes)"
+                                     : "Construction (KD tree, node by node)";
     if (!ImGui::Begin(title, &open, flags)) {
         ImGui::End();
         return;
@@ -636,14 +639,42 @@ bool finite_box(const Aabb& b) {
     return true;
 }
 
-/// Node `step` of the trace's tree (clamped), computed on the worker.
-std::shared_ptr<const FileNodeStep> file_step_of(const FileOrderTrace& trace, int step) {
-    if (trace.order.size() == 0) return nullptr;
-    const uint64_t node = uint64_t(std::clamp<int64_t>(step, 0, int64_t(trace.order.size()) - 1));
-    // The costs are the panel's to weigh (its sliders); the step keeps the counts and areas.
-    return std::make_shared<const FileNodeStep>(
-        file_node_step(*trace.file, trace.order, node, trace.scene->mesh->triangle_count(), SahCosts{}));
+/// The KD tree a trace steps when it is our own (not a file's).
+const KdTree* our_kd_tree(const FileOrderTrace& trace) {
+    return trace.check || !trace.scene->accel ? nullptr : structure_if<KdTree>(*trace.scene->accel);
 }
+
+/// The costs our KD tree's chart weighs with: the tree's, or the sliders'.
+KdConfig kd_chart_config(const KdTree& tree, const BuildStepSettings& s) {
+    KdConfig c = tree.build_config;
+    if (s.cost_trav) c.cost_trav = std::max(0.0f, *s.cost_trav);
+    if (s.cost_isect && *s.cost_isect > 0.0f) c.cost_isect = *s.cost_isect;
+    return c;
+}
+
+}  // namespace
+
+/// Node `key.step` of the trace's tree (clamped), and our KD tree's chart of it,
+/// computed on the worker.
+BuildStepper::FileStepResult BuildStepper::file_step_of(const std::shared_ptr<const FileOrderTrace>& trace,
+                                                        const FileStepKey& key) {
+    FileStepResult out{trace, nullptr, nullptr};
+    if (!trace || trace->order.size() == 0) return out;
+    const uint64_t node = uint64_t(std::clamp<int64_t>(key.step, 0, int64_t(trace->order.size()) - 1));
+    // The costs are the panel's to weigh (its sliders); the step keeps the counts and areas.
+    out.node = std::make_shared<const FileNodeStep>(
+        file_node_step(*trace->file, trace->order, node, trace->scene->mesh->triangle_count(), SahCosts{}));
+    if (const KdTree* kd = our_kd_tree(*trace); kd && kd->build_config.builder == KdBuilder::Sah) {
+        KdConfig c = kd->build_config;
+        c.cost_trav = key.cost_trav;
+        c.cost_isect = key.cost_isect;
+        // A chart cannot show more points than it has pixels.
+        out.kd_chart = std::make_shared<const KdSahChart>(kd_sah_chart(*trace->scene->mesh, *kd, uint32_t(node), c, 600));
+    }
+    return out;
+}
+
+namespace {
 
 /// The tree of `scene` to step node by node: its file's, or our KD tree exported.
 std::shared_ptr<const FileOrderTrace> node_order_of(const std::shared_ptr<const LoadedScene>& scene) {
@@ -672,34 +703,40 @@ bool steps_nodes(const LoadedScene* scene) {
 void BuildStepper::release_file() {
     file_trace_.reset();
     file_node_.reset();
+    kd_chart_.reset();
     file_requested_ = nullptr;
-    file_step_requested_ = -1;
+    file_step_requested_ = {};
     uploaded_file_node_.reset();
 }
 
 void BuildStepper::update_file(AppState& state, const std::shared_ptr<const LoadedScene>& scene, bool wait) {
     int& step = state.build_step.step;
     step = std::max(step, 0);
+    // The KD chart's costs: our tree's, or the sliders' (a file's tree has no chart).
+    FileStepKey key{step, 0, 0};
+    if (const KdTree* kd = scene->accel && !scene->structure_file ? structure_if<KdTree>(*scene->accel) : nullptr) {
+        const KdConfig c = kd_chart_config(*kd, state.build_step);
+        key.cost_trav = c.cost_trav;
+        key.cost_isect = c.cost_isect;
+    }
     if (file_requested_ != scene.get()) {
         release_file();
         file_requested_ = scene.get();
-        file_step_requested_ = step;
-        file_job_.submit([scene, step] {
-            std::shared_ptr<const FileOrderTrace> trace = node_order_of(scene);
-            return FileStepResult{trace, trace ? file_step_of(*trace, step) : nullptr};
-        });
+        file_step_requested_ = key;
+        file_job_.submit([scene, key] { return file_step_of(node_order_of(scene), key); });
     } else if (file_trace_ && file_trace_->order.size() > 0) {
-        step = std::min(step, int(file_trace_->order.size()) - 1);
-        if (step != file_step_requested_) {
-            file_step_requested_ = step;
+        key.step = step = std::min(step, int(file_trace_->order.size()) - 1);
+        if (!(key == file_step_requested_)) {
+            file_step_requested_ = key;
             std::shared_ptr<const FileOrderTrace> trace = file_trace_;
-            file_job_.submit([trace, step] { return FileStepResult{trace, file_step_of(*trace, step)}; });
+            file_job_.submit([trace, key] { return file_step_of(trace, key); });
         }
     }
     if (wait) file_job_.wait();
     if (auto done = file_job_.take()) {
         file_trace_ = std::move(done->trace);
         file_node_ = std::move(done->node);
+        kd_chart_ = std::move(done->kd_chart);
     }
     if (file_trace_ && file_trace_->order.size() > 0) step = std::min(step, int(file_trace_->order.size()) - 1);
 }
@@ -754,9 +791,10 @@ void BuildStepper::draw_file_panel(AppState& state, double view_aspect) {
         ImGui::TextDisabled("The nodes as the file numbers them: a builder that writes each node as it makes it "
                             "(a node, then its first child's subtree) numbers them in construction order.");
     else
-        ImGui::TextDisabled("Our KD build's nodes in the order it made them: a split makes its two children "
-                            "(below, above the plane); the lower child's subtree is built first. A triangle "
-                            "that straddles the plane goes to both.");
+        ImGui::TextDisabled("Our KD build's nodes as it numbered them: a split makes its two children (below, "
+                            "above the plane) together, every node after its parent; the top levels first, then "
+                            "each subtree under them, the lower before the upper. A triangle that straddles the "
+                            "plane goes to both.");
 
     const FileNodeStep* node = file_node_.get();
     if (!node || node->node != uint64_t(s.step)) {
@@ -778,10 +816,10 @@ void BuildStepper::draw_file_panel(AppState& state, double view_aspect) {
     // What it holds, and what its split costs (the lecture's SAH, the file's boxes).
     // Our KD tree: the costs it was built with, and its bonus for cutting off empty
     // space; a file's tree: unit costs (its builder's are not in the file).
-    const bool ours = !file_trace_->check;
-    const KdConfig& built = file_trace_->scene->accel_config.kd;
-    const SahCostModel model{s.cost_trav.value_or(ours ? built.cost_trav : 1.0f),
-                             s.cost_isect.value_or(ours ? built.cost_isect : 1.0f)};
+    const KdTree* ours = our_kd_tree(*file_trace_);
+    const KdConfig built = ours ? kd_chart_config(*ours, s) : KdConfig{};
+    const SahCostModel model{ours ? built.cost_trav : s.cost_trav.value_or(1.0f),
+                             ours ? built.cost_isect : s.cost_isect.value_or(1.0f)};
     const float empty_bonus = ours ? built.empty_bonus : 0.0f;
     const uint32_t n = uint32_t(node->triangle_count);
     if (node->leaf) {
@@ -797,7 +835,9 @@ void BuildStepper::draw_file_panel(AppState& state, double view_aspect) {
             const auto count = uint32_t(node->triangles[k].size());
             const float p = node->child_probability[k];
             swatch(im(kChildColours[k % kChildColours.size()]));
-            const char* side = !kd ? "" : k == 0 ? "below, " : "above, ";
+            const char* side = !kd                                                      ? ""
+                               : node->children[k] == file.kd_nodes[node->node].children[0] ? "below, "
+                                                                                            : "above, ";
             ImGui::Text("%snode %llu: %u triangles, S/S_N = %.2f", side, (unsigned long long)node->children[k],
                         count, double(p));
             cost += p * float(count) * model.cost_isect;
@@ -817,10 +857,19 @@ void BuildStepper::draw_file_panel(AppState& state, double view_aspect) {
             cost *= 1.0f - empty_bonus;
             terms = "(" + terms + ") x (1 - " + cost_text(empty_bonus) + ": a side is empty)";
         }
+        if (node->children_left_out > 0)
+            ImGui::Text("... and %llu more children (a node may have 8 at most)",
+                        (unsigned long long)node->children_left_out);
         ImGui::TextDisabled("C = C_trav + sum S_c/S_N N_c C_isect = %s = %s (a leaf: %s)", terms.c_str(),
                             cost_text(cost).c_str(), cost_text(model.leaf_cost(n)).c_str());
         if (cost >= model.leaf_cost(n))
             ImGui::TextDisabled("The split costs more than a leaf would: the SAH would stop here.");
+    }
+
+    // Our KD tree: the SAH of every candidate plane of this node (the builder's sweep).
+    if (kd_chart_ && kd_chart_->node == node->node) {
+        ImGui::Separator();
+        draw_kd_chart(*kd_chart_, *node, ImGui::GetContentRegionAvail().x);
     }
 
     // What check says of this node or its children (a child's box sticking out of
@@ -851,6 +900,71 @@ void BuildStepper::draw_file_panel(AppState& state, double view_aspect) {
     if (ImGui::SliderFloat("C_isect", &isect, 0.05f, 10.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp))
         s.cost_isect = isect;
     ImGui::PopItemWidth();
+    if ((s.cost_trav || s.cost_isect) && ImGui::Button(ours ? "Back to the tree's costs" : "Back to unit costs")) {
+        s.cost_trav.reset();
+        s.cost_isect.reset();
+    }
+}
+
+void BuildStepper::draw_kd_chart(const KdSahChart& chart, const FileNodeStep& node, float width) {
+    ImGui::PushTextWrapPos(0.0f);
+    ImGui::Text("SAH cost of each plane (every reference box's side) per axis");
+    ImGui::TextDisabled("C = C_trav + C_isect (A_below N_below + A_above N_above) / A, x (1 - %.2f) when a side "
+                        "is empty",
+                        double(chart.config.empty_bonus));
+    // One cost scale for the three axes, from the cheapest plane to a little over the leaf.
+    float lo = chart.leaf_cost, hi = chart.leaf_cost;
+    for (const KdSahChartAxis& a : chart.axes)
+        for (float c : a.costs)
+            if (std::isfinite(c)) lo = std::min(lo, c);
+    hi = std::max(hi * 1.15f, lo + 1e-3f);
+    const float font = ImGui::GetFontSize();
+    const float height = 3.2f * font, line = std::max(1.0f, font / 12.0f);
+    ImDrawList* draw = ImGui::GetWindowDrawList();
+    for (int axis = 0; axis < 3; ++axis) {
+        const KdSahChartAxis& a = chart.axes[size_t(axis)];
+        ImGui::Text("%s: %zu planes%s", kAxisNames[axis], a.candidates, a.subsampled ? " (the cheapest of each run shown)" : "");
+        const ImVec2 p0 = ImGui::GetCursorScreenPos();
+        const ImVec2 p1(p0.x + width, p0.y + height);
+        ImGui::Dummy(ImVec2(width, height));
+        draw->AddRectFilled(p0, p1, kPlotBg);
+        draw->AddRect(p0, p1, kPlotFrame);
+        const float span = a.hi > a.lo ? a.hi - a.lo : 1.0f;
+        auto x_of = [&](float v) { return p0.x + (v - a.lo) / span * (p1.x - p0.x); };
+        auto y_of = [&](float c) { return p1.y - (std::min(c, hi) - lo) / (hi - lo) * (p1.y - p0.y); };
+        // The leaf's cost: a plane under this line pays.
+        draw->AddLine(ImVec2(p0.x, y_of(chart.leaf_cost)), ImVec2(p1.x, y_of(chart.leaf_cost)), kLeafLine, line);
+        for (size_t i = 1; i < a.positions.size(); ++i)
+            draw->AddLine(ImVec2(x_of(a.positions[i - 1]), y_of(a.costs[i - 1])), ImVec2(x_of(a.positions[i]), y_of(a.costs[i])),
+                          kCurve, line);
+        if (chart.best_axis == axis)
+            draw->AddCircleFilled(ImVec2(x_of(chart.best_position), y_of(chart.best_cost)), 0.32f * font, kBest);
+        // The tree's plane, dashed (it is the cheapest under the tree's own costs).
+        if (node.axis == axis) {
+            const float x = x_of(node.split);
+            for (float yy = p0.y; yy < p1.y; yy += 0.5f * font)
+                draw->AddLine(ImVec2(x, yy), ImVec2(x, std::min(p1.y, yy + 0.25f * font)), kBest, line);
+        }
+        const ImVec2 mouse = ImGui::GetIO().MousePos;
+        if (!a.positions.empty() && ImGui::IsWindowHovered() && mouse.x >= p0.x && mouse.x <= p1.x &&
+            mouse.y >= p0.y && mouse.y <= p1.y) {
+            size_t nearest = 0;
+            for (size_t i = 1; i < a.positions.size(); ++i)
+                if (std::abs(x_of(a.positions[i]) - mouse.x) < std::abs(x_of(a.positions[nearest]) - mouse.x)) nearest = i;
+            ImGui::SetTooltip("%s = %.4g: cost %s (%u below | %u above)", kAxisNames[axis], double(a.positions[nearest]),
+                              cost_text(a.costs[nearest]).c_str(), a.below[nearest], a.above[nearest]);
+        }
+    }
+    swatch(kLeafLine);
+    ImGui::Text("leaf: N x C_isect = %s", cost_text(chart.leaf_cost).c_str());
+    swatch(kBest);
+    if (chart.best_axis >= 0)
+        ImGui::Text("cheapest: %s = %.4g, cost %s (%u | %u)%s", kAxisNames[chart.best_axis], double(chart.best_position),
+                    cost_text(chart.best_cost).c_str(), chart.best_below, chart.best_above,
+                    chart.best_cost < chart.leaf_cost ? "" : ": no plane beats the leaf");
+    else
+        ImGui::TextUnformatted("cheapest: no plane lies inside the cell");
+    ImGui::PopTextWrapPos();
 }
 
 void BuildStepper::draw_file_3d(Renderer& renderer, const MeshBuffer& mesh, Rgb background) {

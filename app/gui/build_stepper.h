@@ -22,6 +22,7 @@
 #include "app/gui/latest_job.h"
 #include "app/gui/scene_loader.h"
 #include "core/accel/bvh_build.h"
+#include "core/accel/kd_sah_chart.h"
 #include "core/accel/sah_chart.h"
 #include "core/exchange/file_tree_order.h"
 
@@ -39,8 +40,8 @@ struct BuildTrace {
 
 /// A tree in the exchange format, ready to step node by node: a file's (a
 /// student's BVH or KD tree), or our KD tree exported, whose node numbers are the
-/// order its build made them (a split makes its two children; the lower child's
-/// subtree is built first).
+/// order its build made them (a split makes its two children together; every node
+/// comes after its parent).
 struct FileOrderTrace {
     std::shared_ptr<const LoadedScene> scene;   ///< keeps the mesh (and a file's check) alive
     std::shared_ptr<const StructureFile> file;  ///< the tree stepped
@@ -99,6 +100,7 @@ public:
     /// A file's tree being stepped, and the node shown (null until computed).
     const FileOrderTrace* file_trace() const { return file_trace_.get(); }
     const FileNodeStep* file_node() const { return file_node_.get(); }
+    const KdSahChart* kd_chart() const { return kd_chart_.get(); }
 
 private:
     struct ChartKey {
@@ -115,6 +117,13 @@ private:
     struct FileStepResult {
         std::shared_ptr<const FileOrderTrace> trace;
         std::shared_ptr<const FileNodeStep> node;  ///< null: the tree has no nodes
+        std::shared_ptr<const KdSahChart> kd_chart;  ///< our KD tree's node: its SAH chart
+    };
+    /// What the node shown is computed for: the step, and the costs the KD chart weighs with.
+    struct FileStepKey {
+        int step = -1;
+        float cost_trav = 0, cost_isect = 0;
+        bool operator==(const FileStepKey&) const = default;
     };
     void draw_chart(const SahChart& chart, const BuildStep& step, float width);
     void upload_step(const BuildStep& step, Rgb background);
@@ -122,6 +131,8 @@ private:
     void update_file(AppState& state, const std::shared_ptr<const LoadedScene>& scene, bool wait);
     void release_file();
     void draw_file_panel(AppState& state, double view_aspect);
+    void draw_kd_chart(const KdSahChart& chart, const FileNodeStep& node, float width);
+    static FileStepResult file_step_of(const std::shared_ptr<const FileOrderTrace>& trace, const FileStepKey& key);
     void handle_file_keys(AppState& state);
     void draw_file_3d(Renderer& renderer, const MeshBuffer& mesh, Rgb background);
 
@@ -143,11 +154,13 @@ private:
 
     // A tree from a file: its order (once per scene) and the node shown (per step), on a worker.
     bool file_scene_ = false;  ///< the scene's tree is stepped node by node: a file's BVH or KD tree, or our KD tree (update)
+    bool from_file_ = false;   ///< ... and it comes from a file (update)
     LatestJob<FileStepResult> file_job_;
     const LoadedScene* file_requested_ = nullptr;
-    int file_step_requested_ = -1;
+    FileStepKey file_step_requested_;
     std::shared_ptr<const FileOrderTrace> file_trace_;
     std::shared_ptr<const FileNodeStep> file_node_;
+    std::shared_ptr<const KdSahChart> kd_chart_;
     std::shared_ptr<const FileNodeStep> uploaded_file_node_;  ///< the node the buffers hold (kept alive: compared by address)
     std::vector<std::unique_ptr<MeshBuffer>> child_tris_;
 };

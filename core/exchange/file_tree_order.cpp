@@ -124,6 +124,11 @@ FileNodeStep file_node_step(const StructureFile& file, const FileTreeOrder& orde
         return step;
     }
     step.children = children_of(file, node);
+    if (step.children.size() > size_t(kStructureMaxArity)) {
+        // Not valid (check says so); a node of thousands of children would stall the view.
+        step.children_left_out = step.children.size() - size_t(kStructureMaxArity);
+        step.children.resize(size_t(kStructureMaxArity));
+    }
     const float area = step.box.area();
     step.split_cost = costs.trav;
     for (size_t k = 0; k < step.children.size(); ++k) {

@@ -45,7 +45,8 @@ struct FileNodeStep {
     Aabb box;                         ///< BVH: the node's box; KD: its cell
     int axis = -1;                    ///< KD interior: the split plane's axis (0 x, 1 y, 2 z)
     float split = 0;                  ///< KD interior: the split plane's position
-    std::vector<uint64_t> children;   ///< interior: as the file lists them (those in range)
+    std::vector<uint64_t> children;   ///< interior: as the file lists them (those in range, at most kStructureMaxArity)
+    uint64_t children_left_out = 0;   ///< children beyond kStructureMaxArity (a file that is not valid)
     std::vector<Aabb> child_boxes;    ///< BVH: the children's boxes; KD: their cells (below, above)
     /// Interior: the triangles under each child (from every leaf below it, each
     /// once); a leaf: one list, its own. Ids that are not the mesh's are left out.
@@ -57,7 +58,9 @@ struct FileNodeStep {
 };
 
 /// Node `node` (< order.size()) of `file` over a mesh of `mesh_triangles` triangles.
-/// Walks the node's subtree: O(its nodes and triangles).
+/// Walks the node's subtree (and clears a mark per node and per triangle of the
+/// whole tree and mesh). Of a node naming more than kStructureMaxArity children
+/// (not valid) only the first that many are walked.
 FileNodeStep file_node_step(const StructureFile& file, const FileTreeOrder& order, uint64_t node,
                             size_t mesh_triangles, SahCosts costs);
 

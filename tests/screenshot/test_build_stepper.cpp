@@ -167,6 +167,12 @@ TEST(BuildStepHeadless, OurKdTreeIsSteppedNodeByNodeInItsBuildOrder) {
     EXPECT_EQ(root->children, (std::vector<uint64_t>{kd->nodes[0].lower_child(), kd->nodes[0].upper_child()}));
     // Every node comes after its parent: the build made it when it split the parent.
     for (uint64_t n = 1; n < trace->order.size(); ++n) ASSERT_LT(trace->order.parent[n], int64_t(n)) << n;
+    // The SAH chart of the root: its cheapest plane under the tree's costs is the tree's.
+    const KdSahChart* chart = session.build_stepper.kd_chart();
+    ASSERT_NE(chart, nullptr);
+    EXPECT_EQ(chart->best_axis, int(kd->nodes[0].axis));
+    EXPECT_EQ(chart->best_position, kd->nodes[0].split);
+    EXPECT_EQ(chart->config.cost_trav, kd->build_config.cost_trav);
     // A key steps to the next node.
     ImGuiIO& io = ImGui::GetIO();
     io.KeysDown[GLFW_KEY_RIGHT] = true;
@@ -176,15 +182,22 @@ TEST(BuildStepHeadless, OurKdTreeIsSteppedNodeByNodeInItsBuildOrder) {
     EXPECT_EQ(state.build_step.step, 1);
     ASSERT_NE(session.build_stepper.file_node(), nullptr);
     EXPECT_EQ(session.build_stepper.file_node()->node, 1u);
+    ASSERT_NE(session.build_stepper.kd_chart(), nullptr);
+    EXPECT_EQ(session.build_stepper.kd_chart()->node, 1u);
+    // Off: the tree stepped is let go (with the scene it kept alive).
+    state.build_step.active = false;
+    (*app)->draw(state, {});
+    EXPECT_EQ(session.build_stepper.file_trace(), nullptr);
+    EXPECT_EQ(session.build_stepper.kd_chart(), nullptr);
 }
 
-TEST(BuildStepGolden, KdTreeNodeWithItsPlaneAndCells) {
+TEST(BuildStepGolden, KdTreeNodeWithItsPlaneCellsAndSahChart) {
     AppState state;
     state.scene = "builtin:teapot";
     state.accel.type = AccelType::Kd;
     state.build_step.active = true;
     state.build_step.step = 1;
-    EXPECT_TRUE(view_matches_golden(state, WindowView::BuildStep, 960, 600, "teapot_kd_build_node1"));
+    EXPECT_TRUE(view_matches_golden(state, WindowView::BuildStep, 1000, 900, "teapot_kd_build_node1"));
 }
 
 }  // namespace

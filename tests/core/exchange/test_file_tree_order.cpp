@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "core/accel/bvh_build.h"
 #include "core/accel/factory.h"
@@ -155,6 +156,34 @@ TEST(FileTreeOrder, BrokenFilesAreWalkedSafely) {
     const FileNodeStep lost = file_node_step(f, order, 3, 4, {});
     EXPECT_FALSE(lost.reached);
     EXPECT_EQ(lost.triangles, (std::vector<std::vector<uint32_t>>{{3}}));  // "order" ends at 4
+    // More children than a node may have: the first eight are walked.
+    StructureFile wide = hand_made_bvh();
+    wide.bvh_nodes[0].children.assign(100000, 1);
+    const FileNodeStep crowded = file_node_step(wide, file_tree_order(wide), 0, 4, {});
+    EXPECT_EQ(crowded.children.size(), 8u);
+    EXPECT_EQ(crowded.children_left_out, 100000u - 8u);
+    // A KD tree with a cycle, a child naming itself, one out of range and a NaN plane.
+    StructureFile kd;
+    kd.type = AccelType::Kd;
+    kd.bounds = {{0, 0, 0}, {4, 1, 1}};
+    FileKdNode top, self, leaf;
+    top.axis = 0;
+    top.split = 2;
+    top.children = {1, 2};
+    self.axis = 1;
+    self.split = std::nanf("");
+    self.children = {1, 0};
+    leaf.triangles = {0, 1, 7};
+    kd.kd_nodes = {top, self, leaf};
+    kd.kd_nodes.push_back(kd.kd_nodes[0]);
+    kd.kd_nodes[3].children = {9, 2};
+    const FileTreeOrder kd_order = file_tree_order(kd);
+    for (uint64_t n = 0; n < kd_order.size(); ++n) {
+        const FileNodeStep step = file_node_step(kd, kd_order, n, 4, {});
+        EXPECT_EQ(step.node, n);
+    }
+    EXPECT_EQ(file_node_step(kd, kd_order, 0, 4, {}).triangle_count, 2u) << "7 is not a triangle";
+    EXPECT_EQ(file_node_step(kd, kd_order, 3, 4, {}).children, (std::vector<uint64_t>{2})) << "9 is not a node";
     // A grid has no nodes to order.
     StructureFile grid;
     grid.type = AccelType::Grid;
