@@ -66,6 +66,36 @@ void swatch(ImU32 colour) {
     ImGui::SameLine();
 }
 
+/// Left/Right step, Home/End jump over steps 0..last (the active stepper owns the arrows).
+void step_keys(int& step, int last) {
+    if (ImGui::IsKeyPressed(GLFW_KEY_RIGHT, true)) step = std::min(step + 1, last);
+    if (ImGui::IsKeyPressed(GLFW_KEY_LEFT, true)) step = std::max(step - 1, 0);
+    if (ImGui::IsKeyPressed(GLFW_KEY_HOME, false)) step = 0;
+    if (ImGui::IsKeyPressed(GLFW_KEY_END, false)) step = last;
+}
+
+/// The timeline's buttons |< < > >| and "next split" (to the next step `is_split` says
+/// is a split, leaves skipped), each followed on the same line.
+template <class IsSplit>
+void timeline_buttons(int& step, int last, IsSplit&& is_split) {
+    if (ImGui::Button("|<")) step = 0;
+    ImGui::SameLine();
+    if (ImGui::Button("<")) step = std::max(0, step - 1);
+    ImGui::SameLine();
+    if (ImGui::Button(">")) step = std::min(last, step + 1);
+    ImGui::SameLine();
+    if (ImGui::Button(">|")) step = last;
+    ImGui::SameLine();
+    if (ImGui::Button("next split")) {
+        for (int k = step + 1; k <= last; ++k)
+            if (is_split(k)) {
+                step = k;
+                break;
+            }
+    }
+    ImGui::SameLine();
+}
+
 }  // namespace
 
 // [SECTION] Recording
@@ -155,12 +185,7 @@ void BuildStepper::update(AppState& state, const std::shared_ptr<const LoadedSce
 void BuildStepper::handle_keys(AppState& state) {
     if (state.build_step.active && file_trace_) return handle_file_keys(state);
     if (!state.build_step.active || !trace_ || trace_->steps.empty()) return;
-    int& step = state.build_step.step;
-    const int last = int(trace_->steps.size()) - 1;
-    if (ImGui::IsKeyPressed(GLFW_KEY_RIGHT, true)) step = std::min(step + 1, last);
-    if (ImGui::IsKeyPressed(GLFW_KEY_LEFT, true)) step = std::max(step - 1, 0);
-    if (ImGui::IsKeyPressed(GLFW_KEY_HOME, false)) step = 0;
-    if (ImGui::IsKeyPressed(GLFW_KEY_END, false)) step = last;
+    step_keys(state.build_step.step, int(trace_->steps.size()) - 1);
 }
 
 bool BuildStepper::shows_3d(const AppState& state) const {
@@ -258,24 +283,8 @@ void BuildStepper::draw_panel(AppState& state, float x, float y, float w, float 
     s.step = std::clamp(s.step, 0, last);
     const BuildStep& step = trace_->steps[size_t(s.step)];
 
-    // Timeline: |< < > >| and the scrubber.
-    if (ImGui::Button("|<")) s.step = 0;
-    ImGui::SameLine();
-    if (ImGui::Button("<")) s.step = std::max(0, s.step - 1);
-    ImGui::SameLine();
-    if (ImGui::Button(">")) s.step = std::min(last, s.step + 1);
-    ImGui::SameLine();
-    if (ImGui::Button(">|")) s.step = last;
-    ImGui::SameLine();
-    // The next/previous split, skipping leaves.
-    if (ImGui::Button("next split")) {
-        for (int k = s.step + 1; k <= last; ++k)
-            if (trace_->bvh.nodes[trace_->steps[size_t(k)].node].count == 0) {
-                s.step = k;
-                break;
-            }
-    }
-    ImGui::SameLine();
+    // Timeline: |< < > >|, the next split (leaves skipped) and the scrubber.
+    timeline_buttons(s.step, last, [&](int k) { return trace_->bvh.nodes[trace_->steps[size_t(k)].node].count == 0; });
     // Deep nodes are small: bring the camera to this one (F brings back the whole scene).
     if (ImGui::Button("frame node") && state.camera) frame_bounds(*state.camera, step.bounds, view_aspect);
     if (trace_->scene_width != 2)
@@ -742,13 +751,7 @@ void BuildStepper::update_file(AppState& state, const std::shared_ptr<const Load
 }
 
 void BuildStepper::handle_file_keys(AppState& state) {
-    if (file_trace_->order.size() == 0) return;
-    int& step = state.build_step.step;
-    const int last = int(file_trace_->order.size()) - 1;
-    if (ImGui::IsKeyPressed(GLFW_KEY_RIGHT, true)) step = std::min(step + 1, last);
-    if (ImGui::IsKeyPressed(GLFW_KEY_LEFT, true)) step = std::max(step - 1, 0);
-    if (ImGui::IsKeyPressed(GLFW_KEY_HOME, false)) step = 0;
-    if (ImGui::IsKeyPressed(GLFW_KEY_END, false)) step = last;
+    if (file_trace_->order.size() > 0) step_keys(state.build_step.step, int(file_trace_->order.size()) - 1);
 }
 
 void BuildStepper::draw_file_panel(AppState& state, double view_aspect) {
@@ -763,23 +766,10 @@ void BuildStepper::draw_file_panel(AppState& state, double view_aspect) {
     const int last = int(order.size()) - 1;
     s.step = std::clamp(s.step, 0, last);
 
-    // Timeline: |< < > >| and the scrubber, as over our build.
-    if (ImGui::Button("|<")) s.step = 0;
-    ImGui::SameLine();
-    if (ImGui::Button("<")) s.step = std::max(0, s.step - 1);
-    ImGui::SameLine();
-    if (ImGui::Button(">")) s.step = std::min(last, s.step + 1);
-    ImGui::SameLine();
-    if (ImGui::Button(">|")) s.step = last;
-    ImGui::SameLine();
-    if (ImGui::Button("next split")) {
-        for (int k = s.step + 1; k <= last; ++k)
-            if (kd ? !file.kd_nodes[size_t(k)].is_leaf() : file.bvh_nodes[size_t(k)].interior) {
-                s.step = k;
-                break;
-            }
-    }
-    ImGui::SameLine();
+    // Timeline, as over our build.
+    timeline_buttons(s.step, last, [&](int k) {
+        return kd ? !file.kd_nodes[size_t(k)].is_leaf() : file.bvh_nodes[size_t(k)].interior;
+    });
     if (ImGui::Button("frame node") && state.camera && file_node_ && finite_box(file_node_->box) &&
         !file_node_->box.empty())
         frame_bounds(*state.camera, file_node_->box, view_aspect);
