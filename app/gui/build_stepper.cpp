@@ -777,14 +777,19 @@ void BuildStepper::draw_file_panel(AppState& state, double view_aspect) {
     const std::string scrub_format = "node %d (of 0.." + std::to_string(last) + ")";
     ImGui::SliderInt("##scrub", &s.step, 0, last, scrub_format.c_str(), ImGuiSliderFlags_AlwaysClamp);
     ImGui::PushTextWrapPos(0.0f);
-    if (file_trace_->check)
-        ImGui::TextDisabled("The nodes as the file numbers them: a builder that writes each node as it makes it "
-                            "(a node, then its first child's subtree) numbers them in construction order.");
-    else
-        ImGui::TextDisabled("Our KD build's nodes as it numbered them: a split makes its two children (below, "
-                            "above the plane) together, every node after its parent; the top levels first, then "
-                            "each subtree under them, the lower before the upper. A triangle that straddles the "
-                            "plane goes to both.");
+    // One line; the whole story on hover (the panel's room is for the node and its chart).
+    if (file_trace_->check) {
+        ImGui::TextDisabled("The nodes as the file numbers them (hover: why)");
+        if (ImGui::IsItemHovered())
+            ImGui::SetTooltip("A builder that writes each node as it makes it (a node, then its first child's\n"
+                              "subtree) numbers them in construction order: stepping by number replays its build.");
+    } else {
+        ImGui::TextDisabled("The nodes as our build made them (hover: the order)");
+        if (ImGui::IsItemHovered())
+            ImGui::SetTooltip("A split makes its two children (below, above the plane) together; every node comes\n"
+                              "after its parent: the top levels first, then each subtree under them, the lower\n"
+                              "before the upper. A triangle that straddles the plane goes to both.");
+    }
 
     const FileNodeStep* node = file_node_.get();
     if (!node || node->node != uint64_t(s.step)) {
