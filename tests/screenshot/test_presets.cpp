@@ -20,6 +20,7 @@
 #include "app/gui/scene_loader.h"
 #include "app/gui/session.h"
 #include "core/accel/factory.h"
+#include "core/accel/kd_sah_chart.h"
 #include "core/geometry/scene.h"
 #include "core/measure/comparison.h"
 #include "core/measure/two_bvhs.h"
@@ -529,6 +530,27 @@ TEST(Presets, ConstructionPresetsShowASplitThenAChildsSplitThenALeaf) {
     EXPECT_EQ(leaf.decision, BuildDecision::LeafFits);
     EXPECT_LE(leaf.count, 5u);
     EXPECT_GT(leaf.count, 0u);
+}
+
+TEST(Presets, TheKdPlanePresetShowsTheRootsPlaneAsTheCheapestWithStraddlers) {
+    // Its caption: the SAH weighs every side of the boxes and the tree's plane is the
+    // cheapest, a plane cutting off empty space costs less, a triangle crossing the
+    // plane goes to both sides.
+    auto state = load_app_state_file(kPresetDir + "/31-kd-planes.json");
+    ASSERT_TRUE(state) << state.error();
+    EXPECT_TRUE(state->build_step.active);
+    auto loaded = load_and_build(state->scene, state->accel);
+    ASSERT_TRUE(loaded) << loaded.error();
+    const KdTree* kd = structure_if<KdTree>(*(*loaded)->accel);
+    ASSERT_NE(kd, nullptr);
+    const uint32_t node = uint32_t(state->build_step.step);
+    ASSERT_FALSE(kd->nodes[node].is_leaf());
+    const KdSahChart chart = kd_sah_chart(*(*loaded)->mesh, *kd, node, kd->build_config);
+    EXPECT_EQ(chart.best_axis, int(kd->nodes[node].axis));
+    EXPECT_EQ(chart.best_position, kd->nodes[node].split);
+    EXPECT_LT(chart.best_cost, chart.leaf_cost);
+    EXPECT_GT(chart.best_below + chart.best_above, chart.count) << "triangles crossing the plane, on both sides";
+    EXPECT_GT(kd->build_config.empty_bonus, 0.0f);
 }
 
 TEST(Presets, TheKdChallengeIsWrongWithoutTheInCellRuleAndRightWithIt) {
