@@ -13,6 +13,7 @@
 
 #include "app/gui/camera_control.h"
 #include "app/gui/panel_widgets.h"
+#include "app/gui/structure_overlay.h"
 #include "core/accel/accelerator.h"
 #include "core/accel/factory.h"
 #include "core/accel/kd_tree.h"
@@ -94,6 +95,39 @@ void timeline_buttons(int& step, int last, IsSplit&& is_split) {
             }
     }
     ImGui::SameLine();
+}
+
+/// The sidebar's switch for a stepper, with the keys' hint when on and what it shows when off.
+void stepper_switch(const char* label, bool& active, const char* shows) {
+    ImGui::Checkbox(label, &active);
+    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+    ImGui::TextWrapped("%s", active ? "Left/Right step, Home/End jump (the camera: mouse)." : shows);
+    ImGui::PopStyleColor();
+}
+
+/// The triangles `ids` of `mesh` as a mesh of their own (the same vertices), to draw in a colour.
+Mesh mesh_subset(const Mesh& mesh, std::span<const uint32_t> ids) {
+    Mesh part;
+    part.positions = mesh.positions;
+    part.indices.reserve(ids.size());
+    for (uint32_t t : ids) part.indices.push_back(mesh.indices[t]);
+    return part;
+}
+
+/// A node's box a little larger than it is: its edges would otherwise lie on its
+/// children's and be hidden by them.
+BoxInstance node_box(const Aabb& box, Rgba8 colour) {
+    const Vec3 grow = box.extent() * 0.015f;
+    return {box.lo - grow, box.hi + grow, colour};
+}
+
+/// A split plane across a node's box, translucent.
+ColouredQuad split_plane_quad(const Aabb& box, int axis, float position) {
+    ColouredQuad quad;
+    const std::array<Vec3, 4> corners = plane_across_box(box, axis, position);
+    std::copy(corners.begin(), corners.end(), quad.corners);
+    quad.colour = kPlaneColour;
+    return quad;
 }
 
 }  // namespace
@@ -212,21 +246,14 @@ bool BuildStepper::draw_sidebar(AppState& state, const LoadedScene* scene) {
             state.build_step.active = false;  // (it would keep the arrow keys from the camera)
             return false;
         }
-        ImGui::Checkbox("Step the file's nodes in order", &state.build_step.active);
-        ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
-        ImGui::TextWrapped("%s", state.build_step.active
-                                     ? "Left/Right step, Home/End jump (the camera: mouse)."
-                                     : "Node by node as the file numbers them: a recursive builder's order.");
-        ImGui::PopStyleColor();
+        stepper_switch("Step the file's nodes in order", state.build_step.active,
+                       "Node by node as the file numbers them: a recursive builder's order.");
         return false;
     }
     if (state.accel.type == AccelType::Kd) {
         // Our KD tree node by node, in the order its build made them.
-        ImGui::Checkbox("Step the KD build node by node", &state.build_step.active);
-        ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
-        ImGui::TextWrapped("%s", state.build_step.active ? "Left/Right step, Home/End jump (the camera: mouse)."
-                                                         : "Each node's plane, its two cells and their triangles.");
-        ImGui::PopStyleColor();
+        stepper_switch("Step the KD build node by node", state.build_step.active,
+                       "Each node's plane, its two cells and their triangles.");
         return false;
     }
     if (state.accel.type != AccelType::Bvh) {
@@ -236,11 +263,7 @@ bool BuildStepper::draw_sidebar(AppState& state, const LoadedScene* scene) {
         state.build_step.active = true;
         return true;
     }
-    ImGui::Checkbox("Step the BVH build", &state.build_step.active);
-    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
-    ImGui::TextWrapped("%s", state.build_step.active ? "Left/Right step, Home/End jump (the camera: mouse)."
-                                                     : "The SAH chart of every split, with live sliders.");
-    ImGui::PopStyleColor();
+    stepper_switch("Step the BVH build", state.build_step.active, "The SAH chart of every split, with live sliders.");
     return false;
 }
 
@@ -563,30 +586,16 @@ void BuildStepper::upload_step(const BuildStep& step, Rgb background) {
     const bool leaf = trace_->bvh.nodes[step.node].is_leaf();
     const uint32_t left_end = leaf ? step.first + step.count : step.first + step.left_count;
     auto subset = [&](uint32_t begin, uint32_t end) {
-        Mesh part;
-        part.positions = mesh.positions;
-        part.indices.reserve(end - begin);
-        for (uint32_t k = begin; k < end; ++k) part.indices.push_back(mesh.indices[trace_->bvh.prim_ids[k]]);
-        return part;
+        return mesh_subset(mesh, std::span<const uint32_t>(trace_->bvh.prim_ids).subspan(begin, end - begin));
     };
     if (!left_tris_) left_tris_ = std::make_unique<MeshBuffer>();
     if (!right_tris_) right_tris_ = std::make_unique<MeshBuffer>();
     if (!boxes_) boxes_ = std::make_unique<BoxBuffer>();
     left_tris_->upload(subset(step.first, left_end));
     right_tris_->upload(subset(left_end, step.first + step.count));
-    // The node's box a little larger than it is: its edges would otherwise lie on its
-    // children's and be hidden by them.
-    const Vec3 grow = step.bounds.extent() * 0.015f;
-    std::vector<BoxInstance> boxes = {{step.bounds.lo - grow, step.bounds.hi + grow, node_box_colour(background)}};
+    std::vector<BoxInstance> boxes = {node_box(step.bounds, node_box_colour(background))};
     std::vector<ColouredQuad> quads;
-    if (!leaf && step.axis >= 0) {
-        // The split plane across the node's box, translucent.
-        ColouredQuad quad;
-        const std::array<Vec3, 4> corners = plane_across_box(step.bounds, step.axis, step.split_position);
-        std::copy(corners.begin(), corners.end(), quad.corners);
-        quad.colour = kPlaneColour;
-        quads.push_back(quad);
-    }
+    if (!leaf && step.axis >= 0) quads.push_back(split_plane_quad(step.bounds, step.axis, step.split_position));
     if (!plane_) plane_ = std::make_unique<ColouredBuffer>();
     plane_->upload_quads(quads);
     if (!leaf) {
@@ -638,15 +647,8 @@ constexpr std::array<Rgba8, kStructureMaxArity> kChildColours = {{
     kLeftColour, kRightColour, {235, 110, 235, 255}, {90, 215, 235, 255},
     {190, 230, 70, 255}, {255, 110, 130, 255}, {165, 130, 255, 255}, {215, 185, 140, 255},
 }};
-constexpr Rgba8 kFaultyNode{255, 40, 40, 255};  ///< the overlay's red for a node check faults
 
 Rgb rgb(Rgba8 c) { return {c.r, c.g, c.b}; }
-
-bool finite_box(const Aabb& b) {
-    for (int a = 0; a < 3; ++a)
-        if (!std::isfinite(b.lo[a]) || !std::isfinite(b.hi[a])) return false;
-    return true;
-}
 
 /// The KD tree a trace steps when it is our own (not a file's).
 const KdTree* our_kd_tree(const FileOrderTrace& trace) {
@@ -871,7 +873,7 @@ void BuildStepper::draw_file_panel(AppState& state, double view_aspect) {
     // this one), in the overlay's red.
     const StructureCheck* check = file_trace_->check;
     if (check && std::binary_search(check->bad_nodes.begin(), check->bad_nodes.end(), node->node)) {
-        ImGui::PushStyleColor(ImGuiCol_Text, im(kFaultyNode));
+        ImGui::PushStyleColor(ImGuiCol_Text, im(kFaultRed));
         bool listed = false;
         for (const StructureProblem& p : check->problems) {
             const bool about_child =
@@ -966,38 +968,24 @@ void BuildStepper::draw_file_3d(Renderer& renderer, const MeshBuffer& mesh, Rgb 
     const FileNodeStep& node = *file_node_;
     if (uploaded_file_node_ != file_node_ || !(uploaded_background_ == background)) {
         const Mesh& scene_mesh = *file_trace_->scene->mesh;
-        auto subset = [&](const std::vector<uint32_t>& ids) {
-            Mesh part;
-            part.positions = scene_mesh.positions;
-            part.indices.reserve(ids.size());
-            for (uint32_t t : ids) part.indices.push_back(scene_mesh.indices[t]);
-            return part;
-        };
         child_tris_.resize(node.triangles.size());
         for (size_t k = 0; k < node.triangles.size(); ++k) {
             if (!child_tris_[k]) child_tris_[k] = std::make_unique<MeshBuffer>();
-            child_tris_[k]->upload(subset(node.triangles[k]));
+            child_tris_[k]->upload(mesh_subset(scene_mesh, node.triangles[k]));
         }
         const StructureCheck* check = file_trace_->check;
         const bool faulty = check && std::binary_search(check->bad_nodes.begin(), check->bad_nodes.end(), node.node);
         std::vector<BoxInstance> boxes;
-        if (finite_box(node.box) && !node.box.empty()) {
-            const Vec3 grow = node.box.extent() * 0.015f;  // its edges would lie on its children's
-            boxes.push_back({node.box.lo - grow, node.box.hi + grow, faulty ? kFaultyNode : node_box_colour(background)});
-        }
+        if (finite_box(node.box) && !node.box.empty())
+            boxes.push_back(node_box(node.box, faulty ? kFaultRed : node_box_colour(background)));
         for (size_t k = 0; k < node.child_boxes.size(); ++k)
             if (finite_box(node.child_boxes[k]) && !node.child_boxes[k].empty())
                 boxes.push_back({node.child_boxes[k].lo, node.child_boxes[k].hi, kChildColours[k % kChildColours.size()]});
         if (!boxes_) boxes_ = std::make_unique<BoxBuffer>();
         boxes_->upload(boxes);
         std::vector<ColouredQuad> quads;
-        if (node.axis >= 0 && finite_box(node.box) && std::isfinite(node.split)) {
-            ColouredQuad quad;  // a KD node's plane across its cell
-            const std::array<Vec3, 4> corners = plane_across_box(node.box, node.axis, node.split);
-            std::copy(corners.begin(), corners.end(), quad.corners);
-            quad.colour = kPlaneColour;
-            quads.push_back(quad);
-        }
+        if (node.axis >= 0 && finite_box(node.box) && std::isfinite(node.split))
+            quads.push_back(split_plane_quad(node.box, node.axis, node.split));  // a KD node's plane across its cell
         if (!plane_) plane_ = std::make_unique<ColouredBuffer>();
         plane_->upload_quads(quads);
         uploaded_file_node_ = file_node_;

@@ -287,15 +287,8 @@ void grid_overlay(const UniformGrid& grid, StructureOverlay& out) {
 
 // [SECTION] A structure file that is not valid: its own nodes, the faulty ones red
 
-constexpr Rgba8 kFaultRed{255, 40, 40, 255};
 /// The other boxes, faint, so that the red ones stand out.
 constexpr uint8_t kFaintAlpha = 80;
-
-bool drawable(const Aabb& b) {
-    for (int a = 0; a < 3; ++a)
-        if (!std::isfinite(b.lo[a]) || !std::isfinite(b.hi[a])) return false;
-    return true;
-}
 
 /// Depth of every node reached from the root, each once (-1: not reached), following
 /// only child indices in range: safe on a file with cycles or shared nodes.
@@ -333,7 +326,7 @@ void file_overlay(const StructureFile& f, const StructureCheck& check, const Ove
             const Vec3 lo{f.bounds.lo.x + size.x * float(c.cell[0]), f.bounds.lo.y + size.y * float(c.cell[1]),
                           f.bounds.lo.z + size.z * float(c.cell[2])};
             const Aabb box{lo, {lo.x + size.x, lo.y + size.y, lo.z + size.z}};
-            if (!drawable(box)) continue;
+            if (!finite_box(box)) continue;
             const bool fault = bad(i);
             if (!fault && c.triangles.empty()) continue;
             out.boxes.push_back({box.lo, box.hi, fault ? kFaultRed : level_colour(double(c.triangles.size()) / double(most), kFaintAlpha)});
@@ -361,7 +354,7 @@ void file_overlay(const StructureFile& f, const StructureCheck& check, const Ove
     LevelOrderedBoxes ordered(levels);
     for (size_t i = 0; i < count; ++i) {
         const Aabb box = box_of(i);
-        if (!drawable(box)) continue;
+        if (!finite_box(box)) continue;
         if (bad(i)) {  // always drawn, with the first level shown (so a moving camera keeps it too)
             ordered.add({box.lo, box.hi, kFaultRed}, levels.lo);
             continue;
@@ -478,6 +471,12 @@ StructureOverlay make_structure_overlay(const Accelerator& accel, const OverlayS
     else
         out.legend = "naive: no structure, every ray tests every triangle";
     return out;
+}
+
+bool finite_box(const Aabb& b) {
+    for (int a = 0; a < 3; ++a)
+        if (!std::isfinite(b.lo[a]) || !std::isfinite(b.hi[a])) return false;
+    return true;
 }
 
 }  // namespace accelviz

@@ -59,4 +59,9 @@ struct LeafHistogram {
 };
 LeafHistogram leaf_histogram(const Accelerator& accel);
 
+/// The red of a node that `check` faults (the overlay's and the construction stepper's).
+inline constexpr Rgba8 kFaultRed{255, 40, 40, 255};
+/// A box from a file that can be drawn: every coordinate finite.
+bool finite_box(const Aabb& b);
+
 }  // namespace accelviz

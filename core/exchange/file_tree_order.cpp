@@ -44,7 +44,6 @@ std::span<const uint32_t> leaf_triangles(const StructureFile& file, uint64_t nod
 
 FileTreeOrder file_tree_order(const StructureFile& file) {
     FileTreeOrder order;
-    order.type = file.type;
     const size_t count = file.type == AccelType::Bvh  ? file.bvh_nodes.size()
                          : file.type == AccelType::Kd ? file.kd_nodes.size()
                                                       : 0;

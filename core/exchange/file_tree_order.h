@@ -24,7 +24,6 @@ namespace accelviz {
 
 /// Who reaches whom in a file's BVH or KD tree: computed once per file.
 struct FileTreeOrder {
-    AccelType type = AccelType::Bvh;  ///< Bvh or Kd (a grid has no nodes to order)
     std::vector<int64_t> parent;      ///< the first node (breadth first from the root) naming it; -1: none
     std::vector<uint32_t> depth;      ///< the root's 0 (and a node no one reaches)
     std::vector<uint8_t> reached;     ///< 1: reached from the root (node 0)
