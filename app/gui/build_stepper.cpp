@@ -176,7 +176,16 @@ void BuildStepper::update(AppState& state, const std::shared_ptr<const LoadedSce
     from_file_ = file_tree;
     // Off, or another scene: let go of the tree stepped (and the scene it keeps alive).
     if (file_trace_ && (!state.build_step.active || file_trace_->scene != scene)) release_file();
-    if (!state.build_step.active || !scene || file_tree || file_scene_) {
+    // Work that finished for a stepper since turned off, or for a tree no longer
+    // stepped, is dropped (a request is then made again when wanted): left waiting,
+    // it would hold its tree (hundreds of MB at a million triangles) and count as
+    // pending work for ever, so the window would never go idle.
+    const bool wants_file = state.build_step.active && scene && file_scene_;
+    const bool wants_trace = state.build_step.active && scene && !file_scene_ && !file_tree;
+    if (!wants_file && (file_job_.busy() || file_job_.take())) release_file();
+    if (!wants_trace && (trace_job_.busy() || trace_job_.take())) trace_requested_ = nullptr;
+    if (!wants_trace && (chart_job_.busy() || chart_job_.take())) chart_requested_ = {};
+    if (!wants_trace) {
         // Off: let go of a recording of another scene (a big mesh's takes ~230 bytes a node).
         if (trace_ && trace_->scene != scene) {
             trace_.reset();

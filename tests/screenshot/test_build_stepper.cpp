@@ -2,7 +2,9 @@
 // the SAH chart on the bunny and on a tricky scene, and its errors.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <filesystem>
+#include <thread>
 #include <imgui.h>
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>  // key codes: ImGui 1.86 indexes io.KeysDown by the GLFW backend's codes
@@ -189,6 +191,35 @@ TEST(BuildStepHeadless, OurKdTreeIsSteppedNodeByNodeInItsBuildOrder) {
     (*app)->draw(state, {});
     EXPECT_EQ(session.build_stepper.file_trace(), nullptr);
     EXPECT_EQ(session.build_stepper.kd_chart(), nullptr);
+}
+
+TEST(BuildStepHeadless, WorkFinishedAfterTheStepperIsTurnedOffIsDroppedNotLeftPending) {
+    // The stepper asks a worker for its tree, and is turned off before the answer
+    // comes (a lecturer paging through presets): the answer is dropped when it comes,
+    // so nothing waits for ever, and turned on again the stepper asks again.
+    for (const AccelType type : {AccelType::Bvh, AccelType::Kd}) {
+        SCOPED_TRACE(to_string(type));
+        AppState state;
+        state.scene = "builtin:teapot";
+        state.accel.type = type;
+        state.build_step.active = true;
+        LoadResult loaded = load_and_build(state.scene, state.accel);
+        ASSERT_TRUE(loaded) << loaded.error();
+        BuildStepper stepper;
+        stepper.update(state, *loaded, false);  // asks, does not wait
+        state.build_step.active = false;
+        stepper.update(state, *loaded, false);
+        for (int i = 0; i < 3000 && stepper.busy(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        ASSERT_FALSE(stepper.busy());
+        stepper.update(state, *loaded, false);  // the frame the finished work wakes
+        EXPECT_FALSE(stepper.has_result()) << "a finished answer nobody takes is pending work for ever";
+        EXPECT_EQ(stepper.trace(), nullptr);
+        EXPECT_EQ(stepper.file_trace(), nullptr);
+        state.build_step.active = true;
+        stepper.update(state, *loaded, true);
+        if (type == AccelType::Bvh) EXPECT_NE(stepper.trace(), nullptr);
+        else EXPECT_NE(stepper.file_trace(), nullptr);
+    }
 }
 
 TEST(BuildStepGolden, KdTreeNodeWithItsPlaneCellsAndSahChart) {
