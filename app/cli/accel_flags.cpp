@@ -73,7 +73,7 @@ void add_accel_flags(CLI::App& command, AccelConfig& config) {
     command.add_option_function<std::string>(
                "--mailbox",
                [&config](const std::string& v) {
-                   config.grid.mailbox = config.kd.mailbox = config.octree.mailbox = v == "on";
+                   config.grid.mailbox = config.kd.mailbox = config.octree.mailbox = config.bsp.mailbox = v == "on";
                },
                "grid/kd/octree: skip triangles a ray already tested in an earlier cell "
                "(on|off; default on for grid and octree, off for kd)")
@@ -108,6 +108,13 @@ void add_accel_flags(CLI::App& command, AccelConfig& config) {
         ->check(CLI::IsMember(clip_mode_names()));
     command.add_option("--octree-max-depth", config.octree.max_depth, "octree: max depth")
         ->check(whole_number(1, kOctreeMaxDepth))
+        ->capture_default_str();
+    command.add_option("--bsp-max-depth", config.bsp.max_depth, "bsp: max depth")
+        ->check(whole_number(1, kBspMaxDepth))
+        ->capture_default_str();
+    command.add_option("--bsp-candidates", config.bsp.candidates,
+                       "bsp: triangle planes tried per node (an even sample of its triangles)")
+        ->check(whole_number(1, 4096))
         ->capture_default_str();
 }
 

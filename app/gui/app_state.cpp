@@ -157,6 +157,10 @@ nlohmann::json accel_config_json(const AccelConfig& a) {
                    {"leaf_size", a.octree.leaf_size},
                    {"clip", std::string(to_string(a.octree.clip))},
                    {"mailbox", a.octree.mailbox}};
+    j["bsp"] = {{"max_depth", a.bsp.max_depth},
+                {"leaf_size", a.bsp.leaf_size},
+                {"candidates", a.bsp.candidates},
+                {"mailbox", a.bsp.mailbox}};
     j["triangle_test"] = std::string(to_string(a.triangle_test));
     // The CLI's shared overrides, only when set.
     if (a.leaf_size) j["leaf_size"] = *a.leaf_size;
@@ -205,6 +209,13 @@ void read_accel(const nlohmann::json& j, AccelConfig& a) {
         a.octree.leaf_size = read(o, "leaf_size", a.octree.leaf_size, "structure.octree");
         if (o.contains("clip")) a.octree.clip = read_enum(o["clip"], "structure.octree.clip", parse_clip_mode);
         a.octree.mailbox = read(o, "mailbox", a.octree.mailbox, "structure.octree");
+    }
+    if (j.contains("bsp")) {
+        const auto& o = j["bsp"];
+        a.bsp.max_depth = read(o, "max_depth", a.bsp.max_depth, "structure.bsp");
+        a.bsp.leaf_size = read(o, "leaf_size", a.bsp.leaf_size, "structure.bsp");
+        a.bsp.candidates = read(o, "candidates", a.bsp.candidates, "structure.bsp");
+        a.bsp.mailbox = read(o, "mailbox", a.bsp.mailbox, "structure.bsp");
     }
     if (j.contains("triangle_test"))
         a.triangle_test = read_enum(j["triangle_test"], "structure.triangle_test", parse_triangle_test);

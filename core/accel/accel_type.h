@@ -1,6 +1,6 @@
 #pragma once
 /// Which acceleration structure: the lecture's naive O(N) test, the BVH, the
-/// uniform grid, the KD tree and the octree.
+/// uniform grid, the KD tree, the octree and the BSP tree.
 
 #include <optional>
 #include <ostream>
@@ -12,17 +12,18 @@
 
 namespace accelviz {
 
-enum class AccelType { Naive, Bvh, Grid, Kd, Octree };
+enum class AccelType { Naive, Bvh, Grid, Kd, Octree, Bsp };
 
-inline constexpr EnumNames<AccelType, 5> kAccelTypeNames{{{
+inline constexpr EnumNames<AccelType, 6> kAccelTypeNames{{{
     {AccelType::Naive, "naive"},
     {AccelType::Bvh, "bvh"},
     {AccelType::Grid, "grid"},
     {AccelType::Kd, "kd"},
     {AccelType::Octree, "octree"},
+    {AccelType::Bsp, "bsp"},
 }}};
 
-/// "naive", "bvh", "grid", "kd", "octree".
+/// "naive", "bvh", "grid", "kd", "octree", "bsp".
 constexpr std::string_view to_string(AccelType type) { return kAccelTypeNames.name(type); }
 constexpr std::optional<AccelType> parse_accel_type(std::string_view name) { return kAccelTypeNames.parse(name); }
 inline std::ostream& operator<<(std::ostream& out, AccelType type) { return out << to_string(type); }

@@ -22,7 +22,7 @@ class Accelerator {
 public:
     virtual ~Accelerator() = default;
     virtual AccelType type() const = 0;
-    /// "naive", "bvh", "grid", "kd", "octree" (to_string(type())).
+    /// "naive", "bvh", "grid", "kd", "octree", "bsp" (to_string(type())).
     virtual std::string name() const = 0;
     /// Closest hit in [ray.t_min, ray.t_max].
     virtual Hit intersect_closest(const Ray& ray) const = 0;

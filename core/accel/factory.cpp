@@ -38,6 +38,9 @@ KdConfig kd_config_of(const AccelConfig& config) {
 OctreeConfig octree_config_of(const AccelConfig& config) {
     return with_shared_flags(config.octree, config, &OctreeConfig::leaf_size);
 }
+BspConfig bsp_config_of(const AccelConfig& config) {
+    return with_shared_flags(config.bsp, config, &BspConfig::leaf_size, &BspConfig::cost_trav, &BspConfig::cost_isect);
+}
 
 /// The binary tree collapsed into a W-wide one.
 template <int W>
@@ -56,6 +59,7 @@ std::optional<Error> validate(const AccelConfig& config) {
         case AccelType::Grid: return validate(config.grid);
         case AccelType::Kd: return validate(kd_config_of(config));
         case AccelType::Octree: return validate(octree_config_of(config));
+        case AccelType::Bsp: return validate(bsp_config_of(config));
     }
     return Error{"unknown structure"};
 }
@@ -112,6 +116,13 @@ Expected<std::shared_ptr<const Accelerator>> build_accelerator(const Mesh& mesh,
             with_note(tree->build_stats);
             use_triangle_test(*tree, config.triangle_test, mesh, tree->prim_ids);
             return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<Octree>>(std::move(*tree)));
+        }
+        case AccelType::Bsp: {
+            auto tree = build_bsp_tree(mesh, bsp_config_of(config), progress);
+            if (!tree) return Error{tree.error()};
+            with_note(tree->build_stats);
+            use_triangle_test(*tree, config.triangle_test, mesh, tree->prim_ids);
+            return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<BspTree>>(std::move(*tree)));
         }
     }
     return Error{"unknown structure"};

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/accel/accelerator.h"
+#include "core/accel/bsp_tree.h"
 #include "core/accel/kd_tree.h"
 #include "core/accel/octree.h"
 #include "core/accel/uniform_grid.h"
@@ -24,8 +25,9 @@ struct AccelConfig {
     GridConfig grid;      ///< --grid-*
     KdConfig kd;          ///< --kd-*
     OctreeConfig octree;  ///< --octree-*
+    BspConfig bsp;        ///< --bsp-*
     /// Flags several structures share; unset = each structure's own default.
-    /// (bvh, kd and octree read them here; a structure without such a parameter ignores them.)
+    /// (bvh, kd, octree and bsp read them here; a structure without such a parameter ignores them.)
     std::optional<int> leaf_size;     ///< --leaf-size
     std::optional<float> cost_trav;   ///< --cost-trav  (SAH C_trav)
     std::optional<float> cost_isect;  ///< --cost-isect (SAH C_isect)

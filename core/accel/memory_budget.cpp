@@ -87,7 +87,8 @@ uint64_t fixed_build_bytes(const AccelConfig& config, uint64_t triangles) {
             return (grid_cells_bound(config.grid, triangles) + 1) * sizeof(uint32_t) + triangles * sizeof(uint32_t) +
                    copy;
         case AccelType::Kd:
-        case AccelType::Octree: return 0;  // all per reference
+        case AccelType::Octree:
+        case AccelType::Bsp: return 0;  // all per reference
     }
     return copy;
 }
@@ -104,6 +105,10 @@ uint64_t bytes_per_reference(const AccelConfig& config) {
             // 24 bytes for nodes and the splits' scratch (measured peaks: 69-74 bytes
             // per reference in all, docs/performance.md).
             return sizeof(SpatialRef) + 2 * sizeof(uint32_t) + triangle_copy_bytes(config) + 24;
+        case AccelType::Bsp:
+            // A piece under construction (a polygon of up to 9 corners, 116 bytes), its
+            // leaf id, its triangle copy and the same allowance for nodes.
+            return 116 + sizeof(uint32_t) + triangle_copy_bytes(config) + 24;
     }
     return 0;
 }
@@ -133,7 +138,9 @@ Expected<AccelConfig> fit_memory_budget(const AccelConfig& config, uint64_t tria
         }
         return out;
     }
-    double& duplication = config.type == AccelType::Kd ? out.kd.max_duplication : out.octree.max_duplication;
+    double& duplication = config.type == AccelType::Kd       ? out.kd.max_duplication
+                          : config.type == AccelType::Octree ? out.octree.max_duplication
+                                                             : out.bsp.max_duplication;
     const double fits = double(references) / double(triangles);
     if (fits < duplication) {
         duplication = std::max(1.0, std::floor(fits * 100.0) / 100.0);

@@ -6,6 +6,7 @@
 
 #include "core/math/box_test.h"
 #include "core/accel/brute_force.h"
+#include "core/accel/bsp_tree.h"
 #include "core/accel/bvh.h"
 #include "core/accel/factory.h"
 #include "core/accel/kd_tree.h"
@@ -54,6 +55,11 @@ NodeBoxes::NodeBoxes(const Accelerator& accel) {
         boxes_ = kd->node_boxes();
     } else if (const Octree* octree = structure_if<Octree>(accel)) {
         boxes_ = octree->node_boxes();
+    } else if (const BspTree* bsp = structure_if<BspTree>(accel)) {
+        BspTree::NodeShapes shapes = bsp->node_shapes();
+        boxes_ = std::move(shapes.cell_bounds);
+        polygons_ = std::move(shapes.split_polygons);
+        for (const BspNode& n : bsp->nodes) normals_.push_back(n.is_leaf() ? Vec3{0, 0, 0} : n.plane.normal);
     } else if (const UniformGrid* grid = structure_if<UniformGrid>(accel)) {
         grid_ = true;
         grid_bounds_ = grid->bounds;
@@ -65,6 +71,11 @@ std::optional<Aabb> NodeBoxes::node(uint32_t id) const {
     if (grid_) return grid_bounds_;
     if (id < boxes_.size()) return boxes_[id];
     return std::nullopt;
+}
+
+const std::vector<Vec3>& NodeBoxes::split_polygon(uint32_t id) const {
+    static const std::vector<Vec3> none;
+    return id < polygons_.size() ? polygons_[id] : none;
 }
 
 std::optional<Aabb> NodeBoxes::root() const {
@@ -212,6 +223,9 @@ std::string explain_event(const TraversalEvent& e, const StepState& before) {
             return format("triangle %u is hit at t = %.4g, past this cell's end t = %.4g: not accepted yet", e.tri,
                           e.t, e.t_exit);
         case EventKind::SplitPlane:
+            if (e.axis == kGeneralPlane)
+                return format("node %u: plane N.p = %.4g, crossed at t = %.4g; the %s side comes first", e.node,
+                              e.split, e.t, e.near_first ? "back" : "front");
             return format("node %u: plane %s = %.4g, crossed at t = %.4g; the %s side comes first", e.node, axis,
                           e.split, e.t, e.near_first ? "lower" : "upper");
         case EventKind::Done:
@@ -373,7 +387,23 @@ DebugGeometry step_geometry(const SteppedRay& r, const StepState& s, const NodeB
     }
 
     // The split plane of the current node (KD tree, octree), clipped to the node's box.
-    if (s.current && s.current->kind == EventKind::SplitPlane) {
+    if (s.current && s.current->kind == EventKind::SplitPlane && s.current->axis == kGeneralPlane) {
+        // A BSP node's plane: the polygon it makes inside the node's cell, as a fan.
+        const TraversalEvent& e = *s.current;
+        const std::vector<Vec3>& poly = boxes.split_polygon(e.node);
+        for (size_t i = 1; i + 1 < poly.size(); ++i) {
+            DebugQuad q;
+            q.corners[0] = poly[0];
+            q.corners[1] = poly[i];
+            q.corners[2] = q.corners[3] = poly[i + 1];
+            q.colour = c.split;
+            g.quads.push_back(q);
+        }
+        if (std::isfinite(e.t)) {
+            add_cross(g, at(e.t), 0.5f * mark, c.split);
+            g.labels.push_back({at(e.t), format("t_split=%.3g", e.t), DebugColour{80, 220, 230, 255}});
+        }
+    } else if (s.current && s.current->kind == EventKind::SplitPlane) {
         const TraversalEvent& e = *s.current;
         if (auto b = boxes.node(e.node)) {
             DebugQuad q;

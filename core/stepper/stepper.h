@@ -69,6 +69,10 @@ public:
     /// The structure's outer box (empty for naive).
     std::optional<Aabb> root() const;
     bool is_grid() const { return grid_; }
+    /// A BSP node's plane inside its cell (empty for a leaf or another structure).
+    const std::vector<Vec3>& split_polygon(uint32_t id) const;
+    /// A BSP node's plane normal N (the plane is N.p = c; zero for a leaf or another structure).
+    Vec3 plane_normal(uint32_t id) const { return id < normals_.size() ? normals_[id] : Vec3{0, 0, 0}; }
 
 private:
     /// A wide BVH's boxes, indexed by slot (wide_bvh.h: the root 0, lane i of node n 1 + n·W + i).
@@ -78,7 +82,9 @@ private:
         wide.for_each_box([&](uint32_t slot, const Aabb& box, uint32_t, uint32_t) { boxes_[slot] = box; });
     }
 
-    std::vector<Aabb> boxes_;  ///< per tree node
+    std::vector<Aabb> boxes_;  ///< per tree node (BSP: the bounds of its cell)
+    std::vector<std::vector<Vec3>> polygons_;  ///< BSP: per node, its plane inside its cell
+    std::vector<Vec3> normals_;                ///< BSP: per node, its plane's normal
     bool grid_ = false;
     Aabb grid_bounds_;
     std::array<std::vector<float>, 3> planes_;  ///< grid cell boundaries

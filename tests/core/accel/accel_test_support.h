@@ -70,9 +70,16 @@ inline std::vector<std::pair<std::string, AccelConfig>> all_configurations() {
         c.octree.mailbox = clip == ClipMode::Box;
         out.push_back({"octree " + std::string(to_string(clip)) + (c.octree.mailbox ? "" : " no-mailbox"), c});
     }
+    for (bool mailbox : {true, false}) {
+        AccelConfig c;
+        c.type = AccelType::Bsp;
+        c.bsp.mailbox = mailbox;
+        c.bsp.candidates = mailbox ? 24 : 3;  // fewer planes tried: more axis-aligned fallbacks
+        out.push_back({std::string("bsp") + (mailbox ? "" : " no-mailbox few-candidates"), c});
+    }
     // The watertight triangle test, once per structure (the test is the same code in
     // every structure; what differs is how each walks to it).
-    for (AccelType type : {AccelType::Bvh, AccelType::Grid, AccelType::Kd, AccelType::Octree}) {
+    for (AccelType type : {AccelType::Bvh, AccelType::Grid, AccelType::Kd, AccelType::Octree, AccelType::Bsp}) {
         AccelConfig c;
         c.type = type;
         c.triangle_test = TriangleTestKind::Watertight;

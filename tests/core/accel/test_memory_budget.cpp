@@ -24,7 +24,8 @@ TEST(MemoryBudget, SizesReadAsAPersonWritesThem) {
 
 TEST(MemoryBudget, ABuildThatCannotFitIsRefusedNamingTheFlag) {
     const SceneCase& scene = scene_case("builtin:soup?n=5000", 8);
-    for (AccelType type : {AccelType::Naive, AccelType::Bvh, AccelType::Grid, AccelType::Kd, AccelType::Octree}) {
+    for (AccelType type :
+         {AccelType::Naive, AccelType::Bvh, AccelType::Grid, AccelType::Kd, AccelType::Octree, AccelType::Bsp}) {
         AccelConfig config;
         config.type = type;
         config.memory_budget = 64 * 1024;  // under what even one reference per triangle takes
@@ -47,7 +48,7 @@ TEST(MemoryBudget, TheEstimateIsAnUpperBoundOfWhatTheStructureHolds) {
     // The structure's own arrays (memory_bytes) are part of what the estimate
     // covers; the build's scratch is the rest.
     const SceneCase& scene = scene_case("builtin:soup?n=20000", 8);
-    for (AccelType type : {AccelType::Bvh, AccelType::Grid, AccelType::Kd, AccelType::Octree}) {
+    for (AccelType type : {AccelType::Bvh, AccelType::Grid, AccelType::Kd, AccelType::Octree, AccelType::Bsp}) {
         AccelConfig config;
         config.type = type;
         const auto built = build_accelerator(scene.mesh, config);
@@ -63,7 +64,7 @@ TEST(MemoryBudget, TheEstimateIsAnUpperBoundOfWhatTheStructureHolds) {
 TEST(MemoryBudget, CappedTreesStayExactAndSaySo) {
     const SceneCase& scene = scene_case("builtin:teapot?n=8");
     const uint64_t n = scene.mesh.triangle_count();
-    for (AccelType type : {AccelType::Kd, AccelType::Octree, AccelType::Grid}) {
+    for (AccelType type : {AccelType::Kd, AccelType::Octree, AccelType::Bsp, AccelType::Grid}) {
         AccelConfig config;
         config.type = type;
         // Room for 1.5 references per triangle beyond the fixed part.

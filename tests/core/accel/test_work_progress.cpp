@@ -16,7 +16,8 @@ using namespace accelviz;
 
 namespace {
 
-const std::vector<AccelType> kBuiltTypes = {AccelType::Bvh, AccelType::Grid, AccelType::Kd, AccelType::Octree};
+const std::vector<AccelType> kBuiltTypes = {AccelType::Bvh, AccelType::Grid, AccelType::Kd, AccelType::Octree,
+                                            AccelType::Bsp};
 
 Mesh soup(int n) {
     auto mesh = load_scene("builtin:soup?n=" + std::to_string(n) + "&seed=3");

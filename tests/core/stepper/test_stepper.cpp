@@ -43,7 +43,7 @@ const Mesh& teapot() {
 
 TEST(Stepper, SlabInspectorAgreesWithEveryRecordedBoxTest) {
     const Mesh& mesh = teapot();
-    for (const AccelType type : {AccelType::Bvh, AccelType::Grid, AccelType::Kd, AccelType::Octree}) {
+    for (const AccelType type : {AccelType::Bvh, AccelType::Grid, AccelType::Kd, AccelType::Octree, AccelType::Bsp}) {
         for (BvhTraversal traversal : {BvhTraversal::Ordered, BvhTraversal::Unordered}) {
             const auto accel = build(mesh, type, traversal);
             const NodeBoxes boxes(*accel);
@@ -127,7 +127,7 @@ TEST(Stepper, TriangleInspectorNamesTheOwnBoxRule) {
 
 TEST(Stepper, NodeBoxesNestAndHoldTheirLeafIntervals) {
     const Mesh& mesh = teapot();
-    for (const AccelType type : {AccelType::Bvh, AccelType::Kd, AccelType::Octree, AccelType::Grid}) {
+    for (const AccelType type : {AccelType::Bvh, AccelType::Kd, AccelType::Octree, AccelType::Bsp, AccelType::Grid}) {
         const auto accel = build(mesh, type);
         const NodeBoxes boxes(*accel);
         ASSERT_TRUE(boxes.root()) << type;
