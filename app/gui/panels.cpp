@@ -255,6 +255,14 @@ void StructurePanel::draw(AppState& state, Session& session) {
         rebuild |= int_slider("Max depth", a.octree.max_depth, 1, kOctreeMaxDepth);
         rebuild |= leaf_size_slider("Leaf size", a.octree.leaf_size);
         rebuild |= ImGui::Checkbox("Mailbox", &a.octree.mailbox);
+    } else if (a.type == AccelType::Bsp) {
+        rebuild |= int_slider("Max depth", a.bsp.max_depth, 1, kBspMaxDepth);
+        rebuild |= leaf_size_slider("Leaf size", a.bsp.leaf_size);
+        rebuild |= int_slider("Planes tried", a.bsp.candidates, 1, 64);
+        if (ImGui::IsItemHovered())
+            ImGui::SetTooltip("How many of a node's triangles offer their plane; the best one\n"
+                              "(fewest triangles cut, sides most even) splits the node.");
+        rebuild |= ImGui::Checkbox("Mailbox", &a.bsp.mailbox);
     }
     // Every structure: Möller–Trumbore (the lecture's) or the watertight test.
     rebuild |= enum_combo("Triangle test", a.triangle_test, triangle_test_names(), parse_triangle_test);

@@ -11,6 +11,7 @@
 
 #include "app/gui/camera_control.h"
 #include "app/gui/session.h"
+#include "core/accel/bsp_tree.h"
 #include "core/traversal/event_json.h"
 
 namespace accelviz {
@@ -580,6 +581,14 @@ void StepperPanel::draw_inspectors(const TraversalEvent* current) {
     auto split = [&] {
         if (!step_state.last_split || !ImGui::CollapsingHeader("Split plane", ImGuiTreeNodeFlags_DefaultOpen)) return;
         const TraversalEvent& e = *step_state.last_split;
+        if (e.axis == kGeneralPlane) {  // a BSP node: a plane facing any way
+            const Vec3 n = boxes.plane_normal(e.node);
+            ImGui::Text("node %u: plane N.p = %s, N = (%s, %s, %s)", e.node, number(e.split).c_str(),
+                        number(n.x).c_str(), number(n.y).c_str(), number(n.z).c_str());
+            ImGui::Text("t_split = (c - N.o) / (N.d) = %s, near side: %s", number(e.t).c_str(),
+                        e.near_first ? "back" : "front");
+            return;
+        }
         const char* axis = e.axis == 0 ? "x" : e.axis == 1 ? "y" : "z";
         ImGui::Text("node %u: %s = %s", e.node, axis, number(e.split).c_str());
         ImGui::Text("t_split = %s, near side: %s", number(e.t).c_str(), e.near_first ? "lower" : "upper");

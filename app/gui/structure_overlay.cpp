@@ -6,6 +6,7 @@
 
 #include "core/accel/bvh.h"
 #include "core/accel/kd_tree.h"
+#include "core/accel/bsp_tree.h"
 #include "core/accel/octree.h"
 #include "core/accel/uniform_grid.h"
 #include "core/accel/wide_bvh.h"
@@ -264,6 +265,62 @@ void kd_overlay(const KdTree& tree, const OverlaySettings& s, StructureOverlay& 
                               s.max_boxes);
 }
 
+// [SECTION] BSP tree: its planes inside their cells by depth
+
+constexpr Rgba8 kTrianglePlaneOrange{255, 150, 40, 170};
+
+void bsp_overlay(const BspTree& tree, const OverlaySettings& s, StructureOverlay& out) {
+    if (tree.nodes.empty()) return;
+    const BspTree::NodeShapes shapes = tree.node_shapes();
+    const std::vector<Cell> cells = cells_depth_first(
+        [&](uint32_t node, auto push) {
+            const BspNode& n = tree.nodes[node];
+            if (n.is_leaf()) return;
+            push(n.first + 1);
+            push(n.first);
+        },
+        out.deepest_level);
+    std::vector<size_t> per_level;  // one plane, or one leaf's cell bounds, per counted node
+    for (const Cell& c : cells) {
+        const BspNode& n = tree.nodes[c.node];
+        if (s.leaves_only ? (n.is_leaf() && n.count > 0) : !n.is_leaf()) count_level(per_level, c.depth);
+    }
+    const ShownLevels shown = shown_levels(s, out.deepest_level, per_level);
+    const LevelRange levels = shown.range;
+    LevelOrderedBoxes ordered(levels);
+    for (const Cell& c : cells) {
+        const BspNode& n = tree.nodes[c.node];
+        if (!levels.contains(c.depth)) continue;
+        const double x = level_position(c.depth, levels.lo, levels.hi);
+        if (s.leaves_only) {
+            const Aabb& box = shapes.cell_bounds[c.node];
+            if (n.is_leaf() && n.count > 0) ordered.add({box.lo, box.hi, level_colour(x)}, c.depth);
+            continue;
+        }
+        // The plane inside the node's cell, a convex polygon, as a fan of quads
+        // (a triangle is a quad with its last corner twice). A triangle's own plane
+        // stands out in orange: what a BSP tree has and a KD tree has not.
+        const Polygon& poly = shapes.split_polygons[c.node];
+        for (size_t i = 1; i + 1 < poly.size(); ++i) {
+            ColouredQuad quad;
+            quad.corners[0] = poly[0];
+            quad.corners[1] = poly[i];
+            quad.corners[2] = quad.corners[3] = poly[i + 1];
+            quad.colour = n.from_triangle ? kTrianglePlaneOrange : level_colour(x, 60);
+            ordered.add(quad, c.depth);
+        }
+    }
+    ordered.finish(out);
+    if (s.leaves_only) {
+        out.legend = range_legend("BSP non-empty leaves (their cells' bounds)", shown, out.deepest_level, s.max_boxes);
+        return;
+    }
+    char what[96];
+    std::snprintf(what, sizeof what, "BSP planes (orange: %u of %u are triangles' planes; the rest axis-aligned)",
+                  tree.build_stats.triangle_planes, tree.build_stats.triangle_planes + tree.build_stats.axis_planes);
+    out.legend = range_legend(what, shown, out.deepest_level, s.max_boxes);
+}
+
 // [SECTION] Grid: non-empty cells by triangle count
 
 void grid_overlay(const UniformGrid& grid, StructureOverlay& out) {
@@ -412,6 +469,10 @@ LeafHistogram leaf_histogram(const Accelerator& accel) {
         out.what = "KD leaves";
         for (const KdNode& n : kd->nodes)
             if (n.is_leaf()) add(n.count);
+    } else if (const BspTree* bsp = structure_if<BspTree>(accel)) {
+        out.what = "BSP leaves";
+        for (const BspNode& n : bsp->nodes)
+            if (n.is_leaf()) add(n.count);
     } else if (const UniformGrid* grid = structure_if<UniformGrid>(accel)) {
         out.what = "grid cells";
         const auto& start = grid->cell_start;
@@ -466,6 +527,8 @@ StructureOverlay make_structure_overlay(const Accelerator& accel, const OverlayS
         octree_overlay(*octree, settings, out);
     else if (const KdTree* kd = structure_if<KdTree>(accel))
         kd_overlay(*kd, settings, out);
+    else if (const BspTree* bsp = structure_if<BspTree>(accel))
+        bsp_overlay(*bsp, settings, out);
     else if (const UniformGrid* grid = structure_if<UniformGrid>(accel))
         grid_overlay(*grid, out);
     else

@@ -53,7 +53,8 @@ TEST_F(WidgetIds, TheAuditFindsTwoWidgetsWithOneLabel) {
 }
 
 TEST_F(WidgetIds, SidebarOfEveryStructureHasUniqueIds) {
-    for (const AccelType type : {AccelType::Naive, AccelType::Bvh, AccelType::Grid, AccelType::Kd, AccelType::Octree}) {
+    for (const AccelType type :
+         {AccelType::Naive, AccelType::Bvh, AccelType::Grid, AccelType::Kd, AccelType::Octree, AccelType::Bsp}) {
         AppState state;
         state.scene = "builtin:teapot?n=4";
         state.accel.type = type;
