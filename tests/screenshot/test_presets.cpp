@@ -201,7 +201,7 @@ TEST(Presets, TheComparisonPresetsMeasureWhatTheirCaptionsSay) {
     // the cell structures meet triangles again, the BVH never; in the stadium the grid,
     // which cannot adapt, tests many times the triangles per ray the trees do.
     std::vector<StructureComparison> measured;
-    for (const char* name : {"35-comparison-table", "36-amortization"}) {
+    for (const char* name : {"36-comparison-table", "37-amortization"}) {
         SCOPED_TRACE(name);
         auto state = load_app_state_file(kPresetDir + "/" + name + ".json");
         ASSERT_TRUE(state) << state.error();
@@ -280,7 +280,7 @@ TEST(TwoBvhsPanel, MeasuresAgainWhenTheBuildersChange) {
 }
 
 TEST(Presets, TheTwoLoopsPresetStopsBothPartWay) {
-    auto state = load_app_state_file(kPresetDir + "/37-raster-vs-raycast-loops.json");
+    auto state = load_app_state_file(kPresetDir + "/38-raster-vs-raycast-loops.json");
     ASSERT_TRUE(state) << state.error();
     EXPECT_EQ(state->view.mode, ViewMode::Split);
     EXPECT_TRUE(state->view.fill_order);
