@@ -21,11 +21,11 @@ void add_accel_flags(CLI::App& command, AccelConfig& config) {
     // Shared by several structures (unset: each structure's default).
     command.add_option("--leaf-size", config.leaf_size,
                        "Leaf size limit (bvh: 1.." + std::to_string(kBvhMaxLeafSize) +
-                           "; kd, octree: any); default: each structure's own")
+                           "; kd, octree, bsp: any); default: each structure's own")
         ->check(whole_number(1, 1 << 20));
-    command.add_option("--cost-trav", config.cost_trav, "SAH cost of one interior-node step, C_trav (bvh, kd)")
+    command.add_option("--cost-trav", config.cost_trav, "SAH cost of one interior-node step, C_trav (bvh, kd, bsp)")
         ->check(number_between(0.0, 1e6));
-    command.add_option("--cost-isect", config.cost_isect, "SAH cost of one ray-triangle test, C_isect (bvh, kd)")
+    command.add_option("--cost-isect", config.cost_isect, "SAH cost of one ray-triangle test, C_isect (bvh, kd, bsp)")
         ->check(number_between(1e-6, 1e6));
 
     // BVH. --leaf-size, --cost-trav and --cost-isect above apply too (default 4, 1, 1).
@@ -68,15 +68,15 @@ void add_accel_flags(CLI::App& command, AccelConfig& config) {
             },
             "SIZE"));
 
-    // Space partitioning: grid, kd, octree.
+    // Space partitioning: grid, kd, octree, bsp.
     auto on_off = [](bool& a) { return [&a](const std::string& v) { a = v == "on"; }; };
     command.add_option_function<std::string>(
                "--mailbox",
                [&config](const std::string& v) {
                    config.grid.mailbox = config.kd.mailbox = config.octree.mailbox = config.bsp.mailbox = v == "on";
                },
-               "grid/kd/octree: skip triangles a ray already tested in an earlier cell "
-               "(on|off; default on for grid and octree, off for kd)")
+               "grid/kd/octree/bsp: skip triangles a ray already tested in an earlier cell "
+               "(on|off; default on for grid, octree and bsp, off for kd)")
         ->check(CLI::IsMember({"on", "off"}));
     command.add_option("--grid-density", config.grid.density, "grid: C in #cells = C * #triangles (lecture: 27)")
         ->check(number_between(0.001, 10000.0))
