@@ -86,7 +86,7 @@ void add_accel_flags(CLI::App& command, AccelConfig& config) {
                "grid: cells a triangle goes into: those its box overlaps, or those it overlaps (box|exact, default box)")
         ->check(CLI::IsMember(grid_insert_names()));
     command.add_option("--grid-max-cells-per-axis", config.grid.max_cells_per_axis, "grid: resolution cap per axis (reported when it applies)")
-        ->check(whole_number(1, 4096))
+        ->check(whole_number(1, kBspMaxCandidates))
         ->capture_default_str();
     command.add_option_function<std::string>(
                "--kd-build", [&config](const std::string& v) { config.kd.builder = *parse_kd_builder(v); },

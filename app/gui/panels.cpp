@@ -260,8 +260,8 @@ void StructurePanel::draw(AppState& state, Session& session) {
         rebuild |= leaf_size_slider("Leaf size", a.bsp.leaf_size);
         rebuild |= int_slider("Planes tried", a.bsp.candidates, 1, 64);
         if (ImGui::IsItemHovered())
-            ImGui::SetTooltip("How many of a node's triangles offer their plane; the best one\n"
-                              "(fewest triangles cut, sides most even) splits the node.");
+            ImGui::SetTooltip("How many of a node's triangles offer their plane. They compete with\n"
+                              "axis-aligned planes under the SAH; the cheapest splits the node.");
         rebuild |= ImGui::Checkbox("Mailbox", &a.bsp.mailbox);
     }
     // Every structure: Möller–Trumbore (the lecture's) or the watertight test.

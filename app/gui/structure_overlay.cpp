@@ -271,7 +271,7 @@ constexpr Rgba8 kTrianglePlaneOrange{255, 150, 40, 170};
 
 void bsp_overlay(const BspTree& tree, const OverlaySettings& s, StructureOverlay& out) {
     if (tree.nodes.empty()) return;
-    const BspTree::NodeShapes shapes = tree.node_shapes();
+    const BspTree::NodeShapes& shapes = tree.node_shapes();
     const std::vector<Cell> cells = cells_depth_first(
         [&](uint32_t node, auto push) {
             const BspNode& n = tree.nodes[node];
@@ -280,10 +280,14 @@ void bsp_overlay(const BspTree& tree, const OverlaySettings& s, StructureOverlay
             push(n.first);
         },
         out.deepest_level);
-    std::vector<size_t> per_level;  // one plane, or one leaf's cell bounds, per counted node
+    std::vector<size_t> per_level;  // a plane's quads, or one leaf's cell bounds, per counted node
     for (const Cell& c : cells) {
         const BspNode& n = tree.nodes[c.node];
-        if (s.leaves_only ? (n.is_leaf() && n.count > 0) : !n.is_leaf()) count_level(per_level, c.depth);
+        if (s.leaves_only) {
+            if (n.is_leaf() && n.count > 0) count_level(per_level, c.depth);
+        } else {
+            for (size_t q = 2; q < shapes.split_polygons[c.node].size(); ++q) count_level(per_level, c.depth);
+        }
     }
     const ShownLevels shown = shown_levels(s, out.deepest_level, per_level);
     const LevelRange levels = shown.range;
@@ -294,7 +298,7 @@ void bsp_overlay(const BspTree& tree, const OverlaySettings& s, StructureOverlay
         const double x = level_position(c.depth, levels.lo, levels.hi);
         if (s.leaves_only) {
             const Aabb& box = shapes.cell_bounds[c.node];
-            if (n.is_leaf() && n.count > 0) ordered.add({box.lo, box.hi, level_colour(x)}, c.depth);
+            if (n.is_leaf() && n.count > 0 && !box.empty()) ordered.add({box.lo, box.hi, level_colour(x)}, c.depth);
             continue;
         }
         // The plane inside the node's cell, a convex polygon, as a fan of quads

@@ -12,9 +12,10 @@ std::optional<Error> validate(const BspConfig& c) {
     if (c.max_depth < 1 || c.max_depth > kBspMaxDepth)
         return Error{"--bsp-max-depth must be in 1.." + std::to_string(kBspMaxDepth)};
     if (c.leaf_size < 1) return Error{"--leaf-size must be at least 1"};
-    if (c.candidates < 1) return Error{"--bsp-candidates must be at least 1"};
-    if (!(c.cost_trav >= 0)) return Error{"--cost-trav must be >= 0"};
-    if (!(c.cost_isect > 0)) return Error{"--cost-isect must be > 0"};
+    if (c.candidates < 1 || c.candidates > kBspMaxCandidates)
+        return Error{"--bsp-candidates must be in 1.." + std::to_string(kBspMaxCandidates)};
+    if (!(c.cost_trav >= 0) || !std::isfinite(c.cost_trav)) return Error{"--cost-trav must be finite and >= 0"};
+    if (!(c.cost_isect > 0) || !std::isfinite(c.cost_isect)) return Error{"--cost-isect must be finite and > 0"};
     if (!(c.empty_bonus >= 0 && c.empty_bonus < 1)) return Error{"bsp empty_bonus must be in [0, 1)"};
     if (!(c.max_duplication >= 1.0)) return Error{"bsp max_duplication must be >= 1"};
     return std::nullopt;
@@ -135,7 +136,9 @@ Polygon plane_in_cell(const Plane& plane, const std::vector<Polygon>& faces, con
         }
     if (corners == 0) return {};
     const Vec3 c = to_float(mean * (1.0 / double(corners)));
-    const float r = length(cell_bounds.extent()) + 1.0f;
+    // Larger than the cell whatever its units (an absolute margin would swamp a
+    // small scene's cells with the square's rounding).
+    const float r = 1.01f * length(cell_bounds.extent());
     const Vec3 n = plane.normal;
     const Vec3 q = c - n * plane.distance(c);
     const Vec3 helper = std::abs(n.x) < 0.9f ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
@@ -156,15 +159,14 @@ Polygon plane_in_cell(const Plane& plane, const std::vector<Polygon>& faces, con
 }
 
 /// The part of the convex cell with these faces on one side of `plane`: each face
-/// cut, and the plane's own polygon in the cell as the new face.
-std::vector<Polygon> split_cell(const std::vector<Polygon>& faces, const Aabb& bounds, const Plane& plane, bool back) {
+/// cut, and `cap` (the plane's own polygon in the cell, plane_in_cell) as the new face.
+std::vector<Polygon> split_cell(const std::vector<Polygon>& faces, const Plane& plane, bool back, const Polygon& cap) {
     std::vector<Polygon> out;
     for (const Polygon& f : faces) {
         Polygon cut = clip_polygon(f, plane, back);
         if (cut.size() >= 3) out.push_back(std::move(cut));
     }
-    Polygon cap = plane_in_cell(plane, faces, bounds);
-    if (cap.size() >= 3) out.push_back(std::move(cap));
+    if (cap.size() >= 3) out.push_back(cap);
     return out;
 }
 
@@ -189,12 +191,26 @@ struct Cell {
             for (const Vec3& v : p) bounds.grow(v);
         }
     }
-    /// The part on one side of `plane` (its bounds kept inside this cell's: the cut's
-    /// corners are rounded to float).
-    Cell side(const Plane& plane, bool back) const {
-        Cell part(split_cell(faces, bounds, plane, back));
+    /// The plane's polygon inside the cell: the face both parts get.
+    Polygon cap(const Plane& plane) const { return plane_in_cell(plane, faces, bounds); }
+    /// The part on one side of `plane`, whose polygon in the cell is `cap` (its bounds
+    /// kept inside this cell's: the cut's corners are rounded to float).
+    Cell side(const Plane& plane, bool back, const Polygon& cap) const {
+        Cell part(split_cell(faces, plane, back, cap));
         if (!part.bounds.empty()) part.bounds = {max(part.bounds.lo, bounds.lo), min(part.bounds.hi, bounds.hi)};
         return part;
+    }
+
+    /// True if `plane` cuts the cell: some corner lies beyond `pad` on either side.
+    bool cut_by(const Plane& plane, float pad) const {
+        double lo = kInfinity, hi = -kInfinity;
+        for (const Polygon& f : faces)
+            for (const Vec3& v : f) {
+                const double d = distance(plane, v);
+                lo = std::min(lo, d);
+                hi = std::max(hi, d);
+            }
+        return lo < -double(pad) && hi > double(pad);
     }
 
     /// The surface areas of the two parts `plane` cuts the cell into, without
@@ -213,6 +229,7 @@ struct Cell {
                 const double dp = distance(plane, p), dq = distance(plane, q);
                 if (dp <= 0) b.push_back(p);
                 if (dp >= 0) f.push_back(p);
+                if (dp == 0) crossings.push_back(p);  // a corner on the plane is a corner of the cut
                 if ((dp < 0 && dq > 0) || (dp > 0 && dq < 0)) {
                     const double s = dp / (dp - dq);
                     const Vec3 x{float(p.x + s * (q.x - p.x)), float(p.y + s * (q.y - p.y)), float(p.z + s * (q.z - p.z))};
@@ -318,6 +335,8 @@ Expected<BspTree> build_bsp_tree(const Mesh& mesh, const BspConfig& config, Work
     SubtreeCounts counts;
     uint64_t live = st.triangles;  // references in leaves and in work not done yet
     tree.nodes.emplace_back();
+    tree.shapes.cell_bounds.resize(1);
+    tree.shapes.split_polygons.resize(1);
     std::vector<WorkItem> work;
     work.push_back({0, 0, Cell(box_faces(tree.bounds)), std::move(root), PartitionProgress::kTotal});
     while (!work.empty()) {
@@ -338,6 +357,10 @@ Expected<BspTree> build_bsp_tree(const Mesh& mesh, const BspConfig& config, Work
             Score best_score;
             best_score.cost = double(n) * config.cost_isect;
             auto consider = [&](const Plane& plane, bool triangle) {
+                // Only a plane that cuts the cell (corners beyond the padding on both
+                // sides): one along a face, or an ancestor's again, would make a cell
+                // of no volume, which rounding can make look like progress.
+                if (!item.cell.cut_by(plane, pad)) return;
                 const Score s = score(item.pieces, piece_bounds, plane, pad, item.cell, config);
                 if (s.progress && s.cost < best_score.cost) {
                     best_score = s;
@@ -377,9 +400,8 @@ Expected<BspTree> build_bsp_tree(const Mesh& mesh, const BspConfig& config, Work
                 best.reset();
                 counts.budget_hit = true;
             }
-        } else if (n > size_t(config.leaf_size) && int(item.depth) < config.max_depth) {
-            ++counts.no_progress;
         }
+        tree.shapes.cell_bounds[item.node] = item.cell.bounds;
         if (!best) {
             BspNode& leaf = tree.nodes[item.node];
             leaf = BspNode{{}, uint32_t(tree.prim_ids.size()), uint32_t(n), true, false};
@@ -393,11 +415,15 @@ Expected<BspTree> build_bsp_tree(const Mesh& mesh, const BspConfig& config, Work
         tree.nodes[item.node] = BspNode{*best, first, 0, false, from_triangle};
         (from_triangle ? st.triangle_planes : st.axis_planes) += 1;
         tree.nodes.resize(tree.nodes.size() + 2);
+        tree.shapes.cell_bounds.resize(tree.nodes.size());
+        tree.shapes.split_polygons.resize(tree.nodes.size());
+        Polygon& cap = tree.shapes.split_polygons[item.node];
+        cap = item.cell.cap(*best);
         const uint64_t back_units = PartitionProgress::share_of(item.progress_units, back.size(), back.size() + front.size());
         // Front pushed first: the back child is built first (depth first, construction order).
-        work.push_back({first + 1, item.depth + 1, item.cell.side(*best, false), std::move(front),
+        work.push_back({first + 1, item.depth + 1, item.cell.side(*best, false, cap), std::move(front),
                         item.progress_units - back_units});
-        work.push_back({first, item.depth + 1, item.cell.side(*best, true), std::move(back), back_units});
+        work.push_back({first, item.depth + 1, item.cell.side(*best, true, cap), std::move(back), back_units});
     }
     counts.write_to(st);
     tree.end_build(mesh,
@@ -406,7 +432,7 @@ Expected<BspTree> build_bsp_tree(const Mesh& mesh, const BspConfig& config, Work
                     .depth_limit = config.max_depth,
                     .leaf_size = config.leaf_size,
                     .not_split = counts.no_progress,
-                    .not_split_why = "no plane (a triangle's or an axis-aligned one) costs less by the SAH than testing their triangles",
+                    .not_split_why = "the cheapest plane on a sample of their triangles separated none of them",
                     .budget_hit = counts.budget_hit,
                     .max_duplication = config.max_duplication},
                    start);
@@ -425,6 +451,7 @@ nlohmann::json BspTree::config() const {
             {"candidates", c.candidates},
             {"cost_trav", c.cost_trav},
             {"cost_isect", c.cost_isect},
+            {"empty_bonus", c.empty_bonus},
             {"mailbox", c.mailbox},
             {"triangle_test", std::string(to_string(triangle_test))}};
 }
@@ -433,30 +460,12 @@ nlohmann::json BspTree::stats() const {
     nlohmann::json j = partition_stats_json(build_stats);
     j["triangle_planes"] = build_stats.triangle_planes;
     j["axis_planes"] = build_stats.axis_planes;
+    // The cells' bounds and planes' polygons kept for drawing (not in memory_bytes,
+    // which counts what tracing reads).
+    uint64_t shape_bytes = shapes.cell_bounds.size() * sizeof(Aabb);
+    for (const Polygon& p : shapes.split_polygons) shape_bytes += sizeof(Polygon) + p.size() * sizeof(Vec3);
+    j["shape_bytes"] = shape_bytes;
     return j;
-}
-
-BspTree::NodeShapes BspTree::node_shapes() const {
-    NodeShapes out;
-    out.cell_bounds.resize(nodes.size());
-    out.split_polygons.resize(nodes.size());
-    if (nodes.empty()) return out;
-    // Each cell as its faces, as the build cut them. Children follow their parent in
-    // the array, so one pass does; a cell is let go once its children have theirs.
-    std::vector<std::optional<Cell>> cells(nodes.size());
-    cells[0].emplace(box_faces(bounds));
-    for (size_t i = 0; i < nodes.size(); ++i) {
-        const Cell& cell = *cells[i];
-        out.cell_bounds[i] = cell.bounds;
-        const BspNode& n = nodes[i];
-        if (!n.is_leaf()) {
-            out.split_polygons[i] = plane_in_cell(n.plane, cell.faces, cell.bounds);
-            cells[n.first].emplace(cell.side(n.plane, true));
-            cells[n.first + 1].emplace(cell.side(n.plane, false));
-        }
-        cells[i].reset();
-    }
-    return out;
 }
 
 }  // namespace accelviz

@@ -35,6 +35,8 @@ namespace accelviz {
 /// The deepest a BSP tree may get (root = 0); traversal pushes at most one node per level.
 inline constexpr int kBspMaxDepth = 60;
 inline constexpr int kBspStackSize = kBspMaxDepth + 4;
+/// The most triangle planes a node may try (each is weighed against all its triangles).
+inline constexpr int kBspMaxCandidates = 4096;
 
 /// The SplitPlane event's `axis` for a general plane (0, 1, 2 are x, y, z): the
 /// plane is the node's (BspTree::nodes[node]), `split` its offset c.
@@ -95,14 +97,16 @@ struct BspTree : PartitionTree<BspNode, BspConfig, BspBuildStats> {
     nlohmann::json config() const;
     nlohmann::json stats() const;
 
-    /// What the overlay and the stepper draw, by node: the bounds of its cell (a
-    /// convex polyhedron: the root's box cut by its ancestors' planes), and for an
-    /// interior node its plane inside the cell (the polygon the cut makes).
+    /// What the overlay and the stepper draw, by node, kept from the build (which
+    /// cuts each cell's faces anyway): the bounds of its cell (a convex polyhedron:
+    /// the root's box cut by its ancestors' planes), and for an interior node its
+    /// plane inside the cell (the polygon the cut makes; empty for a leaf).
     struct NodeShapes {
         std::vector<Aabb> cell_bounds;
-        std::vector<Polygon> split_polygons;  ///< empty for a leaf
+        std::vector<Polygon> split_polygons;
     };
-    NodeShapes node_shapes() const;
+    NodeShapes shapes;
+    const NodeShapes& node_shapes() const { return shapes; }
 
     /// Closest hit in [ray.t_min, ray.t_max]. Events: BoxTest (root), VisitNode,
     /// SplitPlane (axis = kGeneralPlane, near_first = the back side first), Push,

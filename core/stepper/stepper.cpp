@@ -56,9 +56,8 @@ NodeBoxes::NodeBoxes(const Accelerator& accel) {
     } else if (const Octree* octree = structure_if<Octree>(accel)) {
         boxes_ = octree->node_boxes();
     } else if (const BspTree* bsp = structure_if<BspTree>(accel)) {
-        BspTree::NodeShapes shapes = bsp->node_shapes();
-        boxes_ = std::move(shapes.cell_bounds);
-        polygons_ = std::move(shapes.split_polygons);
+        boxes_ = bsp->node_shapes().cell_bounds;
+        polygons_ = bsp->node_shapes().split_polygons;
         for (const BspNode& n : bsp->nodes) normals_.push_back(n.is_leaf() ? Vec3{0, 0, 0} : n.plane.normal);
     } else if (const UniformGrid* grid = structure_if<UniformGrid>(accel)) {
         grid_ = true;

@@ -161,7 +161,7 @@ TEST(BspTree, OriginsOnItsTiltedPlanes) {
     for (const char* source : {"builtin:teapot", "builtin:soup?n=2000&seed=3", "builtin:cornell"}) {
         const SceneCase& scene = scene_case(source, 10);
         const BspTree t = build(scene.mesh, BspConfig{});
-        const BspTree::NodeShapes shapes = t.node_shapes();
+        const BspTree::NodeShapes& shapes = t.node_shapes();
         SceneCase on_planes;
         on_planes.mesh = scene.mesh;
         Rng rng(31);
@@ -191,7 +191,7 @@ TEST(BspTree, OriginsOnItsTiltedPlanes) {
 
 TEST(BspTree, CellShapesContainTheirChildrenAndThePlanesLieInTheirCells) {
     const BspTree t = build(scene_case("builtin:teapot", 10).mesh, BspConfig{});
-    const BspTree::NodeShapes shapes = t.node_shapes();
+    const BspTree::NodeShapes& shapes = t.node_shapes();
     ASSERT_EQ(shapes.cell_bounds.size(), t.nodes.size());
     EXPECT_EQ(shapes.cell_bounds[0], t.bounds);
     const float eps = 1e-4f * length(t.bounds.extent());
@@ -222,4 +222,60 @@ TEST(BspTree, BadConfigIsAnErrorNamingTheFlag) {
     auto none = build_bsp_tree(mesh, BspConfig{.candidates = 0});
     ASSERT_FALSE(none.ok());
     EXPECT_NE(none.error().find("--bsp-candidates"), std::string::npos);
+}
+
+namespace {
+
+/// The teapot with every coordinate times `scale` plus `offset`, its rays and brute force's answers.
+SceneCase moved_teapot(float scale, float offset) {
+    SceneCase c;
+    c.mesh = scene_case("builtin:teapot", 10).mesh;
+    for (Vec3& p : c.mesh.positions) p = p * scale + Vec3{offset, offset, offset};
+    c.rays = make_test_rays(c.mesh, 20000, 5);
+    c.answers = brute_force_answers(c.mesh, c.rays);
+    return c;
+}
+
+/// Every interior node's plane cuts its cell (a polygon with corners) and no cell is
+/// empty: a plane that missed its cell would make one of no volume.
+void expect_planes_cut_their_cells(const BspTree& t, const std::string& label) {
+    const BspTree::NodeShapes& shapes = t.node_shapes();
+    ASSERT_EQ(shapes.cell_bounds.size(), t.nodes.size()) << label;
+    size_t missed = 0, empty = 0;
+    for (size_t i = 0; i < t.nodes.size(); ++i) {
+        if (!t.nodes[i].is_leaf() && shapes.split_polygons[i].size() < 3) ++missed;
+        if (shapes.cell_bounds[i].empty()) ++empty;
+    }
+    EXPECT_EQ(missed, 0u) << label;
+    EXPECT_EQ(empty, 0u) << label;
+}
+
+}  // namespace
+
+TEST(BspTree, TheTreeDoesNotDependOnTheSceneUnits) {
+    // The same teapot in micrometres or kilometres: the same tree, give or take rounding.
+    const SceneCase one = moved_teapot(1.0f, 0.0f);
+    const BspTree reference = build(one.mesh, BspConfig{});
+    expect_planes_cut_their_cells(reference, "x1");
+    for (const float scale : {1e-6f, 1e-3f, 1e3f}) {
+        const SceneCase scaled = moved_teapot(scale, 0.0f);
+        const BspTree t = build(scaled.mesh, BspConfig{});
+        const std::string label = "scale " + std::to_string(scale);
+        EXPECT_NEAR(double(t.nodes.size()), double(reference.nodes.size()), 0.03 * double(reference.nodes.size()))
+            << label;
+        expect_planes_cut_their_cells(t, label);
+        // (The test rays start at least 1e-3 from the scene: for the micro-teapot
+        // that is hundreds of its sizes away, beyond the structures' stated precision.)
+        if (scale >= 1e-3f) expect_exact(t, scaled, "bsp " + label);
+    }
+}
+
+TEST(BspTree, FarFromTheOriginItsPlanesStillCutTheirCells) {
+    // At 3000 the padding (a fraction of the coordinates' size) is large against the
+    // teapot: few planes can cut, and none may be taken that does not.
+    const SceneCase far = moved_teapot(1.0f, 3000.0f);
+    const BspTree t = build(far.mesh, BspConfig{});
+    expect_planes_cut_their_cells(t, "offset 3000");
+    EXPECT_LT(t.build_stats.duplication, 16.0) << "no cells of no volume filling the budget";
+    expect_exact(t, far, "bsp offset 3000");
 }
