@@ -1,5 +1,5 @@
 #pragma once
-/// What the space-partitioning structures (uniform grid, KD tree, octree) share
+/// What the space-partitioning structures (uniform grid, KD tree, octree, BSP tree) share
 /// at traversal time: the lecture's rule for a triangle that lies in several
 /// cells (slide "KD 树划分的挑战": 要求交点必须在相同区域内; 已经访问过的图像基元
 /// 可以缓存下来), and the mailbox that caches the triangles already tested.

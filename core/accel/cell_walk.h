@@ -1,5 +1,5 @@
 #pragma once
-/// The front-to-back walk both space-partitioning trees (KD tree, octree) make:
+/// The front-to-back walk the space-partitioning trees (KD tree, octree, BSP tree) make:
 /// the ray enters the root's box (the lecture's slab test), goes down to the
 /// leaf holding the start of its interval while deferring the far parts on a
 /// stack, tests that leaf's triangles under the in-cell rule (cell_hits.h), and

@@ -85,7 +85,7 @@ private:
     uint64_t tally_ = 0;
 };
 
-/// What the builds of both space-partitioning trees report (KD tree, octree).
+/// What the builds of the space-partitioning trees report (KD tree, octree, BSP tree).
 struct PartitionStats {
     uint32_t triangles = 0;
     uint32_t nodes = 0;
@@ -159,7 +159,7 @@ struct SubtreeCounts {
     }
 };
 
-/// The arrays of a space-partitioning tree (KD tree, octree) and what it was built
+/// The arrays of a space-partitioning tree (KD tree, octree, BSP tree) and what it was built
 /// with. Invariants of both: nodes[0] is the root and `bounds` its box (the scene's
 /// box grown by the reference padding); nodes is empty iff the mesh has no
 /// triangles; triangles[k] is triangle prim_ids[k] (leaf order: a copy, so that a

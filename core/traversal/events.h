@@ -20,7 +20,9 @@
 ///   MailboxSkip    tri                             already tested for this ray: not tested again
 ///   HitOutsideCell tri, t, t_exit                  a hit beyond the current cell/leaf: not (yet) accepted
 ///   SplitPlane     node, axis, split, t (t_split), near_first   KD/octree node's plane vs the ray
-///                                                  (octree: three per node, near_first = starts below it)
+///                                                  (octree: three per node, near_first = starts below it;
+///                                                  BSP: axis 3, a plane N.p = split facing any way,
+///                                                  near_first = the back side N.p < split first)
 ///   Done           tri, t, u, v, hit               the final answer
 
 #include <cstdint>
