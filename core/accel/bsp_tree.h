@@ -157,22 +157,7 @@ Hit BspTree::front_to_back(const Ray& ray, Observer& obs) const {
             const uint32_t near = n->first + (back_first ? 0 : 1), far = n->first + (back_first ? 1 : 0);
             obs.on({.kind = EventKind::SplitPlane, .axis = kGeneralPlane, .near_first = back_first, .node = cur.node,
                     .t = t_split, .split = p.offset});
-            if (!(t_split < cur.t_max)) {
-                cur.node = near;  // crosses after the interval, never, or lies in the plane (NaN)
-            } else if (t_split <= cur.t_min) {
-                cur.node = far;  // crossed before the interval
-            } else {
-                const BspNode& nn = nodes[near];
-                const BspNode& f = nodes[far];
-                if (nn.is_leaf() && nn.count == 0) {
-                    cur.node = far;
-                    cur.t_min = t_split;
-                } else {
-                    if (!(f.is_leaf() && f.count == 0)) walk.push({far, t_split, cur.t_max}, obs);
-                    cur.node = near;
-                    cur.t_max = t_split;
-                }
-            }
+            walk.cross_plane(cur, t_split, near, far, nodes, obs);
             walk.visit(cur, obs);
             n = &nodes[cur.node];
         }

@@ -84,6 +84,33 @@ struct CellWalk {
         return false;
     }
 
+    /// At a node cut by one plane that the ray crosses at `t_split` (NaN: it lies in the
+    /// plane), `near` the child holding the ray's start side and `far` the other:
+    /// `cur` becomes the near child alone (crossing after the interval, never, or
+    /// NaN: either side holds every triangle near the plane, thanks to the padding),
+    /// the far child alone (crossed before the interval), or the near part with the
+    /// far part deferred. An empty leaf holds nothing to test: skipped.
+    template <class Node, class Observer>
+    void cross_plane(Entry& cur, float t_split, uint32_t near, uint32_t far, const std::vector<Node>& nodes,
+                     Observer& obs) {
+        if (!(t_split < cur.t_max)) {
+            cur.node = near;
+        } else if (t_split <= cur.t_min) {
+            cur.node = far;
+        } else {
+            const Node& n = nodes[near];
+            const Node& f = nodes[far];
+            if (n.is_leaf() && n.count == 0) {
+                cur.node = far;
+                cur.t_min = t_split;
+            } else {
+                if (!(f.is_leaf() && f.count == 0)) push({far, t_split, cur.t_max}, obs);
+                cur.node = near;
+                cur.t_max = t_split;
+            }
+        }
+    }
+
     /// The walk arrives at `cur`.
     template <class Observer>
     static void visit(const Entry& cur, Observer& obs) {

@@ -159,26 +159,7 @@ Hit KdTree::front_to_back(const Ray& ray, Observer& obs) const {
             const uint32_t near = n->first + (lower_first ? 0 : 1), far = n->first + (lower_first ? 1 : 0);
             obs.on({.kind = EventKind::SplitPlane, .axis = uint8_t(a), .near_first = lower_first, .node = cur.node,
                     .t = t_split, .split = n->split});
-            if (!(t_split < cur.t_max)) {
-                // Crosses after the interval, never (±0 direction), or lies in the plane (NaN:
-                // either side holds every triangle near the plane, thanks to the padding).
-                cur.node = near;
-            } else if (t_split <= cur.t_min) {
-                cur.node = far;  // crossed before the interval
-            } else {
-                // Both sides. An empty leaf holds nothing to test: skip it (the SAH's
-                // empty-space cuts make many), else keep the far side for later.
-                const KdNode& nn = nodes[near];
-                const KdNode& f = nodes[far];
-                if (nn.is_leaf() && nn.count == 0) {
-                    cur.node = far;
-                    cur.t_min = t_split;
-                } else {
-                    if (!(f.is_leaf() && f.count == 0)) walk.push({far, t_split, cur.t_max}, obs);
-                    cur.node = near;
-                    cur.t_max = t_split;
-                }
-            }
+            walk.cross_plane(cur, t_split, near, far, nodes, obs);  // (the SAH's empty-space cuts make many empty leaves)
             walk.visit(cur, obs);
             n = &nodes[cur.node];
         }
