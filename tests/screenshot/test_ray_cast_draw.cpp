@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdlib>
 
 #include "app/gui/headless.h"
@@ -103,10 +104,17 @@ TEST(RayCastDraw, AutoChoosesTheFasterAndNaiveStaysRasterizedOnABigView) {
     (*app)->draw(state, input);
     EXPECT_TRUE(session.mesh_ray_cast);
     // Measured times (the window's, bench-view's; golden images use the estimate alone).
+    // The camera has long been still: every cast is of every pixel, so the measured
+    // time is one full picture's and stays that (a slow machine that crossed the
+    // stillness threshold between draws would otherwise swap a quarter picture's
+    // estimate for a full one's mid-test).
+    session.camera_moved_at = std::chrono::steady_clock::now() - std::chrono::seconds(60);
     input.wait_for_ray_cast = true;
     (*app)->draw(state, input);
     const double cast_ms = session.surface_cast.full_cast_milliseconds(session.scene_generation);
     EXPECT_GT(cast_ms, 0.0);
+    ASSERT_TRUE(session.surface_cast.shown());
+    EXPECT_EQ(session.surface_cast.shown()->divisor, 1) << "a full picture measured";
     EXPECT_TRUE(session.mesh_ray_cast) << "the cast, " << cast_ms << " ms, beats 3,552 ms of raster";
     const double triangles = double(session.scene->mesh->triangle_count());
     session.raster_ms_per_triangle = 0.9 * cast_ms / triangles;  // raster a little faster: not enough to switch
