@@ -5,7 +5,7 @@
 /// Each concrete structure writes its traversal ONCE, as a template over an
 /// observer, and AcceleratorFor<> (below) instantiates it three times:
 /// NoObserver (fast path), CountingObserver (heat maps) and RecordingObserver
-/// (trace, stepper). So what the stepper shows is what renders the image.
+/// (trace, stepper); the same for the any-hit query of shadow rays. So what the stepper shows is what renders the image.
 
 #include <memory>
 #include <string>
@@ -30,6 +30,8 @@ public:
     virtual Hit intersect_closest(const Ray& ray, RecordingObserver& obs) const = 0;
     /// Any hit in [ray.t_min, ray.t_max] (shadow rays): stops at the first one.
     virtual bool intersect_any(const Ray& ray) const = 0;
+    virtual bool intersect_any(const Ray& ray, CountingObserver& obs) const = 0;
+    virtual bool intersect_any(const Ray& ray, RecordingObserver& obs) const = 0;
     /// Which ray-triangle test every traversal runs.
     virtual TriangleTestKind triangle_test() const = 0;
     /// Build configuration and statistics, as bench and the Stats panel show them.
@@ -39,7 +41,7 @@ public:
 
 /// Adapts a structure S that provides
 ///   template <class Obs> Hit intersect_closest(const Ray&, Obs&) const;
-///   bool intersect_any(const Ray&) const;
+///   template <class Obs> bool intersect_any(const Ray&, Obs&) const;
 ///   static constexpr AccelType kType;
 ///   std::string name() const; json config() const; json stats() const;
 /// to the Accelerator interface.
@@ -59,7 +61,12 @@ public:
     Hit intersect_closest(const Ray& ray, RecordingObserver& obs) const override {
         return s_.intersect_closest(ray, obs);
     }
-    bool intersect_any(const Ray& ray) const override { return s_.intersect_any(ray); }
+    bool intersect_any(const Ray& ray) const override {
+        NoObserver obs;
+        return s_.intersect_any(ray, obs);
+    }
+    bool intersect_any(const Ray& ray, CountingObserver& obs) const override { return s_.intersect_any(ray, obs); }
+    bool intersect_any(const Ray& ray, RecordingObserver& obs) const override { return s_.intersect_any(ray, obs); }
     TriangleTestKind triangle_test() const override { return s_.triangle_test; }
     nlohmann::json config() const override { return s_.config(); }
     nlohmann::json stats() const override { return s_.stats(); }

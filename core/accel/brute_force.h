@@ -34,9 +34,15 @@ struct BruteForce {
                                                              : closest<TriangleTestKind::MollerTrumbore>(ray, obs);
     }
 
+    /// Any hit in [t_min, t_max] (shadow rays): the first triangle, by id, that is hit.
+    template <class Observer>
+    bool intersect_any(const Ray& ray, Observer& obs) const {
+        return triangle_test == TriangleTestKind::Watertight ? any<TriangleTestKind::Watertight>(ray, obs)
+                                                             : any<TriangleTestKind::MollerTrumbore>(ray, obs);
+    }
     bool intersect_any(const Ray& ray) const {
-        return triangle_test == TriangleTestKind::Watertight ? any<TriangleTestKind::Watertight>(ray)
-                                                             : any<TriangleTestKind::MollerTrumbore>(ray);
+        NoObserver none;
+        return intersect_any(ray, none);
     }
 
 private:
@@ -60,12 +66,19 @@ private:
         return best;
     }
 
-    template <TriangleTestKind kTest>
-    bool any(const Ray& ray) const {
+    template <TriangleTestKind kTest, class Observer>
+    bool any(const Ray& ray, Observer& obs) const {
         const TriangleTester<kTest> tester(ray, triangles, corners);
-        for (uint32_t id = 0; id < triangles.size(); ++id)
-            if (tester.test(id, ray).hit) return true;
-        return false;
+        Hit found;
+        for (uint32_t id = 0; id < triangles.size() && !found.found(); ++id) {
+            const TriangleTest test = tester.test(id, ray);
+            obs.on({.kind = EventKind::TriangleTest, .hit = test.hit, .tri = id, .t = test.t, .u = test.u,
+                    .v = test.v});
+            if (test.hit) found = {id, test.t, test.u, test.v};
+        }
+        obs.on({.kind = EventKind::Done, .hit = found.found(), .tri = found.tri, .t = found.t, .u = found.u,
+                .v = found.v});
+        return found.found();
     }
 };
 

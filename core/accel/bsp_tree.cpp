@@ -439,11 +439,6 @@ Expected<BspTree> build_bsp_tree(const Mesh& mesh, const BspConfig& config, Work
     return tree;
 }
 
-bool BspTree::intersect_any(const Ray& ray) const {
-    NoObserver none;
-    return intersect_closest(ray, none).found();
-}
-
 nlohmann::json BspTree::config() const {
     const BspConfig& c = build_config;
     return {{"max_depth", c.max_depth},

@@ -52,14 +52,11 @@ using BvhNodeAllocator = LargeArrayAllocator<BvhNode, sizeof(BvhNode)>;
 static_assert(2 * sizeof(BvhNode) == BvhNodeAllocator::kLine, "a sibling pair is one cache line");
 
 /// The two switches of the lecture's find_closest_hit, which make its two
-/// algorithms (and the shadow ray's any-hit query) one traversal.
+/// algorithms (and the shadow ray's any-hit query) one traversal: ChildOrder, and
+/// StopAt (observers.h).
 enum class ChildOrder {
     LeftThenRight,  ///< algorithm 1: left child, then right; each box tested on arrival
     NearestFirst,   ///< algorithm 2: both children's boxes tested, the nearer visited first
-};
-enum class StopAt {
-    ClosestHit,  ///< keep the closest hit; skip nodes whose box starts beyond it (algorithm 2)
-    AnyHit,      ///< stop at the first hit (shadow rays)
 };
 
 /// A BVH over a mesh's triangles.

@@ -82,8 +82,10 @@ private:
 };
 
 /// The closest-hit bookkeeping of one ray's walk through cells, testing triangles
-/// with test kTest (TriangleTester).
-template <TriangleTestKind kTest>
+/// with test kTest (TriangleTester). With kStop = AnyHit (shadow rays) the in-cell
+/// rule does not apply: a hit anywhere in [t_min, t_max] blocks the segment, so the
+/// first hit found ends the walk, in whichever cell it was tested.
+template <TriangleTestKind kTest, StopAt kStop = StopAt::ClosestHit>
 class CellHits {
 public:
     /// `strict_cell` false is the naive rule (teaching switch): any hit found in a
@@ -117,6 +119,10 @@ public:
         }
         const TriangleTest test = tester_.test(k, test_ray_);
         obs.on({.kind = EventKind::TriangleTest, .hit = test.hit, .tri = id, .t = test.t, .u = test.u, .v = test.v});
+        if constexpr (kStop == StopAt::AnyHit) {
+            if (test.hit) best_ = {id, test.t, test.u, test.v};
+            return;
+        }
         if (!test.hit || !is_closer(test.t, id, best_)) return;
         best_ = {id, test.t, test.u, test.v};
         test_ray_.t_max = test.t;  // later triangles must be at least this close (inclusive, as BruteForce)
@@ -135,10 +141,14 @@ public:
     /// after t_out). Naive: as soon as any hit was found.
     bool can_stop() const {
         if (!best_.found()) return false;
+        if constexpr (kStop == StopAt::AnyHit) return true;
         return strict_ ? best_.t < t_out_ : true;
     }
 
-    /// The closest hit so far (accepted or still pending).
+    /// Any-hit: a hit was found, so the rest of the cell's triangles need no test.
+    bool found_any() const { return kStop == StopAt::AnyHit && best_.found(); }
+
+    /// The closest hit so far (accepted or still pending; any-hit: the hit found).
     const Hit& best() const { return best_; }
 
     /// The final answer. A hit still pending here (the walk ran out of cells

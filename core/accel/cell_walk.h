@@ -62,7 +62,7 @@ struct CellWalk {
         obs.on({.kind = EventKind::Leaf, .node = cur.node, .first = first, .count = count, .t_enter = cur.t_min,
                 .t_exit = cur.t_max});
         hits.enter(cur.t_max, obs);
-        for (uint32_t k = first; k < first + count; ++k) hits.test(k, prim_ids[k], obs);
+        for (uint32_t k = first; k < first + count && !hits.found_any(); ++k) hits.test(k, prim_ids[k], obs);
         return hits.can_stop();
     }
 

@@ -258,12 +258,6 @@ Expected<KdTree> build_kd_tree(const Mesh& mesh, const KdConfig& config, WorkPro
     return tree;
 }
 
-bool KdTree::intersect_any(const Ray& ray) const {
-    // Any hit is a hit: the closest-hit walk answers it.
-    NoObserver none;
-    return intersect_closest(ray, none).found();
-}
-
 nlohmann::json KdTree::config() const {
     const KdConfig& c = build_config;
     return {{"builder", std::string(to_string(c.builder))},

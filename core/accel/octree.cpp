@@ -210,11 +210,6 @@ Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config, Work
     return tree;
 }
 
-bool Octree::intersect_any(const Ray& ray) const {
-    NoObserver none;
-    return intersect_closest(ray, none).found();
-}
-
 nlohmann::json Octree::config() const {
     const OctreeConfig& c = build_config;
     return {{"max_depth", c.max_depth},

@@ -72,14 +72,28 @@ struct Octree : PartitionTree<OctreeNode, OctreeConfig, OctreeBuildStats> {
     /// MailboxSkip, HitOutsideCell, NewClosest, Done.
     template <class Observer>
     Hit intersect_closest(const Ray& ray, Observer& obs) const {
-        return triangle_test == TriangleTestKind::Watertight ? front_to_back<TriangleTestKind::Watertight>(ray, obs)
-                                                             : front_to_back<TriangleTestKind::MollerTrumbore>(ray, obs);
+        return walk<StopAt::ClosestHit>(ray, obs);
     }
-    bool intersect_any(const Ray& ray) const;
+    /// Any hit in [ray.t_min, ray.t_max] (shadow rays): the same walk, ended by the
+    /// first hit wherever it lies (CellHits' any-hit mode).
+    template <class Observer>
+    bool intersect_any(const Ray& ray, Observer& obs) const {
+        return walk<StopAt::AnyHit>(ray, obs).found();
+    }
+    bool intersect_any(const Ray& ray) const {
+        NoObserver none;
+        return intersect_any(ray, none);
+    }
 
 private:
     /// The walk, with the triangle test chosen at compile time (TriangleTester).
-    template <TriangleTestKind kTest, class Observer>
+    template <StopAt kStop, class Observer>
+    Hit walk(const Ray& ray, Observer& obs) const {
+        return triangle_test == TriangleTestKind::Watertight
+                   ? front_to_back<TriangleTestKind::Watertight, kStop>(ray, obs)
+                   : front_to_back<TriangleTestKind::MollerTrumbore, kStop>(ray, obs);
+    }
+    template <TriangleTestKind kTest, StopAt kStop, class Observer>
     Hit front_to_back(const Ray& ray, Observer& obs) const;
 };
 
@@ -102,9 +116,9 @@ Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config, Work
 // Front-to-back traversal.
 // ---------------------------------------------------------------------------
 
-template <TriangleTestKind kTest, class Observer>
+template <TriangleTestKind kTest, StopAt kStop, class Observer>
 Hit Octree::front_to_back(const Ray& ray, Observer& obs) const {
-    CellHits<kTest> hits(ray, triangles, corners, build_config.mailbox, /*strict_cell=*/true, build_stats.triangles);
+    CellHits<kTest, kStop> hits(ray, triangles, corners, build_config.mailbox, /*strict_cell=*/true, build_stats.triangles);
     if (nodes.empty()) return hits.done(obs);
     const RayPrecomp pre(ray);
     CellWalk<kOctreeStackSize> walk;

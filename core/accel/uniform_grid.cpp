@@ -278,12 +278,6 @@ Expected<UniformGrid> build_uniform_grid(const Mesh& mesh, const GridConfig& con
     return g;
 }
 
-bool UniformGrid::intersect_any(const Ray& ray) const {
-    // Any hit is a hit: the closest-hit walk answers it (it stops early on the first cell with a hit).
-    NoObserver none;
-    return intersect_closest(ray, none).found();
-}
-
 nlohmann::json UniformGrid::config() const {
     return {{"density", build_config.density},
             {"insert", std::string(to_string(build_config.insert))},

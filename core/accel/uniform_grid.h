@@ -103,14 +103,28 @@ struct UniformGrid {
     /// TriangleTest, MailboxSkip, HitOutsideCell, NewClosest, Done.
     template <class Observer>
     Hit intersect_closest(const Ray& ray, Observer& obs) const {
-        return triangle_test == TriangleTestKind::Watertight ? front_to_back<TriangleTestKind::Watertight>(ray, obs)
-                                                             : front_to_back<TriangleTestKind::MollerTrumbore>(ray, obs);
+        return walk<StopAt::ClosestHit>(ray, obs);
     }
-    bool intersect_any(const Ray& ray) const;
+    /// Any hit in [ray.t_min, ray.t_max] (shadow rays): the same walk, ended by the
+    /// first hit wherever it lies (CellHits' any-hit mode).
+    template <class Observer>
+    bool intersect_any(const Ray& ray, Observer& obs) const {
+        return walk<StopAt::AnyHit>(ray, obs).found();
+    }
+    bool intersect_any(const Ray& ray) const {
+        NoObserver none;
+        return intersect_any(ray, none);
+    }
 
 private:
     /// The walk, with the triangle test chosen at compile time (TriangleTester).
-    template <TriangleTestKind kTest, class Observer>
+    template <StopAt kStop, class Observer>
+    Hit walk(const Ray& ray, Observer& obs) const {
+        return triangle_test == TriangleTestKind::Watertight
+                   ? front_to_back<TriangleTestKind::Watertight, kStop>(ray, obs)
+                   : front_to_back<TriangleTestKind::MollerTrumbore, kStop>(ray, obs);
+    }
+    template <TriangleTestKind kTest, StopAt kStop, class Observer>
     Hit front_to_back(const Ray& ray, Observer& obs) const;
     /// The cell along `axis` holding coordinate x; on a boundary, the one the ray
     /// moves into (by the sign of its direction component `d`).
@@ -132,9 +146,9 @@ Expected<UniformGrid> build_uniform_grid(const Mesh& mesh, const GridConfig& con
 // The 3D-DDA walk.
 // ---------------------------------------------------------------------------
 
-template <TriangleTestKind kTest, class Observer>
+template <TriangleTestKind kTest, StopAt kStop, class Observer>
 Hit UniformGrid::front_to_back(const Ray& ray, Observer& obs) const {
-    CellHits<kTest> hits(ray, triangles, corners, build_config.mailbox, /*strict_cell=*/true, uint32_t(triangles.size()));
+    CellHits<kTest, kStop> hits(ray, triangles, corners, build_config.mailbox, /*strict_cell=*/true, uint32_t(triangles.size()));
     if (cell_start.empty()) return hits.done(obs);
     const RayPrecomp pre(ray);
     const SlabResult box = slab_test(bounds, pre, ray.t_min, ray.t_max);
@@ -180,7 +194,7 @@ Hit UniformGrid::front_to_back(const Ray& ray, Observer& obs) const {
         obs.on({.kind = EventKind::EnterCell, .node = id, .cell = {cell[0], cell[1], cell[2]}, .t_enter = t_in,
                 .t_exit = t_out});
         hits.enter(t_out, obs);
-        for (uint32_t r = cell_start[id]; r < cell_start[id + 1]; ++r) {
+        for (uint32_t r = cell_start[id]; r < cell_start[id + 1] && !hits.found_any(); ++r) {
             const uint32_t tri = tri_ids[r];
             hits.test(tri, tri, obs);
         }

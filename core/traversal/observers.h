@@ -12,6 +12,14 @@
 
 namespace accelviz {
 
+/// What a traversal looks for: the closest hit (camera and reflection rays), or any
+/// hit in [t_min, t_max] (shadow rays: one occluder is enough, so the walk stops
+/// there; the lecture's "哪些光源可见"). One switch of every structure's walk.
+enum class StopAt {
+    ClosestHit,  ///< keep the closest hit; skip what starts beyond it
+    AnyHit,      ///< stop at the first hit
+};
+
 /// The fast path: sees nothing, costs nothing.
 struct NoObserver {
     void on(const TraversalEvent&) {}
