@@ -16,6 +16,7 @@
 #include "app/cli/commands.h"
 #include "app/cli/progress.h"
 #include "app/cli/flag_checks.h"
+#include "app/cli/light_flags.h"
 #include "app/cli/preset_flag.h"
 #include "app/cli/scene_input.h"
 #include "app/cli/window_flags.h"
@@ -52,7 +53,14 @@ struct RenderOptions {
     bool accel_given = false;   ///< --accel was on the command line
     std::optional<double> time;  ///< --time: the moving scene's t (scene_at_time)
     std::string draw;            ///< --draw: how the window's views draw the mesh ("": the preset's, else raster)
+    LightFlags light;            ///< --shadows, --reflections, --light
+    std::string rays = "primary";  ///< --rays: which rays' work the heat maps show
 };
+
+/// The rays a heat map counts: the camera's, or the secondary rays of the lighting.
+enum class HeatRays { Primary, Shadow, Reflection };
+constexpr EnumNames<HeatRays, 3> kHeatRaysNames{
+    {{{HeatRays::Primary, "primary"}, {HeatRays::Shadow, "shadow"}, {HeatRays::Reflection, "reflection"}}}};
 
 /// The views the CPU renderers of core/render compose (the window's own views are WindowView).
 enum class CpuView { RayCast, Raster, Split, DepthDiff, HeatNodes, HeatTris };
@@ -68,6 +76,32 @@ std::vector<std::string> all_views() {
     std::vector<std::string> views = kCpuViewNames.names();
     for (const std::string& view : kWindowViewNames.names()) views.push_back(view);
     return views;
+}
+
+/// What the shadow rays cost as any-hit against closest-hit over the same segments.
+void print_shadow_lesson(const ShadowQueryWork& w) {
+    if (w.rays == 0) {
+        std::fprintf(stderr, "shadow rays: none (no hit sees the light's side)\n");
+        return;
+    }
+    const double rays = double(w.rays);
+    std::fprintf(stderr,
+                 "shadow rays: %llu, %.1f%% blocked; per ray, any-hit %.2f nodes and %.2f triangle tests, closest-hit on "
+                 "the same segments %.2f nodes and %.2f tests\n",
+                 (unsigned long long)w.rays, 100.0 * double(w.blocked) / rays, double(w.any_hit.nodes_visited) / rays,
+                 double(w.any_hit.triangle_tests) / rays, double(w.closest_hit.nodes_visited) / rays,
+                 double(w.closest_hit.triangle_tests) / rays);
+    if (w.blocked)
+        std::fprintf(stderr,
+                     "  on the %llu blocked rays: any-hit %.2f nodes and %.2f tests, closest-hit %.2f nodes and %.2f "
+                     "tests\n",
+                     (unsigned long long)w.blocked, double(w.any_hit_blocked.nodes_visited) / double(w.blocked),
+                     double(w.any_hit_blocked.triangle_tests) / double(w.blocked),
+                     double(w.closest_hit_blocked.nodes_visited) / double(w.blocked),
+                     double(w.closest_hit_blocked.triangle_tests) / double(w.blocked));
+    if (w.disagreed)
+        std::fprintf(stderr, "render: warning: any-hit and closest-hit disagree on %llu shadow rays\n",
+                     (unsigned long long)w.disagreed);
 }
 
 int fail(const std::string& message) {
@@ -194,6 +228,14 @@ int run_render(const RenderOptions& given) {
     else if (!opt.preset.state) return fail("no scene: give SCENE (an OBJ file or builtin:NAME) or --preset FILE");
 
     state.accel = opt.accel;  // already the preset's structure with the flags given applied on top
+    auto light = apply_light_flags(opt.light, state.light);
+    if (!light) return fail(light.error());
+    state.light = *light;
+    const HeatRays heat_rays = *kHeatRaysNames.parse(opt.rays);  // CLI11 checked the name
+    if (heat_rays == HeatRays::Shadow && !state.light.shadows)
+        return fail("--rays shadow: no shadow rays without --shadows on");
+    if (heat_rays == HeatRays::Reflection && !state.light.reflections)
+        return fail("--rays reflection: no reflection rays without --reflections on");
     if (window_view == WindowView::BuildStep) return run_build_step(opt, std::move(state));
     if (window_view == WindowView::FillOrder && opt.step >= 0) state.view.fill = float(opt.step) / 100.0f;
     if (!opt.draw.empty()) {
@@ -227,12 +269,19 @@ int run_render(const RenderOptions& given) {
         if (!accel) return fail(accel.error());
         const double build_ms = ms_since(start);
         print_memory_budget_note(**accel, "render");
+        const TriangleArray triangles = make_triangles(*mesh);
+        const std::optional<Lighting> lighting = lighting_for(state.light, *mesh, mesh->bounds());
         start = clock::now();
-        ray_frame = ray_cast(**accel, make_triangles(*mesh), camera, {.threads = opt.threads, .count_work = count_work});
+        ray_frame = ray_cast(**accel, triangles, camera,
+                             {.threads = opt.threads, .count_work = count_work, .lighting = lighting ? &*lighting : nullptr});
         std::fprintf(stderr, "ray cast (%s): build %.1f ms, frame %.1f ms\n", accel_name(state).c_str(), build_ms,
                      ms_since(start));
         work.ray_work = ray_frame.work;
         work.ray_work_counted = count_work;
+        if (lighting && lighting->shadows) print_shadow_lesson(measure_shadow_queries(**accel, triangles, camera, *lighting, opt.threads));
+        if (lighting && lighting->reflections && mesh->mirror.empty())
+            std::fprintf(stderr, "render: note: %s has no mirror triangles (builtin:cornell-mirror has): no reflections\n",
+                         state.scene.c_str());
     }
     if (needs_raster) {
         const auto start = clock::now();
@@ -247,13 +296,20 @@ int run_render(const RenderOptions& given) {
         case CpuView::Split: image = split_view(raster_frame, ray_frame, work); break;
         case CpuView::DepthDiff: image = depth_diff_view(raster_frame, ray_frame); break;
         case CpuView::HeatNodes:
-            image = heat_view(ray_frame.nodes, opt.width, opt.height, "Nodes visited per pixel (" + accel_name(state) + ")",
+        case CpuView::HeatTris: {
+            const bool nodes = cpu_view == CpuView::HeatNodes;
+            const SecondaryWork* secondary = heat_rays == HeatRays::Shadow       ? &ray_frame.shadow
+                                             : heat_rays == HeatRays::Reflection ? &ray_frame.reflection
+                                                                                 : nullptr;
+            const std::vector<uint32_t>& counts =
+                secondary ? (nodes ? secondary->nodes : secondary->tests) : (nodes ? ray_frame.nodes : ray_frame.tests);
+            const std::string rays = secondary ? std::string(" by ") + std::string(kHeatRaysNames.name(heat_rays)) + " rays" : "";
+            image = heat_view(counts, opt.width, opt.height,
+                              (nodes ? "Nodes visited per pixel" : "Triangles tested per pixel") + rays + " (" +
+                                  accel_name(state) + ")",
                               opt.heat_max);
             break;
-        case CpuView::HeatTris:
-            image = heat_view(ray_frame.tests, opt.width, opt.height,
-                              "Triangles tested per pixel (" + accel_name(state) + ")", opt.heat_max);
-            break;
+        }
     }
 
     if (auto err = write_png(image, opt.out)) return fail(err->message);
@@ -318,6 +374,12 @@ Command register_render(CLI::App& app) {
         ->capture_default_str();
     sub->add_option("--depth-out", opt->depth_out,
                     "CPU views: also write the ray-cast depth (hit distance t, +inf on a miss) as a PFM file");
+    add_light_flags(*sub, opt->light);
+    sub->add_option("--rays", opt->rays,
+                    "heat-nodes, heat-tris: whose work per pixel: primary (the camera's rays) | shadow (--shadows on) | "
+                    "reflection (--reflections on)")
+        ->check(CLI::IsMember(kHeatRaysNames.names()))
+        ->capture_default_str();
     sub->add_option("--heat-max", opt->heat_max,
                     "heat-nodes, heat-tris: top of the heat-map scale, a count per pixel (default: the image's "
                     "maximum)")

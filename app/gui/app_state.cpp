@@ -93,6 +93,13 @@ int read_whole(const nlohmann::json& j, const std::string& field, int lo, int hi
     return int(j.get<int64_t>());
 }
 
+/// A light's position: finite and within the coordinates a mesh may have.
+bool is_finite_position(Vec3d p) {
+    for (double c : {p.x, p.y, p.z})
+        if (!(std::fabs(c) <= kMaxCoordinate)) return false;
+    return true;
+}
+
 Rgb read_rgb(const nlohmann::json& j, const char* field) {
     if (!j.is_array() || j.size() != 3) throw std::runtime_error(std::string(field) + ": expected [r, g, b]");
     auto channel = [&](int i) { return uint8_t(read_whole(j[size_t(i)], std::string(field), 0, 255)); };
@@ -252,6 +259,9 @@ nlohmann::json to_json(const AppState& s) {
                  {"right_view", std::string(to_string(s.view.right_view))},
                  {"left_view", std::string(to_string(s.view.left_view))}, {"heat_same_scale", s.view.heat_same_scale},
                  {"line_width", s.view.line_width}, {"fill_order", s.view.fill_order}, {"fill", s.view.fill}};
+    j["light"] = {{"shadows", s.light.shadows},
+                  {"reflections", s.light.reflections},
+                  {"position", s.light.position ? vec3_json(*s.light.position) : nlohmann::json(nullptr)}};
     nlohmann::json b = {{"active", s.build_step.active}, {"step", s.build_step.step}};
     if (s.build_step.bins) b["bins"] = *s.build_step.bins;
     if (s.build_step.cost_trav) b["cost_trav"] = *s.build_step.cost_trav;
@@ -321,6 +331,16 @@ Expected<AppState> app_state_from_json(const nlohmann::json& j) {
             s.view.fill_order = read(v, "fill_order", s.view.fill_order, "view");
             s.view.fill = read(v, "fill", s.view.fill, "view");
             if (!(s.view.fill >= 0.0f && s.view.fill <= 1.0f)) return Error{"view.fill: must be between 0 and 1"};
+        }
+        if (j.contains("light")) {
+            const auto& l = j["light"];
+            s.light.shadows = read(l, "shadows", s.light.shadows, "light");
+            s.light.reflections = read(l, "reflections", s.light.reflections, "light");
+            if (l.contains("position") && !l["position"].is_null()) {
+                s.light.position = read_vec3(l["position"], "light.position");
+                if (!is_finite_position(*s.light.position))
+                    return Error{"light.position: must be finite, each coordinate within 1e12"};
+            }
         }
         if (j.contains("build_step")) {
             const auto& b = j["build_step"];
@@ -414,6 +434,16 @@ Expected<AppState> load_app_state_file_checked(const std::string& path) {
     if (!state) return state;
     if (auto err = validate(state->accel)) return Error{path + ": structure: " + err->message};
     return state;
+}
+
+std::optional<Lighting> lighting_for(const LightSettings& light, const Mesh& mesh, const Aabb& bounds) {
+    if (!light.point_light()) return std::nullopt;
+    Lighting lighting;
+    lighting.light = light.position ? to_float(*light.position) : default_light(bounds);
+    lighting.shadows = light.shadows;
+    lighting.reflections = light.reflections;
+    if (light.reflections) lighting.mirror = mesh.mirror;
+    return lighting;
 }
 
 }  // namespace accelviz

@@ -15,6 +15,7 @@
 #include "core/accel/factory.h"
 #include "core/render/camera.h"
 #include "core/render/frame.h"
+#include "core/render/lighting.h"
 #include "core/util/enum_names.h"
 #include "core/util/expected.h"
 
@@ -160,6 +161,20 @@ struct TwoBvhsSettings {
     bool operator==(const TwoBvhsSettings&) const = default;
 };
 
+/// The ray caster's light (core/render/lighting.h): the headlight (a light at the
+/// eye) unless a point light is asked for, by a position or by shadows or reflections.
+struct LightSettings {
+    bool shadows = false;      ///< a shadow ray from every hit to the light (any-hit)
+    bool reflections = false;  ///< one bounce off the scene's mirror triangles
+    std::optional<Vec3d> position;  ///< empty: default_light(the scene's bounds)
+    bool point_light() const { return shadows || reflections || position.has_value(); }
+    bool operator==(const LightSettings&) const = default;
+};
+
+/// The lighting the ray caster shades `mesh` (whose box is `bounds`) with under
+/// `light`; none: the headlight.
+std::optional<Lighting> lighting_for(const LightSettings& light, const Mesh& mesh, const Aabb& bounds);
+
 struct AppState {
     std::string scene = "builtin:cube";  ///< "builtin:NAME?k=v" or an OBJ path
     /// The structure and its build parameters; the window starts with a BVH
@@ -171,6 +186,7 @@ struct AppState {
     /// scene in the 3D view (frame_bounds), filled in when the scene has loaded.
     std::optional<CameraParams> camera;
     ViewSettings view;
+    LightSettings light;
     BuildStepSettings build_step;
     StepperSettings stepper;
     ComparisonSettings comparison;

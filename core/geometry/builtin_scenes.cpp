@@ -266,6 +266,16 @@ Mesh make_cornell(const Params&) {
     return mesh;
 }
 
+/// The Cornell box whose tall block is a mirror (its 10 triangles, the last ones):
+/// what a reflection ray sees, the room and the short block from another side.
+Mesh make_cornell_mirror(const Params& params) {
+    Mesh mesh = make_cornell(params);
+    constexpr size_t kTallBlockTriangles = 10;
+    mesh.mirror.assign(mesh.triangle_count(), 0);
+    std::fill(mesh.mirror.end() - kTallBlockTriangles, mesh.mirror.end(), uint8_t(1));
+    return mesh;
+}
+
 }  // namespace
 
 Vec3 bezier_patch_point(const BezierPatch& patch, double u, double v) {
@@ -726,6 +736,10 @@ const std::vector<BuiltinDef>& registry() {
          "the Cornell box (room 5.56 x 5.49 x 5.59, y up, open towards +z; two blocks, the light), 32 triangles",
          {},
          always<make_cornell>},
+        {"cornell-mirror",
+         "the Cornell box with its tall block a mirror (reflections: render --reflections on), 32 triangles",
+         {},
+         always<make_cornell_mirror>},
         {"teapot",
          "Newell's teapot from its 28 Bezier patches, y up on y = 0, height 0.75; n = quads per patch side: "
          "56n^2 - 4n triangles",

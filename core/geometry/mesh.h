@@ -15,6 +15,9 @@ struct Mesh {
     std::string name;                             ///< where it came from (path or builtin:...)
     std::vector<Vec3> positions;
     std::vector<std::array<uint32_t, 3>> indices;  ///< one triple per triangle, into positions
+    /// Per triangle: non-zero = a mirror (the ray caster's reflections, lighting.h).
+    /// Empty (every OBJ file, most built-ins): no mirrors.
+    std::vector<uint8_t> mirror;
 
     size_t triangle_count() const { return indices.size(); }
     Vec3 vertex(size_t tri, int corner) const { return positions[indices[tri][corner]]; }

@@ -12,6 +12,15 @@
 
 namespace accelviz {
 
+/// The work of one kind of secondary ray (shadow or reflection; lighting.h), counted
+/// like the primary rays' (RayCastOptions::count_work).
+struct SecondaryWork {
+    std::vector<uint32_t> nodes;  ///< per pixel: nodes/cells visited by its rays of this kind
+    std::vector<uint32_t> tests;  ///< per pixel: their triangle tests
+    Counters work;                ///< summed over all pixels
+    uint64_t rays = 0;            ///< how many were traced
+};
+
 struct Frame {
     int width = 0, height = 0;
     Image colour;
@@ -20,6 +29,8 @@ struct Frame {
     std::vector<uint32_t> nodes;   ///< per pixel: nodes/cells visited (ray caster with counters)
     std::vector<uint32_t> tests;   ///< per pixel: triangle tests (ray caster) or fragments (raster)
     Counters work;                 ///< ray caster with counters: the work summed over all pixels
+    SecondaryWork shadow;          ///< with a light, shadows and counters: the shadow rays' work
+    SecondaryWork reflection;      ///< with reflections and counters: the reflection rays' work
 
     Frame() = default;
     Frame(int w, int h)

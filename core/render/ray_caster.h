@@ -6,6 +6,7 @@
 #include "core/render/camera.h"
 #include "core/util/work_progress.h"
 #include "core/render/frame.h"
+#include "core/render/lighting.h"
 
 namespace accelviz {
 
@@ -19,10 +20,29 @@ struct RayCastOptions {
     /// Once cancelled, tiles not started are left as they are (background, no hit):
     /// for a picture nobody wants any more (a newer camera, a closed view).
     const WorkProgress* cancel = nullptr;
+    /// A point light, shadow rays and mirrors (lighting.h); null: the headlight alone
+    /// (a light at the eye, no secondary rays).
+    const Lighting* lighting = nullptr;
 };
 
-/// Casts every pixel's primary ray through `accel`. `triangles` (by id) are used for shading.
+/// Casts every pixel's primary ray through `accel`. `triangles` (by id) are used for
+/// shading. With a lighting: a shadow ray from each hit to the light (any-hit), and
+/// from a mirror one reflection ray (closest-hit), whose hit is shaded with its own
+/// shadow ray; one bounce, so a mirror seen in a mirror is shaded as a wall.
 Frame ray_cast(const Accelerator& accel, const TriangleArray& triangles,
                const Camera& camera, const RayCastOptions& options = {});
+
+/// The lesson of the any-hit query: every shadow ray of a picture (one per pixel that
+/// sees a lit side; none from mirrors) traced twice over the same segment, as any-hit
+/// (stop at the first occluder) and as closest-hit (find the nearest one), counted.
+struct ShadowQueryWork {
+    uint64_t rays = 0;     ///< shadow rays traced
+    uint64_t blocked = 0;     ///< of them, rays any-hit found blocked
+    uint64_t disagreed = 0;   ///< rays where any-hit and closest-hit disagree (a bug if not 0)
+    Counters any_hit, closest_hit;                  ///< over all the shadow rays
+    Counters any_hit_blocked, closest_hit_blocked;  ///< over the blocked ones (where they differ)
+};
+ShadowQueryWork measure_shadow_queries(const Accelerator& accel, const TriangleArray& triangles, const Camera& camera,
+                                       const Lighting& lighting, int threads = 0);
 
 }  // namespace accelviz

@@ -23,9 +23,25 @@ TEST(AppStateJson, RoundTripKeepsEveryField) {
     s.view.background = {10, 20, 30};
     s.view.show_ui = false;
     s.view.show_bounds = false;
+    s.light.shadows = true;
+    s.light.reflections = true;
+    s.light.position = Vec3d{1.5, -2.25, 1e-7};
     auto back = app_state_from_json(to_json(s));
     ASSERT_TRUE(back) << back.error();
     EXPECT_EQ(to_json(*back), to_json(s));
+    EXPECT_TRUE(back->light == s.light);
+}
+
+TEST(AppStateJson, ALightPositionMustBeFinite) {
+    for (const char* text : {R"({"light": {"position": [0, 1e13, 0]}})", R"({"light": {"position": [0, 1]}})",
+                             R"({"light": {"shadows": 1}})"}) {
+        auto bad = app_state_from_json(nlohmann::json::parse(text));
+        ASSERT_FALSE(bad) << text;
+        EXPECT_NE(bad.error().find("light"), std::string::npos) << bad.error();
+    }
+    auto none = app_state_from_json(nlohmann::json::parse(R"({"light": {"position": null}})"));
+    ASSERT_TRUE(none) << none.error();
+    EXPECT_FALSE(none->light.point_light()) << "no position, no shadows, no reflections: the headlight";
 }
 
 TEST(AppStateJson, StepperRayAndStepRoundTripExactly) {

@@ -90,6 +90,7 @@ TEST(BuiltinScenes, TriangleCounts) {
         {"single", 1},
         {"kd-challenge", 2},
         {"twenty-two", 22},
+        {"cornell-mirror", 32},
         {"moving", 32 + 56 * 8 * 8 - 4 * 8},
         {"moving?t=0.3&n=2", 32 + 56 * 4 - 8},
         {"wave?mesh=builtin:cube&t=0.5", 12},
@@ -102,7 +103,7 @@ TEST(BuiltinScenes, TriangleCounts) {
 }
 
 TEST(BuiltinScenes, EveryListedSceneBuildsWithItsDefaultsAndIsWellFormed) {
-    ASSERT_EQ(builtin_scenes().size(), 15u);
+    ASSERT_EQ(builtin_scenes().size(), 16u);
     for (const BuiltinInfo& info : builtin_scenes()) {
         SCOPED_TRACE(info.name);
         EXPECT_FALSE(info.description.empty());
@@ -518,4 +519,18 @@ TEST(BuiltinScenes, SceneTimeReadsTheTimeBack) {
     EXPECT_EQ(scene_time("builtin:teapot"), std::nullopt);
     EXPECT_EQ(scene_time("bunny.obj"), std::nullopt);
     EXPECT_EQ(scene_time("builtin:moving?t=soon"), std::nullopt);
+}
+
+TEST(BuiltinScenes, TheMirrorCornellBoxIsTheCornellBoxWithItsTallBlockAMirror) {
+    const Mesh plain = make("cornell"), mirrored = make("cornell-mirror");
+    EXPECT_EQ(plain.positions, mirrored.positions);
+    EXPECT_EQ(plain.indices, mirrored.indices);
+    EXPECT_TRUE(plain.mirror.empty());
+    ASSERT_EQ(mirrored.mirror.size(), mirrored.triangle_count());
+    // The tall block (the last 10 triangles) and nothing else; its top is the highest block face.
+    for (size_t t = 0; t < mirrored.triangle_count(); ++t) EXPECT_EQ(mirrored.mirror[t] != 0, t >= 22) << t;
+    float top = 0;
+    for (size_t t = 22; t < 32; ++t)
+        for (int c = 0; c < 3; ++c) top = std::max(top, mirrored.vertex(t, c).y);
+    EXPECT_FLOAT_EQ(top, 3.3f);
 }

@@ -1,0 +1,23 @@
+#pragma once
+/// --shadows, --reflections and --light: the ray caster's point light (LightSettings),
+/// on the commands that draw (render, the window). Given flags replace the preset's.
+
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "app/gui/app_state.h"
+
+namespace accelviz::cli {
+
+struct LightFlags {
+    std::string shadows;      ///< "on" | "off" | "" (not given)
+    std::string reflections;  ///< "on" | "off" | ""
+    std::string light;        ///< "X,Y,Z" | ""
+};
+
+void add_light_flags(CLI::App& app, LightFlags& flags);
+/// The flags given laid over `state.light`; a one-line error for a bad --light.
+Expected<LightSettings> apply_light_flags(const LightFlags& flags, LightSettings light);
+
+}  // namespace accelviz::cli
