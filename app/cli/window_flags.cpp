@@ -39,6 +39,7 @@ std::shared_ptr<WindowOptions> add_window_flags(CLI::App& app, const std::string
                  "leaves. Without SCENE or --preset, starts at the first preset");
     add_draw_flag(app, opt->draw, "whichever the window measures faster on the scene, the View panel's "
                                   "\"Draw with\"");
+    add_light_flags(app, opt->light);
     app.add_option("--pixel", opt->pixel,
                    "Open the traversal stepper on the ray of pixel X,Y (0,0 = top left) of a --width x --height "
                    "image under the camera flags: the ray `accelviz trace --pixel X,Y` prints");
@@ -71,6 +72,9 @@ Expected<AppState> window_state(const WindowOptions& opt, const std::string& def
     else if (!opt.preset.state) state.scene = default_scene;
     state.accel = opt.accel;
     apply_draw_flag(opt.draw, state);
+    auto light = apply_light_flags(opt.light, state.light);
+    if (!light) return Error{light.error()};
+    state.light = *light;
     if (!opt.pixel.empty()) {
         auto picked = [&] {
             const StepProgress progress("window", "loading " + state.scene + " for --pixel");

@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include "app/cli/camera_flags.h"
+#include "app/cli/light_flags.h"
 #include "app/cli/preset_flag.h"
 #include "app/gui/app_state.h"
 
@@ -23,6 +24,7 @@ struct WindowOptions {
     CameraFlags camera;
     bool lecture = false;            ///< --lecture
     std::string draw;                ///< --draw ("": the preset's, else raster)
+    LightFlags light;                ///< --shadows, --reflections, --light
     std::string pixel;               ///< --pixel X,Y: open the stepper on that pixel's ray
     int width = 1280, height = 720;  ///< --width, --height: the image --pixel is in
 };

@@ -436,10 +436,14 @@ Expected<AppState> load_app_state_file_checked(const std::string& path) {
     return state;
 }
 
+Vec3d light_position(const LightSettings& light, const Aabb& bounds) {
+    return light.position ? *light.position : to_double(default_light(bounds));
+}
+
 std::optional<Lighting> lighting_for(const LightSettings& light, const Mesh& mesh, const Aabb& bounds) {
     if (!light.point_light()) return std::nullopt;
     Lighting lighting;
-    lighting.light = light.position ? to_float(*light.position) : default_light(bounds);
+    lighting.light = to_float(light_position(light, bounds));
     lighting.shadows = light.shadows;
     lighting.reflections = light.reflections;
     if (light.reflections) lighting.mirror = mesh.mirror;

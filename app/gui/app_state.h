@@ -171,6 +171,9 @@ struct LightSettings {
     bool operator==(const LightSettings&) const = default;
 };
 
+/// Where the point light is: its position, or the default one of a scene with `bounds`.
+Vec3d light_position(const LightSettings& light, const Aabb& bounds);
+
 /// The lighting the ray caster shades `mesh` (whose box is `bounds`) with under
 /// `light`; none: the headlight.
 std::optional<Lighting> lighting_for(const LightSettings& light, const Mesh& mesh, const Aabb& bounds);

@@ -182,6 +182,27 @@ void handle_view_input(AppState& state, Session& session, const Layout& layout) 
     // A drag belongs to the view if it started there (it may then cross a panel).
     const bool hovered = !io.WantCaptureMouse && rect.contains(io.MousePos.x, io.MousePos.y);
     const bool any_down = ImGui::IsMouseDown(0) || ImGui::IsMouseDown(1) || ImGui::IsMouseDown(2);
+    // The point light: a left drag that starts on its marker moves it in the plane
+    // facing the camera, keeping its depth (the light follows the mouse).
+    if (state.light.point_light() && session.scene && !gl_rect.empty()) {
+        const Camera cam(camera, gl_rect.width, gl_rect.height);
+        const Vec3d light = light_position(state.light, session.scene->bounds);
+        const Camera::ImagePoint at = cam.project(light);
+        const double mx = io.MousePos.x - gl_rect.x, my = io.MousePos.y - gl_rect.y;
+        if (hovered && ImGui::IsMouseClicked(0) && at.depth > 0 &&
+            std::hypot(mx - at.x, my - at.y) <= light_marker_radius(state.view.ui_scale))
+            session.dragging_light = true;
+        if (!ImGui::IsMouseDown(0)) session.dragging_light = false;
+        if (session.dragging_light) {
+            const double per_pixel = 2.0 * cam.tan_half_fov() * at.depth / gl_rect.height;
+            const Vec3d moved = light + cam.right() * (io.MouseDelta.x * per_pixel) -
+                                cam.true_up() * (io.MouseDelta.y * per_pixel);
+            if (std::fabs(moved.x) <= kMaxCoordinate && std::fabs(moved.y) <= kMaxCoordinate &&
+                std::fabs(moved.z) <= kMaxCoordinate)
+                state.light.position = moved;
+            return;
+        }
+    }
     if (hovered && (ImGui::IsMouseClicked(0) || ImGui::IsMouseClicked(1) || ImGui::IsMouseClicked(2)))
         session.dragging_view = true;
     // The stepper open: a click (press and release without moving) picks the ray of
@@ -287,9 +308,12 @@ constexpr double kAutoSwitchFactor = 0.8;
 /// Not in the split view (its left half is the rasterizer to compare with), nor under
 /// the construction stepper's picture, nor when the mesh is fully transparent.
 /// `measured`: auto may go by measured times (not in golden images: the estimate alone).
+/// A point light (shadows, reflections) needs rays: the mesh is then ray cast whatever
+/// Draw with says (the rasterizer has the headlight only).
 bool mesh_by_ray_cast(const AppState& state, Session& session, const FramePlan& plan, int pixels, bool measured) {
     session.naive_cast_refused = false;
-    if (state.view.draw_with == DrawWith::Raster || plan.split || !session.scene || !session.scene->accel ||
+    const bool needs_rays = state.light.point_light();
+    if ((state.view.draw_with == DrawWith::Raster && !needs_rays) || plan.split || !session.scene || !session.scene->accel ||
         session.build_stepper.shows_3d(state) || state.overlay.mesh_opacity <= 0.0f)
         return false;
     const LoadedScene& scene = *session.scene;
@@ -298,7 +322,7 @@ bool mesh_by_ray_cast(const AppState& state, Session& session, const FramePlan& 
         session.naive_cast_refused = true;
         return false;
     }
-    if (state.view.draw_with == DrawWith::RayCast) return true;
+    if (state.view.draw_with == DrawWith::RayCast || needs_rays) return true;
     // Auto: whichever draws this view faster, as last measured.
     const double cast_ms = measured ? session.surface_cast.full_cast_milliseconds(session.scene_generation) : 0;
     const double raster_ms = raster_estimate_ms(session);
@@ -353,7 +377,7 @@ FramePlan plan_frame(AppState& state, Session& session, const FrameInput& input)
         const bool raster = state.view.left_view != LeftView::OpenGl || state.view.right_view == RightView::Depth ||
                             state.view.right_view == RightView::DepthDiff;
         session.ray_cast.request(session.scene, *state.camera, layout.ray_view.width, layout.ray_view.height,
-                                 input.deterministic, raster, state.view.fill_order);
+                                 input.deterministic, raster, state.view.fill_order, state.light);
         session.ray_cast.update_texture(state.view);
     } else {
         // The split view is closed: a cast under way is not wanted. One that finished
@@ -384,7 +408,7 @@ FramePlan plan_frame(AppState& state, Session& session, const FrameInput& input)
     if (plan.mesh_ray_cast)
         session.surface_cast.request(session.scene, session.scene_generation, *state.camera, layout.gl_view.width,
                                      layout.gl_view.height, input.deterministic || input.wait_for_ray_cast,
-                                     !plan.moving);
+                                     !plan.moving, state.light);
     else
         session.surface_cast.release();
     plan.mesh_picture = session.surface_cast.update_textures() && plan.mesh_ray_cast;

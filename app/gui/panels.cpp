@@ -447,6 +447,8 @@ void ViewPanel::draw(AppState& state, Session& session, double view_aspect) {
     ImGui::Checkbox("Scene bounds", &state.view.show_bounds);
     draw_split_choices(state.view);
     ImGui::Separator();
+    draw_light(state, session);
+    ImGui::Separator();
     draw_camera(state, session, view_aspect);
     ImGui::Separator();
     draw_files(state, session);
@@ -534,6 +536,51 @@ void ViewPanel::draw_split_choices(ViewSettings& view) {
         if (ImGui::Combo("Ray cast shows", &current, kLabels, int(std::size(kLabels)))) view.right_view = RightView(current);
         ImGui::Checkbox("Heat: same scale for all structures", &view.heat_same_scale);
         draw_fill_order(view);
+    }
+}
+
+void ViewPanel::draw_light(AppState& state, const Session& session) {
+    // The lecture's last slide: which lights a point sees (shadow rays), what a surface reflects.
+    LightSettings& light = state.light;
+    ImGui::TextUnformatted("Light (ray cast)");
+    ImGui::Checkbox("Shadows", &light.shadows);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("A shadow ray from every hit to the light: the any-hit query,\n"
+                          "which stops at the first triangle in the way.");
+    ImGui::SameLine();
+    ImGui::Checkbox("Reflections", &light.reflections);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("One reflection ray (closest hit) from every mirror triangle.\n"
+                          "builtin:cornell-mirror's tall block is a mirror.");
+    const LoadedScene* scene = session.scene.get();
+    if (light.reflections && scene && scene->mesh->mirror.empty())
+        ImGui::TextWrapped("This scene has no mirrors (builtin:cornell-mirror has).");
+    if (!scene) return;
+    // The light's position: dragged here or by its marker in the 3D view.
+    const Vec3d at = light_position(light, scene->bounds);
+    float position[3] = {float(at.x), float(at.y), float(at.z)};
+    const Vec3 extent = scene->bounds.hi - scene->bounds.lo;
+    const float speed = std::max({extent.x, extent.y, extent.z, 1e-30f}) * 0.005f;
+    ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);
+    if (ImGui::DragFloat3("Light at", position, speed, 0.0f, 0.0f, "%.3g")) {
+        Vec3d moved{position[0], position[1], position[2]};
+        if (std::fabs(moved.x) <= kMaxCoordinate && std::fabs(moved.y) <= kMaxCoordinate &&
+            std::fabs(moved.z) <= kMaxCoordinate)
+            light.position = moved;
+    }
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("Drag a number, or drag the sun in the 3D view.");
+    if (light.position) {
+        ImGui::SameLine();
+        if (ImGui::Button("Reset##light")) light.position.reset();
+    }
+    if (!light.point_light()) {
+        ImGui::TextDisabled("now a headlight (a light at the eye)");
+    } else {
+        if (ImGui::Button("Headlight")) light = LightSettings{};
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("Back to a light at the eye: no shadows, no reflections.");
+        ImGui::SameLine();
+        ImGui::TextDisabled("the mesh is ray cast");
     }
 }
 
@@ -644,6 +691,8 @@ std::string drawn_by(const AppState& state, const Session& session, bool determi
         return text;
     }
     text += "ray cast (CPU)";
+    if (state.light.shadows) text += ", shadows";
+    if (state.light.reflections) text += ", reflections";
     const auto& shown = session.surface_cast.shown();
     if (!shown || shown->scene != session.scene_generation) return text + ", casting ...";
     if (shown->divisor > 1) text += ", a quarter of the pixels";
@@ -685,7 +734,8 @@ void StatsBar::draw(const AppState& state, const Session& session, double frame_
     } else {
         line = "no scene";
     }
-    if (session.scene && state.view.mode == ViewMode::View3D && state.view.draw_with != DrawWith::Raster)
+    if (session.scene && state.view.mode == ViewMode::View3D &&
+        (state.view.draw_with != DrawWith::Raster || state.light.point_light()))
         line += "  |  " + drawn_by(state, session, deterministic);
     if (!deterministic && frame_ms > 0) {
         char text[64];

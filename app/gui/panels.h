@@ -72,6 +72,7 @@ private:
     static void draw_colours(ViewSettings& view);         ///< theme and background
     void draw_split_choices(ViewSettings& view);          ///< raster | ray cast and what each half shows
     void draw_fill_order(ViewSettings& view);             ///< the fill order: share done, play, speed, step
+    static void draw_light(AppState& state, const Session& session);  ///< the point light, shadows, reflections
     void draw_camera(AppState& state, const Session& session, double view_aspect);
     void draw_files(AppState& state, Session& session);   ///< state JSON save / load, screenshots
 };

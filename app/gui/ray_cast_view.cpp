@@ -11,11 +11,11 @@
 namespace accelviz {
 
 void RayCastView::request(const std::shared_ptr<const LoadedScene>& scene, const CameraParams& camera, int width,
-                          int height, bool wait, bool raster, bool history) {
+                          int height, bool wait, bool raster, bool history, const LightSettings& light) {
     if (!scene || width <= 0 || height <= 0) return;
     // The fill order's history only for the lecture's small scenes (kFillOrderMaxTriangles).
     history = history && scene->mesh->triangle_count() <= kFillOrderMaxTriangles;
-    const Key key{scene.get(), camera, width, height, raster || history, history};
+    const Key key{scene.get(), camera, width, height, raster || history, history, light};
     if (key == requested_) {
         if (wait) job_.wait();
         return;
@@ -28,6 +28,8 @@ void RayCastView::request(const std::shared_ptr<const LoadedScene>& scene, const
         RayCastOptions options;
         options.count_work = true;  // heat maps and the work label
         options.cancel = cancel.get();
+        const std::optional<Lighting> lighting = lighting_for(key.light, *scene->mesh, scene->bounds);
+        options.lighting = lighting ? &*lighting : nullptr;
         Result r;
         r.key = key;
         r.scene = scene;

@@ -35,6 +35,7 @@ public:
         int width = 0, height = 0;
         bool raster = false;   ///< the core CPU rasterizer runs too
         bool history = false;  ///< and records its writes (the fill-order replay)
+        LightSettings light;   ///< the ray caster's light (shadows, reflections)
         bool operator==(const Key&) const = default;
     };
     struct Result {
@@ -57,7 +58,7 @@ public:
     /// or a depth view on the right).
     /// `history`: the fill order is on (the rasterizer records its writes; implies `raster`).
     void request(const std::shared_ptr<const LoadedScene>& scene, const CameraParams& camera, int width, int height,
-                 bool wait, bool raster = false, bool history = false);
+                 bool wait, bool raster = false, bool history = false, const LightSettings& light = {});
     /// Takes a finished cast and makes the textures for the views (GL thread).
     void update_texture(const ViewSettings& view);
     /// The texture (null before the first cast finishes) and what it shows.

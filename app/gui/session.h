@@ -106,6 +106,7 @@ struct Session {
 
     UiStyle style;
     bool dragging_view = false;  ///< a mouse drag that started in the 3D view
+    bool dragging_light = false;  ///< ... on the point light's marker: it moves the light
 
     /// Lecture mode (L, or `accelviz --lecture`): the window full screen, no panels,
     /// text at projector scale, the preset's number and title in a caption bar.

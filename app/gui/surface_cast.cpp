@@ -26,9 +26,10 @@ struct SurfaceCast::TriangleCache {
 SurfaceCast::SurfaceCast() : triangles_(std::make_shared<TriangleCache>()) { job_.keep_superseded = true; }
 
 void SurfaceCast::request(const std::shared_ptr<const LoadedScene>& scene, uint64_t scene_generation,
-                          const CameraParams& camera, int width, int height, bool wait, bool full) {
+                          const CameraParams& camera, int width, int height, bool wait, bool full,
+                          const LightSettings& light) {
     if (!scene || width <= 0 || height <= 0) return;
-    const Key key{scene_generation, camera, width, height, full ? 1 : 2};
+    const Key key{scene_generation, camera, width, height, full ? 1 : 2, light};
     if (key == requested_) {
         if (wait) job_.wait();
         return;
@@ -50,6 +51,8 @@ void SurfaceCast::request(const std::shared_ptr<const LoadedScene>& scene, uint6
         const int w = (key.width + key.divisor - 1) / key.divisor, h = (key.height + key.divisor - 1) / key.divisor;
         RayCastOptions options;
         options.cancel = cancel.get();
+        const std::optional<Lighting> lighting = lighting_for(key.light, *scene->mesh, scene->bounds);
+        options.lighting = lighting ? &*lighting : nullptr;
         const auto start = std::chrono::steady_clock::now();  // the cast alone (auto compares it with the raster)
         Frame frame = ray_cast(*scene->accel, cache->triangles, Camera(key.camera, w, h), options);
         r->milliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

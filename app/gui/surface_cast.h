@@ -18,6 +18,7 @@
 #include <optional>
 
 #include "app/gl/texture.h"
+#include "app/gui/app_state.h"
 #include "app/gui/latest_job.h"
 #include "app/gui/scene_loader.h"
 #include "core/render/camera.h"
@@ -32,6 +33,7 @@ public:
         CameraParams camera;
         int width = 0, height = 0;  ///< the view's pixels
         int divisor = 1;            ///< 1: every pixel; 2: half the width and half the height
+        LightSettings light;        ///< the ray caster's light (shadows, reflections)
         bool operator==(const Key&) const = default;
     };
 
@@ -42,7 +44,7 @@ public:
     /// mesh; UI thread). `wait`: block until it is done (headless, bench-view);
     /// `full`: every pixel (the camera is still), else a quarter of them.
     void request(const std::shared_ptr<const LoadedScene>& scene, uint64_t scene_generation, const CameraParams& camera,
-                 int width, int height, bool wait, bool full);
+                 int width, int height, bool wait, bool full, const LightSettings& light = {});
     /// Takes a finished cast into the textures (GL thread). True when a picture is
     /// there to draw: the last one stays up (of an older camera or scene) until the
     /// next is done.

@@ -353,6 +353,15 @@ void draw_ray_label(const AppState& state, const Session& session, LabelStack& s
                       "%.0f rays x (%.1f nodes, %.1f box tests, %.1f triangle tests) (naive: %zu triangle tests per ray)",
                       rays, w.nodes_visited / rays, w.box_tests / rays, w.triangle_tests / rays, triangles);
         detail += text;
+        // The secondary rays of the point light (the any-hit query stops at the first occluder).
+        for (const auto& [kind, work] : {std::pair{"shadow", &shown->frame.shadow}, std::pair{"reflection", &shown->frame.reflection}})
+            if (work->rays > 0) {
+                const double n = double(work->rays);
+                std::snprintf(text, sizeof text, "; + %llu %s rays x (%.1f nodes, %.1f triangle tests)",
+                              (unsigned long long)work->rays, kind, double(work->work.nodes_visited) / n,
+                              double(work->work.triangle_tests) / n);
+                detail += text;
+            }
         if (right == RightView::Depth) {
             std::snprintf(text, sizeof text, "; grey: t %.3g (light) .. %.3g (dark)", shown->t_near, shown->t_far);
             detail += text;
@@ -368,11 +377,39 @@ void draw_ray_label(const AppState& state, const Session& session, LabelStack& s
     titled_label(stack, "##ray_label", LabelStack::Edge::Top, title, detail, right == RightView::DepthDiff ? 6 : 4);
 }
 
+/// The point light as a small sun (a disc and eight rays, dark-edged to read on any
+/// background) with "light" beside it, where the camera sees it; nothing when it is
+/// behind the camera or outside the view.
+void draw_light_marker(const AppState& state, const Session& session, const ViewRect& rect) {
+    if (!state.light.point_light() || !session.scene || !state.camera || rect.empty()) return;
+    const Camera camera(*state.camera, rect.width, rect.height);
+    const Camera::ImagePoint at = camera.project(light_position(state.light, session.scene->bounds));
+    if (!(at.depth > 0) || at.x < 0 || at.y < 0 || at.x > rect.width || at.y > rect.height) return;
+    ImDrawList* draw = ImGui::GetBackgroundDrawList();
+    const ImVec2 c(float(rect.x + at.x), float(rect.y + at.y));
+    const float r = float(light_marker_radius(state.view.ui_scale));
+    const ImU32 sun = IM_COL32(255, 214, 64, 255), edge = IM_COL32(0, 0, 0, 220);
+    for (int k = 0; k < 8; ++k) {
+        const float a = float(k) * 0.785398163f;
+        const ImVec2 from(c.x + 0.55f * r * std::cos(a), c.y + 0.55f * r * std::sin(a));
+        const ImVec2 to(c.x + r * std::cos(a), c.y + r * std::sin(a));
+        draw->AddLine(from, to, edge, 4.0f * state.view.ui_scale);
+        draw->AddLine(from, to, sun, 2.0f * state.view.ui_scale);
+    }
+    draw->AddCircleFilled(c, 0.45f * r, sun);
+    draw->AddCircle(c, 0.45f * r, edge, 0, 1.5f * state.view.ui_scale);
+    const ImVec2 text(c.x + r + 4.0f, c.y - ImGui::GetFontSize() * 0.5f);
+    draw->AddText(ImVec2(text.x + 1, text.y + 1), edge, "light");
+    draw->AddText(text, sun, "light");
+}
+
 }  // namespace
 
 void draw_view_labels(const AppState& state, Session& session, const ViewAreas& areas, bool structure_legend,
                       bool deterministic) {
     draw_view_messages(session, areas.view, deterministic);
+    draw_light_marker(state, session, areas.gl_view);
+    if (areas.split) draw_light_marker(state, session, areas.ray_view);
     // The bottom stacks first (legends keep their size); the top labels wrap into the rest.
     LabelStack gl(areas.gl_view);
     if (structure_legend) draw_structure_legend(session, gl);

@@ -24,6 +24,10 @@ struct ViewAreas {
     bool split = false;
 };
 
+/// The point light's marker: its radius in pixels (a drag that starts within it
+/// moves the light; draw_frame.cpp).
+inline double light_marker_radius(float ui_scale) { return 12.0 * ui_scale; }
+
 /// Draws all of it (ImGui windows; call between NewFrame and Render).
 /// `structure_legend`: the overlay's legend belongs in the OpenGL half this frame.
 void draw_view_labels(const AppState& state, Session& session, const ViewAreas& areas, bool structure_legend,
