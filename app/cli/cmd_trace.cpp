@@ -1,6 +1,8 @@
 // `accelviz trace SCENE --pixel X,Y --json`: every event of one pixel's ray through
 // the chosen structure, then the result and the counters. The same event stream
 // the stepper replays (core/traversal/replay.h), from the same traversal code.
+// --ray shadow | reflection: the secondary ray the ray caster traces from that
+// pixel's hit instead (lighting.h), the shadow ray by the any-hit query.
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -15,6 +17,8 @@
 #include "app/cli/flag_checks.h"
 #include "core/exchange/structure_check.h"
 #include "core/geometry/scene.h"
+#include "core/render/lighting.h"
+#include "core/stepper/stepper.h"
 #include "core/traversal/event_json.h"
 
 namespace accelviz::cli {
@@ -27,6 +31,8 @@ struct TraceOptions {
     bool json = false;
     CameraFlags camera;
     AccelConfig accel;
+    std::string ray_kind = "camera";  ///< --ray: camera | shadow | reflection
+    std::string light;                ///< --light X,Y,Z ("": the scene's default light)
 };
 
 int run_trace(const TraceOptions& opt) {
@@ -46,9 +52,37 @@ int run_trace(const TraceOptions& opt) {
     if (!accel) return fail(accel.error());
     print_memory_budget_note(**accel, "trace");
 
-    const Ray ray = picked->ray;
+    Ray ray = picked->ray;
+    StopAt query = StopAt::ClosestHit;
+    if (opt.ray_kind != "camera") {
+        // The secondary ray from the camera ray's hit, made as the ray caster makes it.
+        const Hit first = (*accel)->intersect_closest(ray);
+        if (!first.found()) return fail("--ray " + opt.ray_kind + ": the ray of pixel " + opt.pixel + " hits nothing");
+        const Triangle tri = mesh->triangle(first.tri);
+        if (opt.ray_kind == "reflection") {
+            ray = reflection_ray(tri, first.u, first.v, ray.dir);
+        } else {
+            Vec3 light = default_light(mesh->bounds());
+            if (!opt.light.empty()) {
+                auto given = parse_vec3(opt.light);
+                if (!given) return fail("--light: " + given.error());
+                light = to_float(*given);
+            }
+            auto to_light = shadow_ray(tri, first.u, first.v, ray.dir, light);
+            if (!to_light)
+                return fail("--ray shadow: the light is behind the surface pixel " + opt.pixel +
+                            " sees (triangle " + std::to_string(first.tri) + "): unlit, no shadow ray");
+            ray = *to_light;
+            query = StopAt::AnyHit;
+        }
+    } else if (!opt.light.empty()) {
+        return fail("--light is for --ray shadow");
+    }
+    const SteppedRay traced = record_ray(**accel, ray, query);
+    const std::vector<TraversalEvent>& events = traced.events;
+    const Hit hit = traced.hit;
     RecordingObserver recorder;
-    const Hit hit = (*accel)->intersect_closest(ray, recorder);
+    recorder.events = events;
     const Counters counters = recorder.counters();
 
     if (opt.json) {
@@ -58,11 +92,13 @@ int run_trace(const TraceOptions& opt) {
         out["accel"] = (*accel)->name();
         out["config"] = (*accel)->config();
         out["pixel"] = {x, y};
+        out["ray_kind"] = opt.ray_kind;
+        out["query"] = query == StopAt::AnyHit ? "any-hit" : "closest-hit";
         out["ray"] = {{"origin", {ray.origin.x, ray.origin.y, ray.origin.z}},
                       {"dir", {ray.dir.x, ray.dir.y, ray.dir.z}},
                       {"t_min", float_to_json(ray.t_min)},
                       {"t_max", float_to_json(ray.t_max)}};
-        out["events"] = to_json(recorder.events);
+        out["events"] = to_json(events);
         out["result"] = to_json(hit);
         out["counters"] = to_json(counters);
         std::cout << out.dump(1) << "\n";
@@ -70,12 +106,15 @@ int run_trace(const TraceOptions& opt) {
     }
     std::printf("%s, %zu triangles, %s %s\n", opt.scene.c_str(), mesh->triangle_count(), (*accel)->name().c_str(),
                 (*accel)->config().dump().c_str());
-    std::printf("pixel (%d, %d): ray from (%.9g, %.9g, %.9g) along (%.9g, %.9g, %.9g)\n", x, y, ray.origin.x,
-                ray.origin.y, ray.origin.z, ray.dir.x, ray.dir.y, ray.dir.z);
-    for (size_t i = 0; i < recorder.events.size(); ++i)
-        std::printf("%6zu  %s\n", i, describe(recorder.events[i]).c_str());
-    if (hit.found()) std::printf("hit: triangle %u at t = %.9g (u = %.9g, v = %.9g)\n", hit.tri, hit.t, hit.u, hit.v);
-    else std::printf("miss\n");
+    std::printf("pixel (%d, %d): %s ray from (%.9g, %.9g, %.9g) along (%.9g, %.9g, %.9g), t in [%.9g, %.9g], %s\n", x,
+                y, opt.ray_kind.c_str(), ray.origin.x, ray.origin.y, ray.origin.z, ray.dir.x, ray.dir.y, ray.dir.z,
+                ray.t_min, ray.t_max, query == StopAt::AnyHit ? "any-hit (stops at the first hit)" : "closest-hit");
+    for (size_t i = 0; i < events.size(); ++i) std::printf("%6zu  %s\n", i, describe(events[i]).c_str());
+    if (hit.found())
+        std::printf("%s: triangle %u at t = %.9g (u = %.9g, v = %.9g)\n",
+                    query == StopAt::AnyHit ? "blocked" : "hit", hit.tri, hit.t, hit.u, hit.v);
+    else
+        std::printf("%s\n", query == StopAt::AnyHit ? "free: the light is visible" : "miss");
     std::printf("counters: %s\n", to_json(counters).dump().c_str());
     return 0;
 }
@@ -90,6 +129,13 @@ Command register_trace(CLI::App& app) {
     sub->add_option("--width", opt->width, "Image width in pixels")->check(whole_number(1, 16384))->capture_default_str();
     sub->add_option("--height", opt->height, "Image height in pixels")->check(whole_number(1, 16384))->capture_default_str();
     sub->add_flag("--json", opt->json, "One JSON object: events (array), result, counters");
+    sub->add_option("--ray", opt->ray_kind,
+                    "camera: the pixel's ray | shadow: from its hit to the light, by the any-hit query (it stops at "
+                    "the first triangle in the way) | reflection: the ray its hit would reflect, as off a mirror")
+        ->check(CLI::IsMember({"camera", "shadow", "reflection"}))
+        ->capture_default_str();
+    sub->add_option("--light", opt->light,
+                    "--ray shadow: the point light X,Y,Z (default: inside the scene's box, near its top and front right)");
     opt->camera.add_to(*sub);
     add_accel_flags(*sub, opt->accel);
     return {sub, [opt] { return run_trace(*opt); }};

@@ -57,6 +57,7 @@ void open_stepper_on(AppState& state, const PixelRay& picked, size_t step) {
     state.overlay.mesh_opacity = 0.5f;  // as the window does when the stepper opens: the boxes lie inside the mesh
     state.stepper.open = true;
     state.stepper.ray = picked.ray;
+    state.stepper.any_hit = false;
     state.stepper.pixel = std::array<int, 2>{picked.x, picked.y};
     state.stepper.step = step;
 }

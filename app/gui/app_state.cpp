@@ -267,7 +267,7 @@ nlohmann::json to_json(const AppState& s) {
     if (s.build_step.cost_trav) b["cost_trav"] = *s.build_step.cost_trav;
     if (s.build_step.cost_isect) b["cost_isect"] = *s.build_step.cost_isect;
     j["build_step"] = b;
-    nlohmann::json stepper = {{"open", s.stepper.open}, {"step", s.stepper.step}};
+    nlohmann::json stepper = {{"open", s.stepper.open}, {"step", s.stepper.step}, {"any_hit", s.stepper.any_hit}};
     if (s.stepper.ray)
         stepper["ray"] = {{"origin", {s.stepper.ray->origin.x, s.stepper.ray->origin.y, s.stepper.ray->origin.z}},
                           {"dir", {s.stepper.ray->dir.x, s.stepper.ray->dir.y, s.stepper.ray->dir.z}},
@@ -359,6 +359,7 @@ Expected<AppState> app_state_from_json(const nlohmann::json& j) {
             const auto& st = j["stepper"];
             s.stepper.open = read(st, "open", s.stepper.open, "stepper");
             s.stepper.step = read(st, "step", s.stepper.step, "stepper");
+            s.stepper.any_hit = read(st, "any_hit", s.stepper.any_hit, "stepper");
             if (st.contains("ray") && !st["ray"].is_null()) {
                 const auto& r = st["ray"];
                 Ray ray;

@@ -141,6 +141,9 @@ struct StepperSettings {
     std::optional<Ray> ray;        ///< the ray stepped (none: click a pixel or type one)
     size_t step = 0;               ///< events applied (0: before the first; past the end: the final state)
     std::optional<std::array<int, 2>> pixel;  ///< where the ray was picked (for the panel's caption), if by a pixel
+    /// The ray is a shadow ray, stepped by the any-hit query (it stops at the first
+    /// triangle in [t_min, t_max]); false: the closest-hit query (camera, reflection).
+    bool any_hit = false;
     bool operator==(const StepperSettings&) const = default;
 };
 

@@ -96,6 +96,7 @@ void StepperPanel::pick(AppState& state, const CameraParams& camera, int width, 
     if (width <= 0 || height <= 0) return;
     const Camera cam(camera, width, height);
     state.stepper.ray = cam.ray(x, y);
+    state.stepper.any_hit = false;
     state.stepper.pixel = std::array<int, 2>{x, y};
     state.stepper.step = 0;
     state.stepper.open = true;
@@ -116,12 +117,16 @@ void StepperPanel::update(AppState& state, Session& session, double delta_second
     if (!state.stepper.open || !session.scene) return;
     const bool new_scene = traced_scene != session.scene;
     const bool new_ray = state.stepper.ray.has_value() != traced_ray.has_value() ||
-                         (state.stepper.ray && *state.stepper.ray != *traced_ray);
+                         (state.stepper.ray && *state.stepper.ray != *traced_ray) ||
+                         state.stepper.any_hit != traced_any_hit;
     if (new_scene || new_ray) {
         if (new_scene) boxes = NodeBoxes(*session.scene->accel);
+        if (!following) earlier_rays.clear();  // another pixel or a typed ray: a new chain
+        following = false;
         traced_scene = session.scene;
         traced_ray = state.stepper.ray;
-        trace = state.stepper.ray ? record_ray(*session.scene->accel, *state.stepper.ray) : SteppedRay{};
+        traced_any_hit = state.stepper.any_hit;
+        trace = state.stepper.ray ? record_ray(*session.scene->accel, *state.stepper.ray, query(state)) : SteppedRay{};
         shown_step = size_t(-1);
         playing = false;
         scroll_to_current = true;
@@ -175,9 +180,10 @@ void StepperPanel::update(AppState& state, Session& session, double delta_second
         if (auto done = compare_job.take(); done && done->mesh == session.scene->mesh) compare = std::move(*done);
     }
     if (compare && compare->set && state.stepper.ray &&
-        (!compare_ray_of || *compare_ray_of != *state.stepper.ray)) {
-        compare_rows = compare_ray(*compare->set, *state.stepper.ray);
+        (!compare_ray_of || *compare_ray_of != *state.stepper.ray || compare_any_hit_of != state.stepper.any_hit)) {
+        compare_rows = compare_ray(*compare->set, *state.stepper.ray, query(state));
         compare_ray_of = state.stepper.ray;
+        compare_any_hit_of = state.stepper.any_hit;
     }
 }
 
@@ -393,7 +399,9 @@ void StepperPanel::draw_compare() {
             ImGui::TableNextColumn();
             ImGui::Text("%llu", (unsigned long long)row.counters.mailbox_skips);
             ImGui::TableNextColumn();
-            if (row.hit.found())
+            if (compare_any_hit_of)
+                ImGui::Text("%s%s", row.blocked ? "blocked" : "free", row.agrees_with_naive ? "" : " (differs!)");
+            else if (row.hit.found())
                 ImGui::Text("%u, t=%.4g%s", row.hit.tri, row.hit.t, row.agrees_with_naive ? "" : " (differs!)");
             else
                 ImGui::TextUnformatted("miss");
@@ -418,6 +426,7 @@ void StepperPanel::draw_ray_fields(AppState& state, Session& session) {
             r.origin = o;
             r.dir = d;
             state.stepper.ray = r;
+            state.stepper.any_hit = false;
             state.stepper.pixel.reset();
             state.stepper.step = 0;
         }
@@ -426,11 +435,12 @@ void StepperPanel::draw_ray_fields(AppState& state, Session& session) {
 
 void StepperPanel::draw(AppState& state, Session& session, bool lecture) {
     const std::string structure = session.scene ? std::string(to_string(session.scene->accel_config.type)) : "?";
+    const char* kind = state.stepper.any_hit ? "shadow ray" : earlier_rays.empty() ? "ray" : "reflection ray";
     if (state.stepper.pixel)
-        ImGui::Text("Stepper: %s, ray of pixel (%d, %d)", structure.c_str(), (*state.stepper.pixel)[0],
+        ImGui::Text("Stepper: %s, %s of pixel (%d, %d)", structure.c_str(), kind, (*state.stepper.pixel)[0],
                     (*state.stepper.pixel)[1]);
     else
-        ImGui::Text("Stepper: %s", structure.c_str());
+        ImGui::Text("Stepper: %s, %s", structure.c_str(), kind);
     ImGui::SameLine(ImGui::GetWindowContentRegionMax().x - ImGui::CalcTextSize("Close").x -
                     2.0f * ImGui::GetStyle().FramePadding.x);
     if (ImGui::SmallButton("Close")) {
@@ -456,6 +466,7 @@ void StepperPanel::draw(AppState& state, Session& session, bool lecture) {
                     2.0f * ImGui::GetStyle().FramePadding.x);
     if (ImGui::SmallButton("View from the side") && state.camera)
         state.camera = stepper_side_view(*state.camera, *state.stepper.ray);
+    draw_next_rays(state, session);
     if (const TraversalEvent* e = event_before(trace, step)) {
         // (The state after the event has the closest hit it was compared with: no event changes both.)
         ImGui::PushStyleColor(ImGuiCol_Text, im_vec4(kStepColours.interval));
@@ -499,6 +510,52 @@ void StepperPanel::draw(AppState& state, Session& session, bool lecture) {
             {"triangle missed", k.triangle_miss},   {"closest hit", k.closest},
             {"hit outside cell", k.rejected},       {"split plane", k.split}};
         for (const auto& [name, colour] : legend) ImGui::TextColored(im_vec4(colour), "%s", name);
+    }
+}
+
+StopAt StepperPanel::query(const AppState& state) { return state.stepper.any_hit ? StopAt::AnyHit : StopAt::ClosestHit; }
+
+void StepperPanel::draw_next_rays(AppState& state, const Session& session) {
+    // A shadow ray: the any-hit query, which may stop at the first triangle in the way.
+    if (state.stepper.any_hit)
+        grey_text("Shadow ray, from the hit to the light (t = 1): any hit blocks it, so the walk stops at the "
+                  "first triangle in the way, without looking for the nearest.");
+    // The rays the ray caster traces from this hit, stepped by the same code: the
+    // shadow ray to the light and, off a mirror, the reflection ray.
+    const LoadedScene* scene = session.scene.get();
+    const bool camera_or_reflection = !state.stepper.any_hit;
+    if (scene && trace.hit.found() && camera_or_reflection && state.light.point_light() &&
+        trace.hit.tri < scene->mesh->triangle_count()) {
+        const Triangle tri = scene->mesh->triangle(trace.hit.tri);
+        const Ray& ray = *state.stepper.ray;
+        auto follow = [&](const Ray& next, bool any_hit) {
+            following = true;
+            earlier_rays.push_back(state.stepper);
+            state.stepper.ray = next;
+            state.stepper.any_hit = any_hit;
+            state.stepper.step = 0;
+            playing = false;
+        };
+        const Vec3 light = to_float(light_position(state.light, scene->bounds));
+        const bool mirror = state.light.reflections && trace.hit.tri < scene->mesh->mirror.size() &&
+                            scene->mesh->mirror[trace.hit.tri] != 0;
+        if (mirror && earlier_rays.empty()) {
+            if (ImGui::Button("Step its reflection ray")) follow(reflection_ray(tri, trace.hit.u, trace.hit.v, ray.dir), false);
+        } else if (!state.light.shadows) {
+        } else if (auto to_light = shadow_ray(tri, trace.hit.u, trace.hit.v, ray.dir, light)) {
+            if (ImGui::Button("Step its shadow ray")) follow(*to_light, true);
+        } else {
+            grey_text("the light is behind this surface: no shadow ray (unlit)");
+        }
+    }
+    if (!earlier_rays.empty()) {
+        if (camera_or_reflection && trace.hit.found() && state.light.point_light()) ImGui::SameLine();
+        if (ImGui::Button("Back to the ray before")) {
+            state.stepper = earlier_rays.back();
+            earlier_rays.pop_back();
+            following = true;
+            playing = false;
+        }
     }
 }
 

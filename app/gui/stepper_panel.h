@@ -32,7 +32,12 @@ struct StepperPanel {
     // What is recorded: the ray through the scene's structure (remade when either changes).
     std::shared_ptr<const LoadedScene> traced_scene;
     std::optional<Ray> traced_ray;
+    bool traced_any_hit = false;  ///< the query `trace` was recorded by
     SteppedRay trace;
+    /// The rays stepped before this one from the same pixel (a camera ray, then its
+    /// reflection ray), for "Back"; emptied when another ray is picked.
+    std::vector<StepperSettings> earlier_rays;
+    bool following = false;  ///< the ray was just switched along the chain (not picked anew)
     NodeBoxes boxes;
 
     // The state at the step shown, and its geometry (remade when the step changes).
@@ -53,6 +58,7 @@ struct StepperPanel {
     std::shared_ptr<const Mesh> compare_requested;  ///< the mesh a build was asked for
     std::optional<CompareBuild> compare;            ///< the finished build
     std::optional<Ray> compare_ray_of;              ///< the ray `compare_rows` are of
+    bool compare_any_hit_of = false;                ///< ... and the query
     std::vector<CompareRow> compare_rows;
 
     // Playing (window only: never in a deterministic frame).
@@ -95,6 +101,10 @@ private:
     void draw_compare();
     void draw_inspectors(const TraversalEvent* current);
     void draw_stack();
+    /// Under the step counter: the hit's shadow ray and, off a mirror, its reflection
+    /// ray (the ray caster's, lighting.h), to step next; and back.
+    void draw_next_rays(AppState& state, const Session& session);
+    static StopAt query(const AppState& state);
     void draw_ray_fields(AppState& state, Session& session);
 };
 

@@ -153,6 +153,7 @@ public:
             const SteppedRay& traced = session.stepper.trace;
             j["stepped_ray"] = {{"structure", traced.structure},
                                 {"events", traced.events.size()},
+                                {"any_hit", traced.query == StopAt::AnyHit},
                                 {"hit_triangle", traced.hit.found() ? nlohmann::json(traced.hit.tri) : nlohmann::json()}};
         }
         if (const StructureComparison* c = session.comparison.measured()) {

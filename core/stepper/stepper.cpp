@@ -18,14 +18,24 @@ namespace accelviz {
 
 // [SECTION] The recorded ray
 
-SteppedRay record_ray(const Accelerator& accel, const Ray& ray) {
+SteppedRay record_ray(const Accelerator& accel, const Ray& ray, StopAt query) {
     SteppedRay r;
     r.ray = ray;
     r.structure = accel.name();
     r.widened_box_test = accel.type() == AccelType::Bvh;
     r.triangle_test = accel.triangle_test();
+    r.query = query;
     RecordingObserver recorder;
-    r.hit = accel.intersect_closest(ray, recorder);
+    if (query == StopAt::AnyHit) {
+        accel.intersect_any(ray, recorder);
+        // Every walk ends with Done, which names the triangle that blocks the ray.
+        if (!recorder.events.empty() && recorder.events.back().kind == EventKind::Done && recorder.events.back().hit) {
+            const TraversalEvent& done = recorder.events.back();
+            r.hit = {done.tri, done.t, done.u, done.v};
+        }
+    } else {
+        r.hit = accel.intersect_closest(ray, recorder);
+    }
     r.events = std::move(recorder.events);
     return r;
 }
@@ -473,17 +483,22 @@ Expected<CompareSet> build_compare_set(const Mesh& mesh) {
     return set;
 }
 
-std::vector<CompareRow> compare_ray(const CompareSet& set, const Ray& ray) {
+std::vector<CompareRow> compare_ray(const CompareSet& set, const Ray& ray, StopAt query) {
     std::vector<CompareRow> rows;
     for (const CompareSet::Entry& entry : set.entries) {
         CountingObserver counter;
         CompareRow row;
         row.label = entry.label;
-        row.hit = entry.accel->intersect_closest(ray, counter);
+        if (query == StopAt::AnyHit)
+            row.blocked = entry.accel->intersect_any(ray, counter);
+        else
+            row.hit = entry.accel->intersect_closest(ray, counter);
         row.counters = counter.counters;
         if (!rows.empty())
-            row.agrees_with_naive = row.hit.tri == rows.front().hit.tri &&
-                                    (row.hit.t == rows.front().hit.t || !row.hit.found());
+            row.agrees_with_naive = query == StopAt::AnyHit
+                                        ? row.blocked == rows.front().blocked
+                                        : row.hit.tri == rows.front().hit.tri &&
+                                              (row.hit.t == rows.front().hit.t || !row.hit.found());
         rows.push_back(std::move(row));
     }
     return rows;

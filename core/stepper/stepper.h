@@ -36,9 +36,12 @@ struct SteppedRay {
     TriangleTestKind triangle_test = TriangleTestKind::MollerTrumbore;  ///< the test the events come from
     std::vector<TraversalEvent> events;
     Hit hit;
+    /// ClosestHit (camera and reflection rays), or AnyHit (a shadow ray: the walk
+    /// stops at the first triangle in [t_min, t_max]; `hit` is that triangle).
+    StopAt query = StopAt::ClosestHit;
 };
 
-SteppedRay record_ray(const Accelerator& accel, const Ray& ray);
+SteppedRay record_ray(const Accelerator& accel, const Ray& ray, StopAt query = StopAt::ClosestHit);
 
 /// The event that explains the state after `steps` events: events[steps - 1]
 /// (none at step 0).
@@ -252,11 +255,12 @@ Expected<CompareSet> build_compare_set(const Mesh& mesh);
 struct CompareRow {
     std::string label;
     Counters counters;
-    Hit hit;
-    bool agrees_with_naive = true;  ///< same triangle and t as the first row (naive)
+    Hit hit;                        ///< the closest-hit query's answer
+    bool blocked = false;           ///< the any-hit query's answer (it names no triangle)
+    bool agrees_with_naive = true;  ///< same triangle and t (any-hit: same answer) as the first row (naive)
 };
 
-/// The same ray through every entry (counting observer: cheap).
-std::vector<CompareRow> compare_ray(const CompareSet& set, const Ray& ray);
+/// The same ray through every entry (counting observer: cheap), by `query`.
+std::vector<CompareRow> compare_ray(const CompareSet& set, const Ray& ray, StopAt query = StopAt::ClosestHit);
 
 }  // namespace accelviz

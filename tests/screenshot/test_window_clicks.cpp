@@ -684,6 +684,39 @@ TEST(WindowClicks, StepperPicksTheRayOfTheClickedPixel) {
     });
 }
 
+/// The ray caster's secondary rays stepped by the same code: a floor pixel's camera
+/// ray, then (a button under the step counter) its shadow ray by the any-hit query,
+/// then back. The light is on, so the 3D view's mesh is ray cast with shadows.
+TEST(WindowClicks, TheStepperFollowsAPixelsRayToItsShadowRay) {
+    Window w;
+    // Pixel (640, 600) of a 1280 x 720 image under this camera hits the floor (triangle 1).
+    w.start("builtin:cornell-mirror", {"--shadows", "on", "--reflections", "on", "--eye", "3.6,3.4,17", "--target",
+                                       "2.78,2.5,2.8", "--fov", "36", "--pixel", "640,600", "--width", "1280",
+                                       "--height", "720"});
+    const json camera_ray = w.wait_for("the floor pixel's ray stepped", [](const json& s) {
+        return s.contains("stepped_ray") && s["stepped_ray"]["hit_triangle"] == 1 && !s["busy"].get<bool>();
+    });
+    EXPECT_FALSE(camera_ray["stepped_ray"]["any_hit"].get<bool>());
+    EXPECT_EQ(camera_ray["mesh"]["drawn_by"], "raycast") << "a point light needs rays";
+    EXPECT_NE(camera_ray["status"].get<std::string>().find("shadows"), std::string::npos) << camera_ray["status"];
+    w.key("End");
+    w.wait_for("End: the last step", [&](const json& s) {
+        return s["state"]["stepper"]["step"].get<int>() == camera_ray["stepped_ray"]["events"].get<int>();
+    });
+    w.click("Step its shadow ray", "##stepper");
+    const json shadow = w.wait_for("the shadow ray stepped by the any-hit query", [](const json& s) {
+        return s.contains("stepped_ray") && s["stepped_ray"]["any_hit"].get<bool>() && s["state"]["stepper"]["any_hit"] == true;
+    });
+    EXPECT_EQ(shadow["state"]["stepper"]["step"].get<int>(), 0);
+    EXPECT_EQ(shadow["state"]["stepper"]["ray"]["t_max"], 1.0) << "from the floor to the light";
+    EXPECT_GT(shadow["stepped_ray"]["events"].get<int>(), 1);
+    w.click("Back to the ray before", "##stepper");
+    w.wait_for("the camera ray again", [&](const json& s) {
+        return s.contains("stepped_ray") && !s["stepped_ray"]["any_hit"].get<bool>() &&
+               s["state"]["stepper"]["ray"] == camera_ray["state"]["stepper"]["ray"];
+    });
+}
+
 /// A long build shows its progress with a Cancel button; Cancel (or Esc) stops it and
 /// the scene on screen stays with the structure it had, which the panels show again.
 TEST(WindowClicks, CancelStopsALongBuildAndKeepsTheScene) {

@@ -4,6 +4,7 @@
 // the same through every structure.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "accel/accel_test_support.h"
@@ -12,6 +13,7 @@
 #include "core/geometry/scene.h"
 #include "core/render/lighting.h"
 #include "core/render/ray_caster.h"
+#include "core/stepper/stepper.h"
 #include "test_support.h"
 
 using namespace accelviz;
@@ -263,6 +265,42 @@ TEST(LitPicture, AnyHitShadowRaysDoNoMoreWorkThanClosestHitOnTheSameSegments) {
         // Unblocked rays do the same work either way: the saving is all on blocked ones.
         EXPECT_EQ(w.any_hit.triangle_tests - w.any_hit_blocked.triangle_tests,
                   w.closest_hit.triangle_tests - w.closest_hit_blocked.triangle_tests);
+    }
+}
+
+}  // namespace
+
+namespace {
+
+TEST(SteppedShadowRay, EveryStructureRecordsTheAnyHitQueryEndingWhereItStops) {
+    auto mesh = load_scene("builtin:teapot?n=6");
+    ASSERT_TRUE(mesh) << mesh.error();
+    const std::vector<Ray> rays = shadow_segments(*mesh, 300, 21);
+    const BruteForce brute(*mesh);
+    for (AccelType type : {AccelType::Naive, AccelType::Bvh, AccelType::Grid, AccelType::Kd, AccelType::Octree,
+                           AccelType::Bsp}) {
+        SCOPED_TRACE(to_string(type));
+        AccelConfig config;
+        config.type = type;
+        auto accel = build_accelerator(*mesh, config);
+        ASSERT_TRUE(accel) << accel.error();
+        for (const Ray& ray : rays) {
+            const SteppedRay stepped = record_ray(**accel, ray, StopAt::AnyHit);
+            const bool blocked = brute.intersect_any(ray);
+            ASSERT_EQ(stepped.hit.found(), blocked) << test::describe(ray);
+            ASSERT_FALSE(stepped.events.empty());
+            EXPECT_EQ(stepped.events.back().kind, EventKind::Done);
+            if (!blocked) continue;
+            // The walk stopped at the hit: the last triangle test is that hit, and the
+            // named triangle really lies on the segment.
+            auto last_test = std::find_if(stepped.events.rbegin(), stepped.events.rend(),
+                                          [](const TraversalEvent& e) { return e.kind == EventKind::TriangleTest; });
+            ASSERT_NE(last_test, stepped.events.rend());
+            EXPECT_TRUE(last_test->hit);
+            EXPECT_EQ(last_test->tri, stepped.hit.tri);
+            EXPECT_GE(stepped.hit.t, ray.t_min);
+            EXPECT_LE(stepped.hit.t, ray.t_max);
+        }
     }
 }
 
