@@ -57,10 +57,6 @@ struct RenderOptions {
     std::string rays = "primary";  ///< --rays: which rays' work the heat maps show
 };
 
-/// The rays a heat map counts: the camera's, or the secondary rays of the lighting.
-enum class HeatRays { Primary, Shadow, Reflection };
-constexpr EnumNames<HeatRays, 3> kHeatRaysNames{
-    {{{HeatRays::Primary, "primary"}, {HeatRays::Shadow, "shadow"}, {HeatRays::Reflection, "reflection"}}}};
 
 /// The views the CPU renderers of core/render compose (the window's own views are WindowView).
 enum class CpuView { RayCast, Raster, Split, DepthDiff, HeatNodes, HeatTris };
@@ -303,7 +299,7 @@ int run_render(const RenderOptions& given) {
                                                                                  : nullptr;
             const std::vector<uint32_t>& counts =
                 secondary ? (nodes ? secondary->nodes : secondary->tests) : (nodes ? ray_frame.nodes : ray_frame.tests);
-            const std::string rays = secondary ? std::string(" by ") + std::string(kHeatRaysNames.name(heat_rays)) + " rays" : "";
+            const std::string rays = secondary ? std::string(" by ") + std::string(to_string(heat_rays)) + " rays" : "";
             image = heat_view(counts, opt.width, opt.height,
                               (nodes ? "Nodes visited per pixel" : "Triangles tested per pixel") + rays + " (" +
                                   accel_name(state) + ")",

@@ -258,6 +258,7 @@ nlohmann::json to_json(const AppState& s) {
                  {"draw_with", std::string(to_string(s.view.draw_with))},
                  {"right_view", std::string(to_string(s.view.right_view))},
                  {"left_view", std::string(to_string(s.view.left_view))}, {"heat_same_scale", s.view.heat_same_scale},
+                 {"heat_rays", std::string(to_string(s.view.heat_rays))},
                  {"line_width", s.view.line_width}, {"fill_order", s.view.fill_order}, {"fill", s.view.fill}};
     j["light"] = {{"shadows", s.light.shadows},
                   {"reflections", s.light.reflections},
@@ -328,6 +329,7 @@ Expected<AppState> app_state_from_json(const nlohmann::json& j) {
             if (v.contains("right_view")) s.view.right_view = read_named(v["right_view"], "view.right_view", kRightViewNames);
             if (v.contains("left_view")) s.view.left_view = read_named(v["left_view"], "view.left_view", kLeftViewNames);
             s.view.heat_same_scale = read(v, "heat_same_scale", s.view.heat_same_scale, "view");
+            if (v.contains("heat_rays")) s.view.heat_rays = read_named(v["heat_rays"], "view.heat_rays", kHeatRaysNames);
             s.view.fill_order = read(v, "fill_order", s.view.fill_order, "view");
             s.view.fill = read(v, "fill", s.view.fill, "view");
             if (!(s.view.fill >= 0.0f && s.view.fill <= 1.0f)) return Error{"view.fill: must be between 0 and 1"};

@@ -64,6 +64,13 @@ inline std::ostream& operator<<(std::ostream& out, DrawWith v) { return out << t
 inline std::ostream& operator<<(std::ostream& out, RightView v) { return out << to_string(v); }
 inline std::ostream& operator<<(std::ostream& out, LeftView v) { return out << to_string(v); }
 
+/// Whose work a heat map shows: the camera's rays, or the point light's secondary
+/// rays (shadow, reflection; LightSettings).
+enum class HeatRays { Primary, Shadow, Reflection };
+inline constexpr EnumNames<HeatRays, 3> kHeatRaysNames{
+    {{{HeatRays::Primary, "primary"}, {HeatRays::Shadow, "shadow"}, {HeatRays::Reflection, "reflection"}}}};
+constexpr std::string_view to_string(HeatRays v) { return kHeatRaysNames.name(v); }
+
 /// A heat map (work per pixel) on the right.
 constexpr bool is_heat(RightView v) { return v == RightView::HeatNodes || v == RightView::HeatTris; }
 
@@ -83,6 +90,7 @@ struct ViewSettings {
     /// Heat maps keep the largest count seen since the scene was loaded as the top
     /// of their scale, so that switching structures compares like with like.
     bool heat_same_scale = false;
+    HeatRays heat_rays = HeatRays::Primary;  ///< the rays whose work the heat maps show
     /// The split view's fill order (the lecture's two loops, stopped part-way): the CPU
     /// rasterizer after the first `fill` of its triangles on the left, the ray caster
     /// after the first `fill` of its pixels on the right (0 to 1).

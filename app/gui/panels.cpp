@@ -535,6 +535,16 @@ void ViewPanel::draw_split_choices(ViewSettings& view) {
         ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);
         if (ImGui::Combo("Ray cast shows", &current, kLabels, int(std::size(kLabels)))) view.right_view = RightView(current);
         ImGui::Checkbox("Heat: same scale for all structures", &view.heat_same_scale);
+        if (is_heat(view.right_view)) {
+            static constexpr const char* kRaysLabels[] = {"camera rays", "shadow rays", "reflection rays"};
+            static_assert(std::size(kRaysLabels) == kHeatRaysNames.entries.size());
+            int rays = int(view.heat_rays);  // the labels are in the enum's order
+            ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);
+            if (ImGui::Combo("Heat of", &rays, kRaysLabels, int(std::size(kRaysLabels)))) view.heat_rays = HeatRays(rays);
+            if (ImGui::IsItemHovered())
+                ImGui::SetTooltip("Whose work per pixel: the camera's rays, or the light's shadow or\n"
+                                  "reflection rays (Light: Shadows, Reflections).");
+        }
         draw_fill_order(view);
     }
 }

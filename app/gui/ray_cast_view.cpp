@@ -107,17 +107,27 @@ void RayCastView::update_texture(const ViewSettings& view) {
     }
 
     // Right: the ray caster's picture.
-    if (changed || view.right_view != texture_view_ || view.heat_same_scale != texture_same_scale_ || !texture_) {
+    if (changed || view.right_view != texture_view_ || view.heat_same_scale != texture_same_scale_ ||
+        view.heat_rays != texture_heat_rays_ || !texture_) {
         if (!texture_) texture_ = std::make_unique<Texture>();
-        const double nodes_max = view.heat_same_scale ? heat_max_nodes_ : 0;
-        const double tests_max = view.heat_same_scale ? heat_max_tests_ : 0;
+        // The secondary rays' work when asked for and traced (else the camera rays').
+        const SecondaryWork* secondary = view.heat_rays == HeatRays::Shadow       ? &f.shadow
+                                         : view.heat_rays == HeatRays::Reflection ? &f.reflection
+                                                                                  : nullptr;
+        if (secondary && secondary->nodes.empty()) secondary = nullptr;
+        heat_rays_shown_ = secondary ? view.heat_rays : HeatRays::Primary;
+        const std::vector<uint32_t>& nodes = secondary ? secondary->nodes : f.nodes;
+        const std::vector<uint32_t>& tests = secondary ? secondary->tests : f.tests;
+        // Same scale: the largest camera-ray counts since the mesh loaded.
+        const double nodes_max = view.heat_same_scale && !secondary ? heat_max_nodes_ : 0;
+        const double tests_max = view.heat_same_scale && !secondary ? heat_max_tests_ : 0;
         // The pictures alone: the window writes their titles and legends in its own font.
         if (view.right_view == RightView::HeatNodes) {
-            heat_scale_ = heat_scale(f.nodes, nodes_max);
-            texture_->upload(heat_colours(f.nodes, f.width, f.height, heat_scale_));
+            heat_scale_ = heat_scale(nodes, nodes_max);
+            texture_->upload(heat_colours(nodes, f.width, f.height, heat_scale_));
         } else if (view.right_view == RightView::HeatTris) {
-            heat_scale_ = heat_scale(f.tests, tests_max);
-            texture_->upload(heat_colours(f.tests, f.width, f.height, heat_scale_));
+            heat_scale_ = heat_scale(tests, tests_max);
+            texture_->upload(heat_colours(tests, f.width, f.height, heat_scale_));
         } else if (view.right_view == RightView::Depth) {
             texture_->upload(depth_grey_view(f, shown_->t_near, shown_->t_far));
         } else if (view.right_view == RightView::DepthDiff && have_raster) {
@@ -128,6 +138,7 @@ void RayCastView::update_texture(const ViewSettings& view) {
         }
         texture_view_ = view.right_view;
         texture_same_scale_ = view.heat_same_scale;
+        texture_heat_rays_ = view.heat_rays;
     }
 
     // Left: the CPU rasterizer's picture, when asked for.

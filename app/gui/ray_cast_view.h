@@ -69,6 +69,8 @@ public:
     double heat_max(bool nodes) const { return nodes ? heat_max_nodes_ : heat_max_tests_; }
     /// The scale of the heat map in the texture (for its legend).
     const HeatScale& heat_scale_shown() const { return heat_scale_; }
+    /// Whose work the heat map shows (the camera rays' when no such secondary rays were traced).
+    HeatRays heat_rays_shown() const { return heat_rays_shown_; }
     /// The fill order's counts in the textures (view.fill_order): each loop's work so far.
     const RasterFillCounts& raster_fill_shown() const { return raster_fill_; }
     const RayFillCounts& ray_fill_shown() const { return ray_fill_; }
@@ -97,6 +99,8 @@ private:
     std::optional<Result> shown_;
     RightView texture_view_ = RightView::RayCast;  ///< the right_view the texture was made for
     bool texture_same_scale_ = false;
+    HeatRays texture_heat_rays_ = HeatRays::Primary;  ///< the heat_rays the texture was made for
+    HeatRays heat_rays_shown_ = HeatRays::Primary;    ///< whose work a heat texture shows (none traced: primary)
     std::unique_ptr<Texture> texture_;
     HeatScale heat_scale_;       ///< right_view heat-*: the texture's scale
     DepthAgreement agreement_;   ///< right_view depth-diff: the figures of the texture

@@ -325,6 +325,8 @@ void draw_ray_label(const AppState& state, const Session& session, LabelStack& s
     std::string title = "Ray cast (CPU, " + structure + ")";
     if (right == RightView::HeatNodes) title += ": nodes visited per pixel";
     if (right == RightView::HeatTris) title += ": triangle tests per pixel";
+    if (is_heat(right) && session.ray_cast.heat_rays_shown() != HeatRays::Primary)
+        title += std::string(" by ") + std::string(to_string(session.ray_cast.heat_rays_shown())) + " rays";
     if (right == RightView::Depth) title += ": depth";
     if (right == RightView::DepthDiff) title = "Depth: CPU raster vs ray cast (" + structure + ")";
     if (session.ray_cast.fill_shown()) {

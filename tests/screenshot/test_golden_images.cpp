@@ -136,6 +136,16 @@ TEST(GoldenImage, SplitTriangleHeatAt1920x1080) {
     EXPECT_TRUE(view_matches_golden(state, WindowView::Gui, 1920, 1080, "teapot_split_heat_tris_1920x1080"));
 }
 
+// The light's shadow rays' work per pixel in the split view (the mirror Cornell box of
+// preset 40): the label names the rays, and adds their counts to the camera rays'.
+TEST(GoldenImage, SplitShadowRayHeatOfTheMirrorCornellBox) {
+    auto state = load_app_state_file(std::string(ACCELVIZ_SOURCE_DIR) + "/assets/presets/40-shadows-and-reflections.json");
+    ASSERT_TRUE(state) << state.error();
+    state->view.right_view = RightView::HeatNodes;
+    state->view.heat_rays = HeatRays::Shadow;
+    EXPECT_TRUE(view_matches_golden(*state, WindowView::Gui, 1280, 720, "cornell_mirror_split_shadow_heat_nodes"));
+}
+
 // The window's split view at the smallest size the labels are laid out for (they
 // wrap and cut to fit: see view_labels.h) and at a projector's full HD.
 TEST(GoldenImage, SplitRayCastAt640x360) {
