@@ -91,7 +91,7 @@ Polygon clip_polygon(const Polygon& polygon, const Plane& plane, bool back, floa
 
 /// A BSP tree over a mesh's triangles (invariants: PartitionTree's; `bounds`, the
 /// root's cell, is the scene's box grown by the padding).
-struct BspTree : PartitionTree<BspNode, BspConfig, BspBuildStats> {
+struct BspTree : PartitionTree<BspNode, BspConfig, BspBuildStats>, CellQueries<BspTree> {
     static constexpr AccelType kType = AccelType::Bsp;
     std::string name() const { return std::string(to_string(kType)); }
     nlohmann::json config() const;
@@ -108,31 +108,12 @@ struct BspTree : PartitionTree<BspNode, BspConfig, BspBuildStats> {
     NodeShapes shapes;
     const NodeShapes& node_shapes() const { return shapes; }
 
-    /// Closest hit in [ray.t_min, ray.t_max]. Events: BoxTest (root), VisitNode,
-    /// SplitPlane (axis = kGeneralPlane, near_first = the back side first), Push,
-    /// Pop, Cull, Leaf, TriangleTest, MailboxSkip, HitOutsideCell, NewClosest, Done.
-    template <class Observer>
-    Hit intersect_closest(const Ray& ray, Observer& obs) const {
-        return walk<StopAt::ClosestHit>(ray, obs);
-    }
-    /// Any hit in [ray.t_min, ray.t_max] (shadow rays): the same walk, ended by the
-    /// first hit wherever it lies (CellHits' any-hit mode).
-    template <class Observer>
-    bool intersect_any(const Ray& ray, Observer& obs) const {
-        return walk<StopAt::AnyHit>(ray, obs).found();
-    }
-    bool intersect_any(const Ray& ray) const {
-        NoObserver none;
-        return intersect_any(ray, none);
-    }
-
 private:
-    template <StopAt kStop, class Observer>
-    Hit walk(const Ray& ray, Observer& obs) const {
-        return triangle_test == TriangleTestKind::Watertight
-                   ? front_to_back<TriangleTestKind::Watertight, kStop>(ray, obs)
-                   : front_to_back<TriangleTestKind::MollerTrumbore, kStop>(ray, obs);
-    }
+    friend struct CellQueries<BspTree>;
+    /// The walk (CellQueries: intersect_closest, intersect_any), with the triangle
+    /// test chosen at compile time. Events: BoxTest (root), VisitNode, SplitPlane
+    /// (axis = kGeneralPlane, near_first = the back side first), Push, Pop, Cull,
+    /// Leaf, TriangleTest, MailboxSkip, HitOutsideCell, NewClosest, Done.
     template <TriangleTestKind kTest, StopAt kStop, class Observer>
     Hit front_to_back(const Ray& ray, Observer& obs) const;
 };

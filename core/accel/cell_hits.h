@@ -172,4 +172,34 @@ private:
     Mailbox mailbox_;
 };
 
+/// The two queries of every structure that walks cells (grid, KD tree, octree, BSP
+/// tree), answered by its one walk `front_to_back<kTest, kStop>` (CRTP): the closest
+/// hit in [ray.t_min, ray.t_max], and any hit there (shadow rays: the same walk, ended
+/// by the first hit wherever it lies, CellHits' any-hit mode). The triangle test is
+/// chosen once per ray and compiled into the walk.
+template <class Derived>
+struct CellQueries {
+    template <class Observer>
+    Hit intersect_closest(const Ray& ray, Observer& obs) const {
+        return walk<StopAt::ClosestHit>(ray, obs);
+    }
+    template <class Observer>
+    bool intersect_any(const Ray& ray, Observer& obs) const {
+        return walk<StopAt::AnyHit>(ray, obs).found();
+    }
+    bool intersect_any(const Ray& ray) const {
+        NoObserver none;
+        return intersect_any(ray, none);
+    }
+
+private:
+    template <StopAt kStop, class Observer>
+    Hit walk(const Ray& ray, Observer& obs) const {
+        const Derived& self = static_cast<const Derived&>(*this);
+        return self.triangle_test == TriangleTestKind::Watertight
+                   ? self.template front_to_back<TriangleTestKind::Watertight, kStop>(ray, obs)
+                   : self.template front_to_back<TriangleTestKind::MollerTrumbore, kStop>(ray, obs);
+    }
+};
+
 }  // namespace accelviz

@@ -96,7 +96,7 @@ struct KdBuildStats : PartitionStats {
 /// A KD tree over a mesh's triangles (invariants: PartitionTree's). A leaf holds
 /// every triangle that comes within `padding` of its box (box or exact test, per
 /// config.clip).
-struct KdTree : PartitionTree<KdNode, KdConfig, KdBuildStats> {
+struct KdTree : PartitionTree<KdNode, KdConfig, KdBuildStats>, CellQueries<KdTree> {
     static constexpr AccelType kType = AccelType::Kd;
     std::string name() const { return std::string(to_string(kType)); }
     nlohmann::json config() const;
@@ -108,32 +108,12 @@ struct KdTree : PartitionTree<KdNode, KdConfig, KdBuildStats> {
     /// and the structure overlay draw.
     std::vector<Aabb> node_boxes() const;
 
-    /// Closest hit in [ray.t_min, ray.t_max]. Events: BoxTest (root), VisitNode,
-    /// SplitPlane, Push, Pop, Cull, Leaf (t_enter/t_exit = the leaf's t_min/t_max),
-    /// TriangleTest, MailboxSkip, HitOutsideCell, NewClosest, Done.
-    template <class Observer>
-    Hit intersect_closest(const Ray& ray, Observer& obs) const {
-        return walk<StopAt::ClosestHit>(ray, obs);
-    }
-    /// Any hit in [ray.t_min, ray.t_max] (shadow rays): the same walk, ended by the
-    /// first hit wherever it lies (CellHits' any-hit mode).
-    template <class Observer>
-    bool intersect_any(const Ray& ray, Observer& obs) const {
-        return walk<StopAt::AnyHit>(ray, obs).found();
-    }
-    bool intersect_any(const Ray& ray) const {
-        NoObserver none;
-        return intersect_any(ray, none);
-    }
-
 private:
-    /// The walk, with the triangle test chosen at compile time (TriangleTester).
-    template <StopAt kStop, class Observer>
-    Hit walk(const Ray& ray, Observer& obs) const {
-        return triangle_test == TriangleTestKind::Watertight
-                   ? front_to_back<TriangleTestKind::Watertight, kStop>(ray, obs)
-                   : front_to_back<TriangleTestKind::MollerTrumbore, kStop>(ray, obs);
-    }
+    friend struct CellQueries<KdTree>;
+    /// The walk (CellQueries: intersect_closest, intersect_any), with the triangle test
+    /// chosen at compile time. Events: BoxTest (root), VisitNode, SplitPlane, Push,
+    /// Pop, Cull, Leaf (t_enter/t_exit = the leaf's t_min/t_max), TriangleTest,
+    /// MailboxSkip, HitOutsideCell, NewClosest, Done.
     template <TriangleTestKind kTest, StopAt kStop, class Observer>
     Hit front_to_back(const Ray& ray, Observer& obs) const;
 };

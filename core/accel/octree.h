@@ -56,7 +56,7 @@ struct OctreeBuildStats : PartitionStats {};
 
 /// An octree over a mesh's triangles (invariants: PartitionTree's): a cell splits
 /// at its centre into eight until few triangles remain.
-struct Octree : PartitionTree<OctreeNode, OctreeConfig, OctreeBuildStats> {
+struct Octree : PartitionTree<OctreeNode, OctreeConfig, OctreeBuildStats>, CellQueries<Octree> {
     static constexpr AccelType kType = AccelType::Octree;
     std::string name() const { return std::string(to_string(kType)); }
     nlohmann::json config() const;
@@ -67,32 +67,12 @@ struct Octree : PartitionTree<OctreeNode, OctreeConfig, OctreeBuildStats> {
     /// the stepper and the structure overlay draw.
     std::vector<Aabb> node_boxes() const;
 
-    /// Closest hit in [ray.t_min, ray.t_max]. Events: BoxTest (root), VisitNode,
-    /// SplitPlane (three per interior node), Push, Pop, Cull, Leaf, TriangleTest,
-    /// MailboxSkip, HitOutsideCell, NewClosest, Done.
-    template <class Observer>
-    Hit intersect_closest(const Ray& ray, Observer& obs) const {
-        return walk<StopAt::ClosestHit>(ray, obs);
-    }
-    /// Any hit in [ray.t_min, ray.t_max] (shadow rays): the same walk, ended by the
-    /// first hit wherever it lies (CellHits' any-hit mode).
-    template <class Observer>
-    bool intersect_any(const Ray& ray, Observer& obs) const {
-        return walk<StopAt::AnyHit>(ray, obs).found();
-    }
-    bool intersect_any(const Ray& ray) const {
-        NoObserver none;
-        return intersect_any(ray, none);
-    }
-
 private:
-    /// The walk, with the triangle test chosen at compile time (TriangleTester).
-    template <StopAt kStop, class Observer>
-    Hit walk(const Ray& ray, Observer& obs) const {
-        return triangle_test == TriangleTestKind::Watertight
-                   ? front_to_back<TriangleTestKind::Watertight, kStop>(ray, obs)
-                   : front_to_back<TriangleTestKind::MollerTrumbore, kStop>(ray, obs);
-    }
+    friend struct CellQueries<Octree>;
+    /// The walk (CellQueries: intersect_closest, intersect_any), with the triangle test
+    /// chosen at compile time. Events: BoxTest (root), VisitNode, SplitPlane (three per
+    /// interior node), Push, Pop, Cull, Leaf, TriangleTest, MailboxSkip,
+    /// HitOutsideCell, NewClosest, Done.
     template <TriangleTestKind kTest, StopAt kStop, class Observer>
     Hit front_to_back(const Ray& ray, Observer& obs) const;
 };

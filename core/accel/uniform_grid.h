@@ -75,7 +75,7 @@ struct GridBuildStats {
 /// bounds.lo[a] to bounds.hi[a] (bounds = the scene's box grown by the padding);
 /// triangle t is in cell c iff t comes within `padding` of c (box or exact test,
 /// per config.insert). Empty scene: no cells.
-struct UniformGrid {
+struct UniformGrid : CellQueries<UniformGrid> {
     Aabb bounds;
     std::array<int, 3> res{0, 0, 0};             ///< cells per axis
     std::array<std::vector<float>, 3> planes;    ///< cell boundaries per axis
@@ -99,31 +99,11 @@ struct UniformGrid {
         return {{planes[0][i], planes[1][j], planes[2][k]}, {planes[0][i + 1], planes[1][j + 1], planes[2][k + 1]}};
     }
 
-    /// Closest hit in [ray.t_min, ray.t_max]: the 3D-DDA walk, events EnterCell,
-    /// TriangleTest, MailboxSkip, HitOutsideCell, NewClosest, Done.
-    template <class Observer>
-    Hit intersect_closest(const Ray& ray, Observer& obs) const {
-        return walk<StopAt::ClosestHit>(ray, obs);
-    }
-    /// Any hit in [ray.t_min, ray.t_max] (shadow rays): the same walk, ended by the
-    /// first hit wherever it lies (CellHits' any-hit mode).
-    template <class Observer>
-    bool intersect_any(const Ray& ray, Observer& obs) const {
-        return walk<StopAt::AnyHit>(ray, obs).found();
-    }
-    bool intersect_any(const Ray& ray) const {
-        NoObserver none;
-        return intersect_any(ray, none);
-    }
-
 private:
-    /// The walk, with the triangle test chosen at compile time (TriangleTester).
-    template <StopAt kStop, class Observer>
-    Hit walk(const Ray& ray, Observer& obs) const {
-        return triangle_test == TriangleTestKind::Watertight
-                   ? front_to_back<TriangleTestKind::Watertight, kStop>(ray, obs)
-                   : front_to_back<TriangleTestKind::MollerTrumbore, kStop>(ray, obs);
-    }
+    friend struct CellQueries<UniformGrid>;
+    /// The walk (CellQueries: intersect_closest, intersect_any), with the triangle test
+    /// chosen at compile time: the 3D-DDA walk, events EnterCell, TriangleTest,
+    /// MailboxSkip, HitOutsideCell, NewClosest, Done.
     template <TriangleTestKind kTest, StopAt kStop, class Observer>
     Hit front_to_back(const Ray& ray, Observer& obs) const;
     /// The cell along `axis` holding coordinate x; on a boundary, the one the ray
