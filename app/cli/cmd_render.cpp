@@ -169,6 +169,9 @@ int run_render_step(const RenderOptions& opt) {
     AppState state;
     state.scene = opt.scene;
     state.accel = opt.accel;
+    auto light = apply_light_flags(opt.light, state.light);
+    if (!light) return fail(light.error());
+    state.light = *light;
     open_stepper_on(state, *picked, opt.step < 0 ? 0 : size_t(opt.step));
     auto image = render_gui_view_headless(state, WindowView::Step, opt.width, opt.height);
     if (!image) return fail(image.error());
@@ -210,6 +213,8 @@ int run_render(const RenderOptions& given) {
         if (const std::string problem = structure_problem(opt); !problem.empty()) return fail(problem);
     const std::optional<WindowView> window_view = kWindowViewNames.parse(opt.view);
     const CpuView cpu_view = kCpuViewNames.parse(opt.view).value_or(CpuView::Split);  // CLI11 checked the name
+    if (opt.rays != "primary" && cpu_view != CpuView::HeatNodes && cpu_view != CpuView::HeatTris)
+        return fail("--rays is for --view heat-nodes or heat-tris, not --view " + opt.view);
     if (window_view == WindowView::Step) return run_render_step(opt);
     if ((opt.step >= 0 && window_view != WindowView::BuildStep && window_view != WindowView::FillOrder) ||
         !opt.pixel.empty())

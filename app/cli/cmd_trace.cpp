@@ -3,6 +3,7 @@
 // the stepper replays (core/traversal/replay.h), from the same traversal code.
 // --ray shadow | reflection: the secondary ray the ray caster traces from that
 // pixel's hit instead (lighting.h), the shadow ray by the any-hit query.
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -54,6 +55,16 @@ int run_trace(const TraceOptions& opt) {
 
     Ray ray = picked->ray;
     StopAt query = StopAt::ClosestHit;
+    if (!opt.light.empty() && opt.ray_kind != "shadow") return fail("--light is for --ray shadow");
+    Vec3 light = default_light(mesh->bounds());
+    if (!opt.light.empty()) {
+        auto given = parse_vec3(opt.light);
+        if (!given) return fail("--light: " + given.error());
+        for (double c : {given->x, given->y, given->z})
+            if (!(std::fabs(c) <= kMaxCoordinate))
+                return fail("--light " + opt.light + ": each coordinate must be finite and within 1e12");
+        light = to_float(*given);
+    }
     if (opt.ray_kind != "camera") {
         // The secondary ray from the camera ray's hit, made as the ray caster makes it.
         const Hit first = (*accel)->intersect_closest(ray);
@@ -62,12 +73,6 @@ int run_trace(const TraceOptions& opt) {
         if (opt.ray_kind == "reflection") {
             ray = reflection_ray(tri, first.u, first.v, ray.dir);
         } else {
-            Vec3 light = default_light(mesh->bounds());
-            if (!opt.light.empty()) {
-                auto given = parse_vec3(opt.light);
-                if (!given) return fail("--light: " + given.error());
-                light = to_float(*given);
-            }
             auto to_light = shadow_ray(tri, first.u, first.v, ray.dir, light);
             if (!to_light)
                 return fail("--ray shadow: the light is behind the surface pixel " + opt.pixel +
@@ -75,8 +80,6 @@ int run_trace(const TraceOptions& opt) {
             ray = *to_light;
             query = StopAt::AnyHit;
         }
-    } else if (!opt.light.empty()) {
-        return fail("--light is for --ray shadow");
     }
     const SteppedRay traced = record_ray(**accel, ray, query);
     const std::vector<TraversalEvent>& events = traced.events;

@@ -182,24 +182,31 @@ void handle_view_input(AppState& state, Session& session, const Layout& layout) 
     // A drag belongs to the view if it started there (it may then cross a panel).
     const bool hovered = !io.WantCaptureMouse && rect.contains(io.MousePos.x, io.MousePos.y);
     const bool any_down = ImGui::IsMouseDown(0) || ImGui::IsMouseDown(1) || ImGui::IsMouseDown(2);
-    // The point light: a left drag that starts on its marker moves it in the plane
-    // facing the camera, keeping its depth (the light follows the mouse).
+    // The point light: a left drag that starts on its marker (in either half of the
+    // split view: both have this camera and size) moves it in the plane facing the
+    // camera, keeping its depth (the light follows the mouse).
+    if (!ImGui::IsMouseDown(0) || !state.light.point_light() || !session.scene) session.dragging_light = false;
     if (state.light.point_light() && session.scene && !gl_rect.empty()) {
         const Camera cam(camera, gl_rect.width, gl_rect.height);
         const Vec3d light = light_position(state.light, session.scene->bounds);
         const Camera::ImagePoint at = cam.project(light);
-        const double mx = io.MousePos.x - gl_rect.x, my = io.MousePos.y - gl_rect.y;
-        if (hovered && ImGui::IsMouseClicked(0) && at.depth > 0 &&
-            std::hypot(mx - at.x, my - at.y) <= light_marker_radius(state.view.ui_scale))
-            session.dragging_light = true;
-        if (!ImGui::IsMouseDown(0)) session.dragging_light = false;
+        if (hovered && ImGui::IsMouseClicked(0) && at.depth > 0)
+            for (const ViewRect& r : {gl_rect, layout.ray_view})
+                if (!r.empty() && r.contains(io.MousePos.x, io.MousePos.y) &&
+                    std::hypot(io.MousePos.x - r.x - at.x, io.MousePos.y - r.y - at.y) <=
+                        light_marker_radius(state.view.ui_scale))
+                    session.dragging_light = true;
         if (session.dragging_light) {
-            const double per_pixel = 2.0 * cam.tan_half_fov() * at.depth / gl_rect.height;
-            const Vec3d moved = light + cam.right() * (io.MouseDelta.x * per_pixel) -
-                                cam.true_up() * (io.MouseDelta.y * per_pixel);
-            if (std::fabs(moved.x) <= kMaxCoordinate && std::fabs(moved.y) <= kMaxCoordinate &&
-                std::fabs(moved.z) <= kMaxCoordinate)
-                state.light.position = moved;
+            if (io.MouseDelta.x != 0 || io.MouseDelta.y != 0) {  // a click alone leaves the light where it is
+                const double per_pixel = 2.0 * cam.tan_half_fov() * at.depth / gl_rect.height;
+                const Vec3d moved = light + cam.right() * (io.MouseDelta.x * per_pixel) -
+                                    cam.true_up() * (io.MouseDelta.y * per_pixel);
+                if (std::fabs(moved.x) <= kMaxCoordinate && std::fabs(moved.y) <= kMaxCoordinate &&
+                    std::fabs(moved.z) <= kMaxCoordinate)
+                    state.light.position = moved;
+                // Cast as while the camera moves: a quarter of the pixels, so the shading keeps up.
+                session.camera_moved_at = std::chrono::steady_clock::now();
+            }
             return;
         }
     }

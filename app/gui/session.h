@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <array>
 #include <vector>
 
 #include "app/gl/renderer.h"
@@ -107,6 +108,7 @@ struct Session {
     UiStyle style;
     bool dragging_view = false;  ///< a mouse drag that started in the 3D view
     bool dragging_light = false;  ///< ... on the point light's marker: it moves the light
+    std::vector<std::array<float, 2>> light_markers;  ///< where the light's markers were drawn last (window pixels)
 
     /// Lecture mode (L, or `accelviz --lecture`): the window full screen, no panels,
     /// text at projector scale, the preset's number and title in a caption bar.

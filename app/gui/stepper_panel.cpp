@@ -121,7 +121,10 @@ void StepperPanel::update(AppState& state, Session& session, double delta_second
                          state.stepper.any_hit != traced_any_hit;
     if (new_scene || new_ray) {
         if (new_scene) boxes = NodeBoxes(*session.scene->accel);
-        if (!following) earlier_rays.clear();  // another pixel or a typed ray: a new chain
+        // Another pixel, a typed ray or another mesh: a new chain. (Another structure
+        // keeps it: every structure gives the same hits, so the same secondary rays.)
+        const bool new_mesh = !traced_scene || traced_scene->mesh != session.scene->mesh;
+        if ((new_ray && !following) || new_mesh) earlier_rays.clear();
         following = false;
         traced_scene = session.scene;
         traced_ray = state.stepper.ray;

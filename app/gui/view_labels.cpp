@@ -382,13 +382,14 @@ void draw_ray_label(const AppState& state, const Session& session, LabelStack& s
 /// The point light as a small sun (a disc and eight rays, dark-edged to read on any
 /// background) with "light" beside it, where the camera sees it; nothing when it is
 /// behind the camera or outside the view.
-void draw_light_marker(const AppState& state, const Session& session, const ViewRect& rect) {
+void draw_light_marker(const AppState& state, Session& session, const ViewRect& rect) {
     if (!state.light.point_light() || !session.scene || !state.camera || rect.empty()) return;
     const Camera camera(*state.camera, rect.width, rect.height);
     const Camera::ImagePoint at = camera.project(light_position(state.light, session.scene->bounds));
     if (!(at.depth > 0) || at.x < 0 || at.y < 0 || at.x > rect.width || at.y > rect.height) return;
     ImDrawList* draw = ImGui::GetBackgroundDrawList();
     const ImVec2 c(float(rect.x + at.x), float(rect.y + at.y));
+    session.light_markers.push_back({c.x, c.y});
     const float r = float(light_marker_radius(state.view.ui_scale));
     const ImU32 sun = IM_COL32(255, 214, 64, 255), edge = IM_COL32(0, 0, 0, 220);
     for (int k = 0; k < 8; ++k) {
@@ -410,6 +411,7 @@ void draw_light_marker(const AppState& state, const Session& session, const View
 void draw_view_labels(const AppState& state, Session& session, const ViewAreas& areas, bool structure_legend,
                       bool deterministic) {
     draw_view_messages(session, areas.view, deterministic);
+    session.light_markers.clear();
     draw_light_marker(state, session, areas.gl_view);
     if (areas.split) draw_light_marker(state, session, areas.ray_view);
     // The bottom stacks first (legends keep their size); the top labels wrap into the rest.

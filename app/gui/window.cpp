@@ -143,6 +143,7 @@ public:
         j["state"] = to_json(state);
         j["size"] = {io.DisplaySize.x, io.DisplaySize.y};
         j["view"] = {layout.view_rect.x, layout.view_rect.y, layout.view_rect.width, layout.view_rect.height};
+        j["light_markers"] = session.light_markers;
         // What is on screen, which lags the state while a load or a build runs.
         if (session.scene)
             j["shown"] = {{"scene", session.scene->source},

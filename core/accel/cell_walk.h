@@ -54,8 +54,9 @@ struct CellWalk {
     }
 
     /// `cur` is a leaf holding triangles[first, first + count): they are tested, a
-    /// hit counting only inside [cur.t_min, cur.t_max]. True when no deferred part
-    /// can hold a closer hit (the walk may stop).
+    /// hit counting only inside [cur.t_min, cur.t_max] (closest hit; any-hit: the
+    /// first hit anywhere on the ray ends the leaf). True when no deferred part can
+    /// hold a closer hit, or any-hit found one (the walk may stop).
     template <class Hits, class Observer>
     static bool test_leaf(const Entry& cur, uint32_t first, uint32_t count, const std::vector<uint32_t>& prim_ids,
                           Hits& hits, Observer& obs) {

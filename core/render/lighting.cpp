@@ -17,7 +17,7 @@ Vec3 normal_towards(const Triangle& tri, Vec3 towards) {
 }
 
 /// How far a start is moved off the surface: 2^-19 of the largest coordinate
-/// magnitude the hit point was computed from, about 16 float ulps of it, so the
+/// magnitude the hit point was computed from, 16 to 32 float ulps of it, so the
 /// distance scales with the scene. (Wächter & Binder move by 256 ulps of each
 /// coordinate; on a tilted floor of small triangles, acne showed at 1 ulp and was
 /// gone from 4, at every scale from 1e-6 to 1e6: 16 leaves a margin.)
@@ -27,7 +27,11 @@ constexpr float kOffsetFraction = 1.0f / 524288.0f;
 
 Vec3 default_light(const Aabb& scene_bounds) {
     const Vec3 centre = (scene_bounds.lo + scene_bounds.hi) * 0.5f, extent = scene_bounds.hi - scene_bounds.lo;
-    return centre + Vec3{0.3f * extent.x, 0.45f * extent.y, 0.3f * extent.z};
+    // Each side at least a quarter of the longest: a flat scene (a floor, one triangle)
+    // gets its light off its plane, where it lights one side.
+    const float floor = 0.25f * std::max({extent.x, extent.y, extent.z});
+    const Vec3 e = max(extent, Vec3{floor, floor, floor});
+    return centre + Vec3{0.3f * e.x, 0.45f * e.y, 0.3f * e.z};
 }
 
 Vec3 point_off_surface(const Triangle& tri, float u, float v, Vec3 towards) {

@@ -37,7 +37,8 @@ struct Lighting {
 };
 
 /// The default light of a scene: above it and to the front right, inside its box
-/// (a light outside a closed room such as the Cornell box would light nothing).
+/// (a light outside a closed room such as the Cornell box would light nothing), and
+/// off the plane of a flat scene.
 Vec3 default_light(const Aabb& scene_bounds);
 
 /// The hit point of `tri` at barycentrics (u, v), computed on the triangle (its

@@ -26,10 +26,14 @@ TEST(AppStateJson, RoundTripKeepsEveryField) {
     s.light.shadows = true;
     s.light.reflections = true;
     s.light.position = Vec3d{1.5, -2.25, 1e-7};
+    s.view.heat_rays = HeatRays::Reflection;
+    s.stepper.any_hit = true;
     auto back = app_state_from_json(to_json(s));
     ASSERT_TRUE(back) << back.error();
     EXPECT_EQ(to_json(*back), to_json(s));
     EXPECT_TRUE(back->light == s.light);
+    EXPECT_EQ(back->view.heat_rays, HeatRays::Reflection);
+    EXPECT_TRUE(back->stepper.any_hit);
 }
 
 TEST(AppStateJson, ALightPositionMustBeFinite) {

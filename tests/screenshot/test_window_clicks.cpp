@@ -717,6 +717,31 @@ TEST(WindowClicks, TheStepperFollowsAPixelsRayToItsShadowRay) {
     });
 }
 
+/// Preset 40 (the split view, the light on): the sun is drawn on both halves; a drag
+/// that starts on it in the ray-cast half moves the light (the camera stays), and the
+/// lit picture follows.
+TEST(WindowClicks, DraggingTheSunInTheRayCastHalfMovesTheLight) {
+    Window w;
+    w.start("builtin:cornell-mirror", {"--preset", "40-shadows-and-reflections"});
+    const json before = w.wait_for("two suns drawn, nothing pending", [](const json& s) {
+        return s["light_markers"].size() == 2 && !s["busy"].get<bool>();
+    });
+    const auto sun = before["light_markers"][1];  // the right (ray-cast) half's
+    const double x = sun[0].get<double>(), y = sun[1].get<double>();
+    w.move_to(x, y);
+    w.press();
+    for (int i = 1; i <= 6; ++i) w.move_to(x + 10 * i, y + 4 * i);
+    w.release();
+    const json after = w.wait_for("the light moved, the picture cast again", [&](const json& s) {
+        return s["state"]["light"]["position"] != before["state"]["light"]["position"] && !s["busy"].get<bool>();
+    });
+    EXPECT_EQ(after["state"]["camera"], before["state"]["camera"]) << "the drag orbited the camera";
+    // Right and down on screen: +x and -y here (the camera looks down -z, up is +y).
+    EXPECT_GT(after["state"]["light"]["position"][0].get<double>(), before["state"]["light"]["position"][0].get<double>());
+    EXPECT_LT(after["state"]["light"]["position"][1].get<double>(), before["state"]["light"]["position"][1].get<double>());
+    EXPECT_NEAR(after["light_markers"][1][0].get<double>(), x + 60, 3.0) << "the sun follows the mouse";
+}
+
 /// A long build shows its progress with a Cancel button; Cancel (or Esc) stops it and
 /// the scene on screen stays with the structure it had, which the panels show again.
 TEST(WindowClicks, CancelStopsALongBuildAndKeepsTheScene) {
