@@ -486,11 +486,21 @@ void StepperPanel::draw(AppState& state, Session& session, bool lecture) {
     ImGui::Text("visited %llu   box tests %llu", (unsigned long long)c.nodes_visited, (unsigned long long)c.box_tests);
     ImGui::Text("triangle tests %llu of naive %zu   mailbox skips %llu", (unsigned long long)c.triangle_tests,
                 triangles, (unsigned long long)c.mailbox_skips);
-    if (step_state.closest.found())
+    if (trace.query == StopAt::AnyHit) {
+        // The any-hit query keeps no nearest hit: the first triangle hit blocks the segment.
+        const auto blocker = std::find_if(step_state.tested.begin(), step_state.tested.end(),
+                                          [](const StepState::TestedTriangle& t) { return t.hit; });
+        if (blocker != step_state.tested.end())
+            ImGui::TextColored(im_vec4(kStepColours.closest), "blocked by triangle %u at t = %.5g: in shadow",
+                               blocker->tri, blocker->t);
+        else
+            ImGui::TextDisabled(step_state.done ? "nothing in the way: the light is seen" : "blocked: not yet");
+    } else if (step_state.closest.found()) {
         ImGui::TextColored(im_vec4(kStepColours.closest), "closest so far: triangle %u, t = %.5g",
                            step_state.closest.tri, step_state.closest.t);
-    else
+    } else {
         ImGui::TextDisabled("closest so far: none");
+    }
 
     // What explains the current event comes first: its inspector, or at the end the comparison.
     const TraversalEvent* current = event_before(trace, step);

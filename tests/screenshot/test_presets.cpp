@@ -338,7 +338,7 @@ PresetRay preset_ray(const std::string& name) {
     if (!accel) return out;
     out.mesh = std::move(*mesh);
     out.boxes = NodeBoxes(**accel);
-    out.trace = record_ray(**accel, *state->stepper.ray);
+    out.trace = record_ray(**accel, *state->stepper.ray, state->stepper.any_hit ? StopAt::AnyHit : StopAt::ClosestHit);
     const size_t step = std::min(state->stepper.step, out.trace.events.size());
     EXPECT_GT(step, 0u) << name;
     if (step > 0) out.shown = out.trace.events[step - 1];
@@ -567,6 +567,31 @@ TEST(Presets, TheKdChallengeIsWrongWithoutTheInCellRuleAndRightWithIt) {
     EXPECT_EQ(in_cell.trace.hit.tri, 1u) << "a, the nearer one";
     EXPECT_EQ(in_cell.trace.ray.origin, naive_rule.trace.ray.origin) << "the same ray";
     EXPECT_EQ(in_cell.trace.ray.dir, naive_rule.trace.ray.dir);
+}
+
+TEST(Presets, TheShadowRayStopsAtItsFirstHitAndTheReflectionRayFindsTheNearest) {
+    // builtin:cornell-mirror: triangles 12..21 are the short block, 22..31 the mirror block.
+    const PresetRay shadow = preset_ray("41-shadow-ray-any-hit");
+    EXPECT_EQ(shadow.trace.query, StopAt::AnyHit);
+    ASSERT_EQ(shadow.shown.kind, EventKind::TriangleTest) << "the step shown is the hit that ends the walk";
+    EXPECT_TRUE(shadow.shown.hit);
+    EXPECT_EQ(shadow.shown.tri, 17u) << "the short block's side";
+    EXPECT_EQ(shadow.trace.events.back().kind, EventKind::Done) << "and the next event ends it";
+    EXPECT_EQ(shadow.trace.events.size(), 29u);
+    EXPECT_EQ(shadow.trace.ray.t_max, 1.0f) << "from the floor to the light";
+    EXPECT_EQ(shadow.count(EventKind::NewClosest), 0u) << "any-hit keeps no nearest hit";
+
+    const PresetRay reflection = preset_ray("42-reflection-ray");
+    EXPECT_EQ(reflection.trace.query, StopAt::ClosestHit);
+    ASSERT_EQ(reflection.shown.kind, EventKind::Done);
+    EXPECT_EQ(reflection.trace.hit.tri, 19u) << "the short block's back, which the camera cannot see";
+    // The ray starts on the mirror (the front of the tall block, triangle 24's plane), a hair in front.
+    const Triangle mirror = reflection.mesh.triangle(24);
+    const Vec3 n = normalize(cross(mirror.edge1, mirror.edge2));
+    const float off_plane = std::fabs(dot(reflection.trace.ray.origin - mirror.p0, n));
+    EXPECT_GT(off_plane, 0.0f);
+    EXPECT_LT(off_plane, 1e-4f);
+    EXPECT_EQ(reflection.mesh.mirror.at(24), 1);
 }
 
 }  // namespace
