@@ -439,17 +439,24 @@ void StepperPanel::draw_ray_fields(AppState& state, Session& session) {
 void StepperPanel::draw(AppState& state, Session& session, bool lecture) {
     const std::string structure = session.scene ? std::string(to_string(session.scene->accel_config.type)) : "?";
     const char* kind = state.stepper.any_hit ? "shadow ray" : earlier_rays.empty() ? "ray" : "reflection ray";
+    char what[160];
     if (state.stepper.pixel)
-        ImGui::Text("Stepper: %s, %s of pixel (%d, %d)", structure.c_str(), kind, (*state.stepper.pixel)[0],
-                    (*state.stepper.pixel)[1]);
+        std::snprintf(what, sizeof what, "%s, %s of pixel (%d, %d)", structure.c_str(), kind,
+                      (*state.stepper.pixel)[0], (*state.stepper.pixel)[1]);
     else
-        ImGui::Text("Stepper: %s, %s", structure.c_str(), kind);
-    ImGui::SameLine(ImGui::GetWindowContentRegionMax().x - ImGui::CalcTextSize("Close").x -
-                    2.0f * ImGui::GetStyle().FramePadding.x);
+        std::snprintf(what, sizeof what, "%s, %s", structure.c_str(), kind);
+    // "Stepper: what" and Close on one line; in a narrow panel, what goes below them.
+    const float close_width = ImGui::CalcTextSize("Close").x + 2.0f * ImGui::GetStyle().FramePadding.x;
+    const std::string title = std::string("Stepper: ") + what;
+    const bool one_line = ImGui::CalcTextSize(title.c_str()).x + ImGui::GetStyle().ItemSpacing.x + close_width <=
+                          ImGui::GetContentRegionAvail().x;
+    ImGui::TextUnformatted(one_line ? title.c_str() : "Stepper");
+    ImGui::SameLine(ImGui::GetWindowContentRegionMax().x - close_width);
     if (ImGui::SmallButton("Close")) {
         state.stepper.open = false;
         playing = false;
     }
+    if (!one_line) ImGui::TextWrapped("%s", what);
     if (!lecture || !state.stepper.ray) {
         const bool typing =
             ImGui::CollapsingHeader("Type a ray", state.stepper.ray ? 0 : ImGuiTreeNodeFlags_DefaultOpen);
