@@ -130,11 +130,16 @@ Frame ray_cast(const Accelerator& accel, const TriangleArray& triangles,
     }
     if (options.count_work) {
         work.combine_each([&](const Counters& c) { frame.work += c; });
-        for (auto [sums, out] : {std::pair{&shadow_work, &frame.shadow}, std::pair{&reflection_work, &frame.reflection}})
-            sums->combine_each([&](const SecondaryWork& s) {
+        // (No structured binding here: Clang 14, the fuzzers' compiler, cannot capture one.)
+        const std::pair<tbb::combinable<SecondaryWork>*, SecondaryWork*> kinds[] = {
+            {&shadow_work, &frame.shadow}, {&reflection_work, &frame.reflection}};
+        for (const auto& kind : kinds) {
+            SecondaryWork* out = kind.second;
+            kind.first->combine_each([out](const SecondaryWork& s) {
                 out->work += s.work;
                 out->rays += s.rays;
             });
+        }
     }
     return frame;
 }
