@@ -3,7 +3,6 @@
 // the stepper replays (core/traversal/replay.h), from the same traversal code.
 // --ray shadow | reflection: the secondary ray the ray caster traces from that
 // pixel's hit instead (lighting.h), the shadow ray by the any-hit query.
-#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -16,6 +15,7 @@
 #include "app/cli/progress.h"
 #include "app/cli/scene_input.h"
 #include "app/cli/flag_checks.h"
+#include "app/cli/light_flags.h"
 #include "core/exchange/structure_check.h"
 #include "core/geometry/scene.h"
 #include "core/render/lighting.h"
@@ -56,15 +56,9 @@ int run_trace(const TraceOptions& opt) {
     Ray ray = picked->ray;
     StopAt query = StopAt::ClosestHit;
     if (!opt.light.empty() && opt.ray_kind != "shadow") return fail("--light is for --ray shadow");
-    Vec3 light = default_light(mesh->bounds());
-    if (!opt.light.empty()) {
-        auto given = parse_vec3(opt.light);
-        if (!given) return fail("--light: " + given.error());
-        for (double c : {given->x, given->y, given->z})
-            if (!(std::fabs(c) <= kMaxCoordinate))
-                return fail("--light " + opt.light + ": each coordinate must be finite and within 1e12");
-        light = to_float(*given);
-    }
+    auto light_settings = apply_light_flags(LightFlags{.light = opt.light}, LightSettings{});
+    if (!light_settings) return fail(light_settings.error());
+    const Vec3 light = to_float(light_position(*light_settings, mesh->bounds()));
     if (opt.ray_kind != "camera") {
         // The secondary ray from the camera ray's hit, made as the ray caster makes it.
         const Hit first = (*accel)->intersect_closest(ray);

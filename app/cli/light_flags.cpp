@@ -29,9 +29,8 @@ Expected<LightSettings> apply_light_flags(const LightFlags& flags, LightSettings
     if (!flags.light.empty()) {
         auto p = parse_vec3(flags.light);
         if (!p) return Error{"--light: " + p.error()};
-        for (double c : {p->x, p->y, p->z})
-            if (!(std::fabs(c) <= kMaxCoordinate))
-                return Error{"--light " + flags.light + ": each coordinate must be finite and within 1e12"};
+        if (!within_max_coordinate(*p))
+            return Error{"--light " + flags.light + ": each coordinate must be finite and within 1e12"};
         light.position = *p;
     }
     return light;

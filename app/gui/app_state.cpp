@@ -93,13 +93,6 @@ int read_whole(const nlohmann::json& j, const std::string& field, int lo, int hi
     return int(j.get<int64_t>());
 }
 
-/// A light's position: finite and within the coordinates a mesh may have.
-bool is_finite_position(Vec3d p) {
-    for (double c : {p.x, p.y, p.z})
-        if (!(std::fabs(c) <= kMaxCoordinate)) return false;
-    return true;
-}
-
 Rgb read_rgb(const nlohmann::json& j, const char* field) {
     if (!j.is_array() || j.size() != 3) throw std::runtime_error(std::string(field) + ": expected [r, g, b]");
     auto channel = [&](int i) { return uint8_t(read_whole(j[size_t(i)], std::string(field), 0, 255)); };
@@ -340,7 +333,7 @@ Expected<AppState> app_state_from_json(const nlohmann::json& j) {
             s.light.reflections = read(l, "reflections", s.light.reflections, "light");
             if (l.contains("position") && !l["position"].is_null()) {
                 s.light.position = read_vec3(l["position"], "light.position");
-                if (!is_finite_position(*s.light.position))
+                if (!within_max_coordinate(*s.light.position))
                     return Error{"light.position: must be finite, each coordinate within 1e12"};
             }
         }

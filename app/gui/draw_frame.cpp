@@ -201,9 +201,7 @@ void handle_view_input(AppState& state, Session& session, const Layout& layout) 
                 const double per_pixel = 2.0 * cam.tan_half_fov() * at.depth / gl_rect.height;
                 const Vec3d moved = light + cam.right() * (io.MouseDelta.x * per_pixel) -
                                     cam.true_up() * (io.MouseDelta.y * per_pixel);
-                if (std::fabs(moved.x) <= kMaxCoordinate && std::fabs(moved.y) <= kMaxCoordinate &&
-                    std::fabs(moved.z) <= kMaxCoordinate)
-                    state.light.position = moved;
+                if (within_max_coordinate(moved)) state.light.position = moved;
                 // Cast as while the camera moves: a quarter of the pixels, so the shading keeps up.
                 session.camera_moved_at = std::chrono::steady_clock::now();
             }

@@ -574,9 +574,7 @@ void ViewPanel::draw_light(AppState& state, const Session& session) {
     ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);
     if (ImGui::DragFloat3("Light at", position, speed, 0.0f, 0.0f, "%.3g")) {
         Vec3d moved{position[0], position[1], position[2]};
-        if (std::fabs(moved.x) <= kMaxCoordinate && std::fabs(moved.y) <= kMaxCoordinate &&
-            std::fabs(moved.z) <= kMaxCoordinate)
-            light.position = moved;
+        if (within_max_coordinate(moved)) light.position = moved;
     }
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip("Drag a number, or drag the sun in the 3D view.");

@@ -3,6 +3,7 @@
 
 #include <span>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -45,6 +46,11 @@ size_t count_degenerate_triangles(const Mesh& mesh);
 /// than 1e-12 across it sinks into float's denormals and loses its digits.
 inline constexpr double kMaxCoordinate = 1e12;  ///< largest |x|, |y| or |z| of a vertex
 inline constexpr double kMinSceneSize = 1e-12;  ///< smallest longest side of the scene's box
+/// A point every coordinate of which is finite and within kMaxCoordinate (a light's
+/// position, a query point: where a vertex could be).
+inline bool within_max_coordinate(Vec3d p) {
+    return std::fabs(p.x) <= kMaxCoordinate && std::fabs(p.y) <= kMaxCoordinate && std::fabs(p.z) <= kMaxCoordinate;
+}
 
 /// The triangles of a mesh in intersection form, indexed by triangle id.
 /// Built once per mesh; structures test against it.

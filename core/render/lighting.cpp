@@ -57,14 +57,13 @@ Ray reflection_ray(const Triangle& tri, float u, float v, Vec3 view_dir) {
     return Ray{point_off_surface(tri, u, v, d * -1.0f), r, 0.0f, kInfinity};
 }
 
-Rgb point_light_shade(const Triangle& tri, Vec3 view_dir, Vec3 to_light, bool lit) {
+Rgb point_light_shade(const Triangle& tri, Vec3 to_light, bool lit) {
     float k = 0.15f;
     if (lit) {
         const Vec3 n = cross(tri.edge1, tri.edge2);
         const float nn = length(n) * length(to_light);
         k += 0.85f * (nn > 0 ? std::fabs(dot(n, to_light)) / nn : 0.0f);
     }
-    (void)view_dir;
     return {uint8_t(std::lround(225 * k)), uint8_t(std::lround(205 * k)), uint8_t(std::lround(170 * k))};
 }
 

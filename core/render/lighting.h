@@ -60,7 +60,7 @@ Ray reflection_ray(const Triangle& tri, float u, float v, Vec3 view_dir);
 
 /// The colour of a point lit by the light: the headlight's surface colour (shading.h)
 /// at an ambient 0.15 plus 0.85 x cos(normal, direction to the light) when `lit`.
-Rgb point_light_shade(const Triangle& tri, Vec3 view_dir, Vec3 to_light, bool lit);
+Rgb point_light_shade(const Triangle& tri, Vec3 to_light, bool lit);
 
 /// A mirror's colour: what it reflects, slightly tinted so a mirror reads as one.
 Rgb mirror_tint(Rgb reflected);

@@ -53,7 +53,7 @@ struct PixelTracer {
         }
         const std::optional<Ray> to_light = shadow_ray(tri, hit.u, hit.v, ray.dir, lighting->light);
         const bool lit = to_light && !(lighting->shadows && blocked(*to_light));
-        return point_light_shade(tri, ray.dir, to_light ? to_light->dir : Vec3{}, lit);
+        return point_light_shade(tri, to_light ? to_light->dir : Vec3{}, lit);
     }
 };
 
