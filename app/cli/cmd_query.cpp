@@ -33,14 +33,6 @@ struct QueryOptions {
     AccelConfig accel;
 };
 
-/// The nearest point through whichever structure `accel` is (naive: brute force).
-template <class Observer>
-NearestPoint nearest_through(const Accelerator& accel, const Mesh& mesh, Vec3d q, Observer& obs) {
-    if (const Bvh* bvh = structure_if<Bvh>(accel)) return nearest_point(*bvh, mesh, q, obs);
-    if (const KdTree* kd = structure_if<KdTree>(accel)) return nearest_point(*kd, mesh, q, obs);
-    return nearest_point_brute_force(mesh, q, obs);
-}
-
 /// --random N: seeded points uniform in the scene's box grown to twice its size; the
 /// work per query (counted) and the time per query (the fast path, one thread).
 int run_random_queries(const QueryOptions& opt, const Mesh& mesh, const Accelerator& accel) {
@@ -54,14 +46,14 @@ int run_random_queries(const QueryOptions& opt, const Mesh& mesh, const Accelera
     Counters counters;
     for (const Vec3d& q : points) {
         CountingObserver counter;
-        nearest_through(accel, mesh, q, counter);
+        nearest_point(accel, mesh, q, counter);
         counters += counter.counters;
     }
     double checksum = 0;
     const auto start = std::chrono::steady_clock::now();
     for (const Vec3d& q : points) {
         NoObserver none;
-        checksum += nearest_through(accel, mesh, q, none).distance_squared;
+        checksum += nearest_point(accel, mesh, q, none).distance_squared;
     }
     const double us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count() /
                       double(points.size());
@@ -166,7 +158,7 @@ int run_query(const QueryOptions& opt) {
 
     const Vec3d q = *point;
     RecordingObserver recorder;
-    const NearestPoint nearest = nearest_through(**accel, *mesh, q, recorder);
+    const NearestPoint nearest = nearest_point(**accel, *mesh, q, recorder);
     const Counters counters = recorder.counters();
     uint64_t culled = 0;
     for (const TraversalEvent& e : recorder.events) culled += e.kind == EventKind::Cull ? 1 : 0;

@@ -15,14 +15,17 @@
 /// rounded arithmetic; the box's distance is a lower bound of every triangle's below
 /// it, and the answer is brute force's, bit for bit.
 ///
-/// Events: VisitNode (node), Cull (node, reason BeyondClosestHit, t_enter = the box's
-/// distance), Leaf (node, first, count), TriangleTest (tri, t = its distance, hit = it
-/// is the nearest so far), NewClosest (tri, t), Done (tri, t, hit = found).
+/// Events: Push (node, t_enter = its box's distance: it waits on the stack), Pop (node,
+/// taken off), VisitNode (node), Cull (node, reason BeyondClosestHit, t_enter = the
+/// box's distance), Leaf (node, first, count), TriangleTest (tri, t = its distance, hit
+/// = it is the nearest so far), NewClosest (tri, t), Done (tri, t, hit = found). The
+/// t of every event is a distance from the query point, not a ray parameter.
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 
+#include "core/accel/accelerator.h"
 #include "core/accel/bvh.h"
 #include "core/accel/kd_tree.h"
 #include "core/geometry/mesh.h"
@@ -140,9 +143,14 @@ NearestPoint nearest_point(const Bvh& bvh, const Mesh& mesh, Vec3d q, Observer& 
     };
     Entry stack[kBvhStackSize];
     int top = 0;
-    stack[top++] = {0, box_distance_squared(q, bvh.nodes[0].bounds)};
+    auto push = [&](Entry e) {
+        obs.on({.kind = EventKind::Push, .node = e.node, .t_enter = float(std::sqrt(e.d2))});
+        stack[top++] = e;
+    };
+    push({0, box_distance_squared(q, bvh.nodes[0].bounds)});
     while (top > 0) {
         const Entry e = stack[--top];
+        obs.on({.kind = EventKind::Pop, .node = e.node, .t_enter = float(std::sqrt(e.d2))});
         const BvhNode& node = bvh.nodes[e.node];
         if (!nearest_detail::enter_node(e.node, e.d2, node.is_leaf(), node.first, node.count, bvh.prim_ids.data(),
                                         mesh, q, best, obs))
@@ -151,8 +159,8 @@ NearestPoint nearest_point(const Bvh& bvh, const Mesh& mesh, Vec3d q, Observer& 
         Entry a{node.first, box_distance_squared(q, bvh.nodes[node.first].bounds)};
         Entry b{node.first + 1, box_distance_squared(q, bvh.nodes[node.first + 1].bounds)};
         if (b.d2 < a.d2) std::swap(a, b);
-        stack[top++] = b;
-        stack[top++] = a;
+        push(b);
+        push(a);
     }
     return nearest_detail::done(best, obs);
 }
@@ -170,10 +178,15 @@ NearestPoint nearest_point(const KdTree& kd, const Mesh& mesh, Vec3d q, Observer
         double d2;
     };
     std::vector<Entry> stack;
-    stack.push_back({0, kd.bounds, box_distance_squared(q, kd.bounds)});
+    auto push = [&](const Entry& e) {
+        obs.on({.kind = EventKind::Push, .node = e.node, .t_enter = float(std::sqrt(e.d2))});
+        stack.push_back(e);
+    };
+    push({0, kd.bounds, box_distance_squared(q, kd.bounds)});
     while (!stack.empty()) {
         const Entry e = stack.back();
         stack.pop_back();
+        obs.on({.kind = EventKind::Pop, .node = e.node, .t_enter = float(std::sqrt(e.d2))});
         const KdNode& node = kd.nodes[e.node];
         if (!nearest_detail::enter_node(e.node, e.d2, node.is_leaf(), node.first, node.count, kd.prim_ids.data(), mesh,
                                         q, best, obs))
@@ -184,10 +197,26 @@ NearestPoint nearest_point(const KdTree& kd, const Mesh& mesh, Vec3d q, Observer
         Entry near{node.lower_child(), lower, box_distance_squared(q, lower)};
         Entry far{node.upper_child(), upper, box_distance_squared(q, upper)};
         if (double(node.split) < (node.axis == 0 ? q.x : node.axis == 1 ? q.y : q.z)) std::swap(near, far);
-        stack.push_back(far);
-        stack.push_back(near);
+        push(far);
+        push(near);
     }
     return nearest_detail::done(best, obs);
+}
+
+/// Whether `accel` has a nearest-point search: naive (brute force), the binary BVH or
+/// the KD tree. The other structures answer rays only.
+inline bool has_nearest_search(const Accelerator& accel) {
+    return accel.type() == AccelType::Naive || structure_if<Bvh>(accel) != nullptr ||
+           structure_if<KdTree>(accel) != nullptr;
+}
+
+/// The nearest point through whichever structure `accel` is (has_nearest_search());
+/// brute force for any other.
+template <class Observer>
+NearestPoint nearest_point(const Accelerator& accel, const Mesh& mesh, Vec3d q, Observer& obs) {
+    if (const Bvh* bvh = structure_if<Bvh>(accel)) return nearest_point(*bvh, mesh, q, obs);
+    if (const KdTree* kd = structure_if<KdTree>(accel)) return nearest_point(*kd, mesh, q, obs);
+    return nearest_point_brute_force(mesh, q, obs);
 }
 
 }  // namespace accelviz
