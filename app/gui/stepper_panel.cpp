@@ -5,8 +5,6 @@
 #include <cmath>
 #include <cstdio>
 
-#define GLFW_INCLUDE_NONE
-#include <GLFW/glfw3.h>  // key codes only (ImGui 1.86 indexes io.KeysDown by the GLFW backend's codes)
 #include <imgui.h>
 
 #include "app/gui/camera_control.h"
@@ -20,7 +18,6 @@ namespace {
 
 ImU32 im_colour(DebugColour c, uint8_t alpha = 255) { return IM_COL32(c.r, c.g, c.b, alpha); }
 ImVec4 im_vec4(DebugColour c) { return ImVec4(c.r / 255.0f, c.g / 255.0f, c.b / 255.0f, 1.0f); }
-Rgba8 rgba(DebugColour c) { return {c.r, c.g, c.b, c.a}; }
 
 /// "1.25", "inf", "-inf".
 std::string number(float v) {
@@ -131,8 +128,7 @@ void StepperPanel::update(AppState& state, Session& session, double delta_second
         traced_any_hit = state.stepper.any_hit;
         trace = state.stepper.ray ? record_ray(*session.scene->accel, *state.stepper.ray, query(state)) : SteppedRay{};
         shown_step = size_t(-1);
-        playing = false;
-        scroll_to_current = true;
+        playback.restart();
     }
     if (state.stepper.ray && (!edits_of || *edits_of != *state.stepper.ray)) {
         const Ray& r = *state.stepper.ray;
@@ -145,15 +141,7 @@ void StepperPanel::update(AppState& state, Session& session, double delta_second
 
     // Playback: `speed` events per second (the window only).
     const size_t end = trace.events.size();
-    if (playing && !wait) {
-        play_clock += delta_seconds * speed;
-        while (play_clock >= 1.0 && state.stepper.step < end) {
-            ++state.stepper.step;
-            play_clock -= 1.0;
-            scroll_to_current = true;
-        }
-        if (state.stepper.step >= end) playing = false;
-    }
+    if (!wait) playback.advance(state.stepper.step, end, delta_seconds);
     const size_t step = std::min(state.stepper.step, end);
     if (step != shown_step) {
         step_state = replay(trace.events, step);
@@ -191,79 +179,10 @@ void StepperPanel::update(AppState& state, Session& session, double delta_second
 }
 
 void StepperPanel::handle_keys(AppState& state) {
-    if (!state.stepper.open || !traced_ray) return;
-    const size_t end = trace.events.size();
-    size_t& step = state.stepper.step;
-    step = std::min(step, end);
-    const size_t before = step;
-    if (!ImGui::GetIO().KeyShift) {
-        if (ImGui::IsKeyPressed(GLFW_KEY_RIGHT, true) && step < end) ++step;
-        if (ImGui::IsKeyPressed(GLFW_KEY_LEFT, true) && step > 0) --step;
-    }
-    if (ImGui::IsKeyPressed(GLFW_KEY_HOME, false)) step = 0;
-    if (ImGui::IsKeyPressed(GLFW_KEY_END, false)) step = end;
-    if (ImGui::IsKeyPressed(GLFW_KEY_SPACE, false)) {
-        playing = !playing;
-        if (playing && step >= end) step = 0;
-        play_clock = 0;
-    }
-    if (step != before) scroll_to_current = true;
+    if (state.stepper.open && traced_ray) playback.handle_keys(state.stepper.step, trace.events.size());
 }
 
 // [SECTION] The panel
-
-void StepperPanel::draw_controls(AppState& state) {
-    const size_t end = trace.events.size();
-    size_t& step = state.stepper.step;
-    step = std::min(step, end);
-    const size_t before = step;
-    if (ImGui::Button("|<")) step = 0;
-    ImGui::SameLine();
-    if (ImGui::Button("<") && step > 0) --step;
-    ImGui::SameLine();
-    if (ImGui::Button(playing ? "Pause###play" : "Play###play")) {  // one ID whichever it reads
-        playing = !playing;
-        if (playing && step >= end) step = 0;
-        play_clock = 0;
-    }
-    ImGui::SameLine();
-    if (ImGui::Button(">") && step < end) ++step;
-    ImGui::SameLine();
-    if (ImGui::Button(">|")) step = end;
-    ImGui::SameLine();
-    ImGui::SetNextItemWidth(-FLT_MIN);
-    ImGui::SliderFloat("##speed", &speed, 0.5f, 200.0f, "%.1f events/s", ImGuiSliderFlags_Logarithmic);
-    int k = int(step);
-    ImGui::SetNextItemWidth(-FLT_MIN);
-    if (ImGui::SliderInt("##scrubber", &k, 0, int(end), "step %d", ImGuiSliderFlags_AlwaysClamp)) step = size_t(k);
-    if (step != before) scroll_to_current = true;
-}
-
-void StepperPanel::draw_event_list(AppState& state, int rows) {
-    const float height = float(rows) * ImGui::GetTextLineHeightWithSpacing();
-    if (!ImGui::BeginChild("##events", ImVec2(0, height), true)) {
-        ImGui::EndChild();
-        return;
-    }
-    const size_t current = state.stepper.step;  // row i is event i; the current one is events[step - 1]
-    ImGuiListClipper clipper;
-    clipper.Begin(int(trace.events.size()));
-    if (scroll_to_current && current > 0) clipper.ForceDisplayRangeByIndices(int(current) - 1, int(current));
-    while (clipper.Step()) {
-        for (int i = clipper.DisplayStart; i < clipper.DisplayEnd; ++i) {
-            const bool is_current = size_t(i) + 1 == current;
-            char label[320];
-            std::snprintf(label, sizeof label, "%5d  %s", i + 1, describe(trace.events[size_t(i)]).c_str());
-            if (size_t(i) >= current) ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
-            if (ImGui::Selectable(label, is_current)) state.stepper.step = size_t(i) + 1;
-            if (size_t(i) >= current) ImGui::PopStyleColor();
-            if (is_current && scroll_to_current) ImGui::SetScrollHereY(0.5f);
-        }
-    }
-    if (scroll_to_current && current == 0) ImGui::SetScrollY(0);
-    scroll_to_current = false;
-    ImGui::EndChild();
-}
 
 /// The lecture's picture: three number lines with each slab's interval, the
 /// intersection below them, and the verdict.
@@ -454,7 +373,7 @@ void StepperPanel::draw(AppState& state, Session& session, bool lecture) {
     ImGui::SameLine(ImGui::GetWindowContentRegionMax().x - close_width);
     if (ImGui::SmallButton("Close")) {
         state.stepper.open = false;
-        playing = false;
+        playback.playing = false;
     }
     if (!one_line) ImGui::TextWrapped("%s", what);
     if (!lecture || !state.stepper.ray) {
@@ -468,7 +387,7 @@ void StepperPanel::draw(AppState& state, Session& session, bool lecture) {
         return;
     }
 
-    draw_controls(state);
+    playback.draw_buttons(state.stepper.step, trace.events.size());
     const size_t end = trace.events.size();
     const size_t step = std::min(state.stepper.step, end);
     ImGui::Text("step %zu of %zu", step, end);
@@ -485,7 +404,8 @@ void StepperPanel::draw(AppState& state, Session& session, bool lecture) {
     } else {
         grey_text("before the first event: press Right (or >) to step");
     }
-    draw_event_list(state, lecture ? 3 : 7);
+    playback.draw_event_list(trace.events, state.stepper.step, lecture ? 3 : 7,
+                             [](const TraversalEvent& e) { return describe(e); });
 
     // Counters next to the naive O(N) count.
     const Counters& c = step_state.counters;
@@ -554,7 +474,7 @@ void StepperPanel::draw_next_rays(AppState& state, const Session& session) {
             state.stepper.ray = next;
             state.stepper.any_hit = any_hit;
             state.stepper.step = 0;
-            playing = false;
+            playback.playing = false;
         };
         const Vec3 light = to_float(light_position(state.light, scene->bounds));
         const bool mirror = state.light.reflections && trace.hit.tri < scene->mesh->mirror.size() &&
@@ -574,7 +494,7 @@ void StepperPanel::draw_next_rays(AppState& state, const Session& session) {
             state.stepper = earlier_rays.back();
             earlier_rays.pop_back();
             following = true;
-            playing = false;
+            playback.playing = false;
         }
     }
 }
@@ -741,64 +661,11 @@ void StepperPanel::draw_plane_first(const TriangleInspection& t) const {
 // [SECTION] 3D view
 
 void StepperPanel::draw_3d(Renderer& renderer, float line_width) {
-    if (!traced_ray) return;
-    if (geometry_dirty) {
-        if (!gpu_boxes) gpu_boxes = std::make_unique<BoxBuffer>();
-        if (!gpu_segments) gpu_segments = std::make_unique<ColouredBuffer>();
-        if (!gpu_quads) gpu_quads = std::make_unique<ColouredBuffer>();
-        std::vector<BoxInstance> boxes_out;
-        for (const DebugBox& b : geometry.boxes) boxes_out.push_back({b.box.lo, b.box.hi, rgba(b.colour)});
-        std::vector<ColouredVertex> ends;
-        for (const DebugSegment& s : geometry.segments) {
-            ends.push_back({s.a, rgba(s.colour)});
-            ends.push_back({s.b, rgba(s.colour)});
-        }
-        std::vector<ColouredQuad> quads;
-        for (const DebugQuad& q : geometry.quads) quads.push_back({{q.corners[0], q.corners[1], q.corners[2], q.corners[3]}, rgba(q.colour)});
-        for (const DebugTriangle& t : geometry.triangles) quads.push_back({{t.p[0], t.p[1], t.p[2], t.p[2]}, rgba(t.colour)});
-        gpu_boxes->upload(boxes_out);
-        gpu_segments->upload_segments(ends);
-        gpu_quads->upload_quads(quads);
-        geometry_dirty = false;
-    }
-    renderer.draw_quads(*gpu_quads);
-    renderer.set_line_width(line_width);
-    renderer.draw_boxes(*gpu_boxes);
-    renderer.set_line_width(std::min(2.5f * line_width, 8.0f));
-    renderer.draw_segments(*gpu_segments);
-    renderer.set_line_width(line_width);
+    if (traced_ray) gl_geometry.draw(renderer, geometry, geometry_dirty, line_width);
 }
 
 void StepperPanel::draw_labels(const View3D& view) const {
-    if (!traced_ray || view.rect.empty()) return;
-    ImDrawList* draw = ImGui::GetBackgroundDrawList();
-    const auto& m = view.view_projection;
-    const ImU32 shadow = IM_COL32(0, 0, 0, 200);
-    std::vector<ImVec4> placed;  // (x0, y0, x1, y1) of the labels drawn: later ones move down to clear them
-    for (const DebugLabel& label : geometry.labels) {
-        const Vec3 p = label.at;
-        const float x = m[0] * p.x + m[4] * p.y + m[8] * p.z + m[12];
-        const float y = m[1] * p.x + m[5] * p.y + m[9] * p.z + m[13];
-        const float w = m[3] * p.x + m[7] * p.y + m[11] * p.z + m[15];
-        if (!(w > 0.0f)) continue;
-        const float sx = float(view.rect.x) + (0.5f * x / w + 0.5f) * float(view.rect.width);
-        const float sy = float(view.rect.y) + (0.5f - 0.5f * y / w) * float(view.rect.height);
-        if (!view.rect.contains(sx, sy)) continue;
-        ImVec2 at(sx + 6.0f, sy - ImGui::GetFontSize() - 2.0f);
-        const ImVec2 size = ImGui::CalcTextSize(label.text.c_str());
-        for (int tries = 0; tries < 8; ++tries) {
-            bool clear = true;
-            for (const ImVec4& r : placed)
-                if (at.x < r.z && at.x + size.x > r.x && at.y < r.w && at.y + size.y > r.y) {
-                    at.y = r.w + 1.0f;
-                    clear = false;
-                }
-            if (clear) break;
-        }
-        placed.push_back(ImVec4(at.x, at.y, at.x + size.x, at.y + size.y));
-        draw->AddText(ImVec2(at.x + 1, at.y + 1), shadow, label.text.c_str());
-        draw->AddText(at, im_colour(label.colour), label.text.c_str());
-    }
+    if (traced_ray) draw_debug_labels(geometry.labels, view);
 }
 
 }  // namespace accelviz

@@ -14,9 +14,11 @@
 #include <string>
 
 #include "app/gl/renderer.h"
+#include "app/gui/debug_geometry_gl.h"
 #include "app/gui/app_state.h"
 #include "app/gui/latest_job.h"
 #include "app/gui/scene_loader.h"
+#include "app/gui/step_playback.h"
 #include "core/stepper/stepper.h"
 
 namespace accelviz {
@@ -45,8 +47,7 @@ struct StepperPanel {
     StepState step_state;
     DebugGeometry geometry;
     bool geometry_dirty = true;
-    std::unique_ptr<BoxBuffer> gpu_boxes;
-    std::unique_ptr<ColouredBuffer> gpu_segments, gpu_quads;
+    DebugGeometryGl gl_geometry;
 
     // The compare table: structures built on a worker per mesh, rows per ray.
     struct CompareBuild {
@@ -62,10 +63,7 @@ struct StepperPanel {
     std::vector<CompareRow> compare_rows;
 
     // Playing (window only: never in a deterministic frame).
-    bool playing = false;
-    float speed = 4.0f;       ///< events per second
-    double play_clock = 0;    ///< seconds accumulated towards the next step
-    bool scroll_to_current = true;
+    StepPlayback playback;
 
     // The typed ray.
     float origin_edit[3] = {0, 0, 0};
@@ -93,8 +91,6 @@ struct StepperPanel {
     bool has_pending_work() const { return compare_job.busy() || compare_job.has_result(); }
 
 private:
-    void draw_controls(AppState& state);
-    void draw_event_list(AppState& state, int rows);
     void draw_slab_inspector(const SlabInspection& s) const;
     void draw_sibling_tests(const SiblingTests& run, size_t current) const;
     void draw_plane_first(const TriangleInspection& t) const;
