@@ -271,6 +271,9 @@ nlohmann::json to_json(const AppState& s) {
         stepper["ray"] = nullptr;
     if (s.stepper.pixel) stepper["pixel"] = {(*s.stepper.pixel)[0], (*s.stepper.pixel)[1]};
     j["stepper"] = stepper;
+    j["nearest"] = {{"open", s.nearest.open},
+                    {"point", s.nearest.point ? vec3_json(*s.nearest.point) : nlohmann::json(nullptr)},
+                    {"step", s.nearest.step}};
     j["comparison"] = {{"open", s.comparison.open}};
     j["two_bvhs"] = {{"open", s.two_bvhs.open},
                      {"builders", {to_string(s.two_bvhs.builders[0]), to_string(s.two_bvhs.builders[1])}}};
@@ -378,6 +381,16 @@ Expected<AppState> app_state_from_json(const nlohmann::json& j) {
                 // Pixels of an image at most 16384 wide and high, as `render` makes.
                 s.stepper.pixel = std::array<int, 2>{read_whole(p[0], "stepper.pixel", 0, 16383),
                                                      read_whole(p[1], "stepper.pixel", 0, 16383)};
+            }
+        }
+        if (j.contains("nearest")) {
+            const auto& n = j["nearest"];
+            s.nearest.open = read(n, "open", s.nearest.open, "nearest");
+            s.nearest.step = read(n, "step", s.nearest.step, "nearest");
+            if (n.contains("point") && !n["point"].is_null()) {
+                s.nearest.point = read_vec3(n["point"], "nearest.point");
+                if (!within_max_coordinate(*s.nearest.point))
+                    return Error{"nearest.point: must be finite, each coordinate within 1e12"};
             }
         }
         if (j.contains("comparison")) s.comparison.open = read(j["comparison"], "open", s.comparison.open, "comparison");

@@ -155,6 +155,16 @@ struct StepperSettings {
     bool operator==(const StepperSettings&) const = default;
 };
 
+/// The nearest-point stepper: the point on the mesh nearest to a query point, found
+/// through the structure on screen (naive, the binary BVH or the KD tree) and stepped
+/// event by event in a right panel; the query point is dragged in the 3D view.
+struct NearestSettings {
+    bool open = false;
+    std::optional<Vec3d> point;  ///< empty: default_query_point(the scene's bounds)
+    size_t step = 0;             ///< events applied (past the end: the final state)
+    bool operator==(const NearestSettings&) const = default;
+};
+
 /// The comparison panel: every structure measured on the current scene and
 /// camera (build, memory, time and work per ray) and the amortization chart.
 /// Opening it closes the steppers' panels (one right panel at a time).
@@ -203,6 +213,7 @@ struct AppState {
     LightSettings light;
     BuildStepSettings build_step;
     StepperSettings stepper;
+    NearestSettings nearest;
     ComparisonSettings comparison;
     TwoBvhsSettings two_bvhs;
 };

@@ -38,7 +38,7 @@ struct Layout {
 
 /// Which panel sits right of the view (one at a time): a stepper's, the comparison, or
 /// the two BVHs.
-enum class RightPanel { None, Build, Stepper, Comparison, TwoBvhs };
+enum class RightPanel { None, Build, Stepper, Nearest, Comparison, TwoBvhs };
 
 /// `ui`: the sidebar and the status bar; `bottom_bar`: the height of lecture mode's
 /// caption bar (instead of them). `right_panel`: a stepper's panel or the comparison, with or
@@ -54,7 +54,7 @@ Layout compute_layout(int width, int height, bool ui, bool split, RightPanel rig
     if (right_panel == RightPanel::Build)
         layout.right_panel_width =
             std::floor(std::min(30.0f * font, 0.6f * std::max(0.0f, float(width) - layout.sidebar_width)));
-    else if (right_panel == RightPanel::Stepper)
+    else if (right_panel == RightPanel::Stepper || right_panel == RightPanel::Nearest)
         layout.right_panel_width = std::floor(std::min(26.0f * font, 0.4f * float(width)));
     else if (right_panel == RightPanel::Comparison || right_panel == RightPanel::TwoBvhs)
         // a table of 8 columns and a chart, or two pictures side by side: most of the width
@@ -117,9 +117,10 @@ void handle_view_input(AppState& state, Session& session, const Layout& layout) 
     // The active stepper owns the arrow keys (the camera keeps the mouse and Shift+arrows;
     // the traversal stepper leaves Up / Down to the camera).
     const bool stepper_keys = state.build_step.active;
-    const bool stepping = state.stepper.open && state.stepper.ray.has_value();
+    const bool stepping = (state.stepper.open && state.stepper.ray.has_value()) || state.nearest.open;
     if (!io.WantCaptureKeyboard) session.build_stepper.handle_keys(state);
     if (!io.WantCaptureKeyboard && state.stepper.open) session.stepper.handle_keys(state);
+    if (!io.WantCaptureKeyboard && state.nearest.open) session.nearest.handle_keys(state);
 
     if (!io.WantCaptureKeyboard) {
         if (ImGui::IsKeyPressed(GLFW_KEY_F1, false)) state.view.show_help = !state.view.show_help;
@@ -131,7 +132,7 @@ void handle_view_input(AppState& state, Session& session, const Layout& layout) 
         }
         if (ImGui::IsKeyPressed(GLFW_KEY_S, false)) state.view.mode = state.view.mode == ViewMode::Split ? ViewMode::View3D : ViewMode::Split;
         // Space plays the split view's fill order (the ray stepper, when open, owns Space).
-        if (state.view.mode == ViewMode::Split && state.view.fill_order && !state.stepper.open &&
+        if (state.view.mode == ViewMode::Split && state.view.fill_order && !state.stepper.open && !state.nearest.open &&
             ImGui::IsKeyPressed(GLFW_KEY_SPACE, false))
             session.view_panel.play_or_pause_fill(state.view);
         // Presets in lecture order (a presentation clicker sends these keys).
@@ -146,7 +147,7 @@ void handle_view_input(AppState& state, Session& session, const Layout& layout) 
             if (ImGui::IsKeyPressed(GLFW_KEY_B, false)) session.lecture.blank = !session.lecture.blank;
             if (ImGui::IsKeyPressed(GLFW_KEY_C, false)) session.lecture.caption = !session.lecture.caption;
             const int presets = int(session.presets.entries().size());
-            if (!state.stepper.open && !state.build_step.active && presets > 0) {
+            if (!state.stepper.open && !state.nearest.open && !state.build_step.active && presets > 0) {
                 if (ImGui::IsKeyPressed(GLFW_KEY_HOME, false)) session.presets.load(0, state, session);
                 if (ImGui::IsKeyPressed(GLFW_KEY_END, false)) session.presets.load(presets - 1, state, session);
             }
@@ -185,6 +186,11 @@ void handle_view_input(AppState& state, Session& session, const Layout& layout) 
     // The point light: a left drag that starts on its marker (in either half of the
     // split view: both have this camera and size) moves it in the plane facing the
     // camera, keeping its depth (the light follows the mouse).
+    // (Moved by the mouse's motion in the plane facing the camera at the point's depth.)
+    auto moved_with_mouse = [&](const Camera& cam, Vec3d p, double depth) {
+        const double per_pixel = 2.0 * cam.tan_half_fov() * depth / gl_rect.height;
+        return p + cam.right() * (io.MouseDelta.x * per_pixel) - cam.true_up() * (io.MouseDelta.y * per_pixel);
+    };
     if (!ImGui::IsMouseDown(0) || !state.light.point_light() || !session.scene) session.dragging_light = false;
     if (state.light.point_light() && session.scene && !gl_rect.empty()) {
         const Camera cam(camera, gl_rect.width, gl_rect.height);
@@ -198,12 +204,31 @@ void handle_view_input(AppState& state, Session& session, const Layout& layout) 
                     session.dragging_light = true;
         if (session.dragging_light) {
             if (io.MouseDelta.x != 0 || io.MouseDelta.y != 0) {  // a click alone leaves the light where it is
-                const double per_pixel = 2.0 * cam.tan_half_fov() * at.depth / gl_rect.height;
-                const Vec3d moved = light + cam.right() * (io.MouseDelta.x * per_pixel) -
-                                    cam.true_up() * (io.MouseDelta.y * per_pixel);
+                const Vec3d moved = moved_with_mouse(cam, light, at.depth);
                 if (within_max_coordinate(moved)) state.light.position = moved;
                 // Cast as while the camera moves: a quarter of the pixels, so the shading keeps up.
                 session.camera_moved_at = std::chrono::steady_clock::now();
+            }
+            return;
+        }
+    }
+    // The nearest-point query point likewise (in the 3D view); while it moves, the
+    // search's final state is shown, so the nearest point follows it.
+    if (!ImGui::IsMouseDown(0) || !state.nearest.open || !state.nearest.point) session.dragging_query = false;
+    if (state.nearest.open && state.nearest.point && !gl_rect.empty()) {
+        const Camera cam(camera, gl_rect.width, gl_rect.height);
+        const Camera::ImagePoint at = cam.project(*state.nearest.point);
+        if (hovered && ImGui::IsMouseClicked(0) && at.depth > 0 && gl_rect.contains(io.MousePos.x, io.MousePos.y) &&
+            std::hypot(io.MousePos.x - gl_rect.x - at.x, io.MousePos.y - gl_rect.y - at.y) <=
+                light_marker_radius(state.view.ui_scale))
+            session.dragging_query = true;
+        if (session.dragging_query) {
+            if (io.MouseDelta.x != 0 || io.MouseDelta.y != 0) {
+                const Vec3d moved = moved_with_mouse(cam, *state.nearest.point, at.depth);
+                if (within_max_coordinate(moved)) {
+                    state.nearest.point = moved;
+                    state.nearest.step = SIZE_MAX;  // the final state (NearestPanel::update clamps it)
+                }
             }
             return;
         }
@@ -257,17 +282,17 @@ void draw_opengl_depth_as_grey(Session& session, Renderer& renderer, const View3
 /// One right panel at a time: of the panels switched on, the one switched on in this
 /// frame wins (the others are switched off); of several switched on at once (a preset),
 /// the first in this order: the two BVHs, the comparison, the ray stepper, the
-/// construction stepper.
+/// nearest-point stepper, the construction stepper.
 void keep_one_right_panel(AppState& state, Session& session) {
-    const std::array<bool*, 4> open = {&state.two_bvhs.open, &state.comparison.open, &state.stepper.open,
-                                       &state.build_step.active};
-    std::array<bool, 4>& was_open = session.right_panel_was_open;
+    const std::array<bool*, 5> open = {&state.two_bvhs.open, &state.comparison.open, &state.stepper.open,
+                                       &state.nearest.open, &state.build_step.active};
+    std::array<bool, 5>& was_open = session.right_panel_was_open;
     int keep = -1;
-    for (int i = 0; i < 4 && keep < 0; ++i)
+    for (int i = 0; i < 5 && keep < 0; ++i)
         if (*open[i] && !was_open[i]) keep = i;
-    for (int i = 0; i < 4 && keep < 0; ++i)
+    for (int i = 0; i < 5 && keep < 0; ++i)
         if (*open[i]) keep = i;
-    for (int i = 0; i < 4; ++i) {
+    for (int i = 0; i < 5; ++i) {
         if (i != keep) *open[i] = false;
         was_open[i] = *open[i];
     }
@@ -280,6 +305,7 @@ struct FramePlan {
     bool lecture = false;   ///< lecture mode: no panels; the caption bar and the view's labels
     bool split = false;     ///< raster | ray cast
     bool stepping = false;  ///< a ray is being stepped
+    bool nearest = false;   ///< the nearest-point search is stepped (its panel is open)
     bool moving = false;         ///< the camera moves: the view is drawn lighter (Session::camera_moving)
     bool mesh_ray_cast = false;  ///< the CPU ray caster draws the mesh (Draw with)
     bool mesh_picture = false;   ///< ... and a picture of it is there to draw (none yet: no mesh)
@@ -349,6 +375,7 @@ FramePlan plan_frame(AppState& state, Session& session, const FrameInput& input)
     const bool build_panel = session.build_stepper.has_panel(state, session.scene.get());
     plan.right_panel = build_panel              ? RightPanel::Build
                        : state.stepper.open     ? RightPanel::Stepper
+                       : state.nearest.open     ? RightPanel::Nearest
                        : state.comparison.open  ? RightPanel::Comparison
                        : state.two_bvhs.open    ? RightPanel::TwoBvhs
                                                 : RightPanel::None;
@@ -359,6 +386,7 @@ FramePlan plan_frame(AppState& state, Session& session, const FrameInput& input)
     plan.layout = compute_layout(input.width, input.height, plan.ui, split,
                                  plan.ui || plan.lecture ? plan.right_panel : RightPanel::None, caption_bar);
     plan.stepping = state.stepper.open && state.stepper.ray.has_value();
+    plan.nearest = state.nearest.open;
     const Layout& layout = plan.layout;
     if (session.frame_pending && session.scene && state.camera && !layout.gl_view.empty()) {
         frame_bounds(*state.camera, session.scene->bounds, double(layout.gl_view.width) / layout.gl_view.height);
@@ -366,6 +394,7 @@ FramePlan plan_frame(AppState& state, Session& session, const FrameInput& input)
     }
     if (input.draw_ui) handle_view_input(state, session, layout);
     session.stepper.update(state, session, input.deterministic ? 0.0 : ImGui::GetIO().DeltaTime, input.deterministic);
+    session.nearest.update(state, session, input.deterministic ? 0.0 : ImGui::GetIO().DeltaTime, input.deterministic);
     session.view_panel.advance_fill(state.view, input.deterministic ? 0.0 : ImGui::GetIO().DeltaTime, split);
     // The comparison measures the rays of the 3D view's picture, while its panel is on
     // screen (headless waits for it).
@@ -442,6 +471,13 @@ void draw_sidebar(AppState& state, Session& session, const Layout& layout, int h
                 ImGui::TextWrapped("Click a pixel in the view to pick its ray.");
                 ImGui::PopStyleColor();
             }
+            if (ImGui::Checkbox("Nearest point to q", &state.nearest.open) && state.nearest.open &&
+                state.overlay.mesh_opacity >= 1.0f)
+                state.overlay.mesh_opacity = 0.5f;
+            if (ImGui::IsItemHovered())
+                ImGui::SetTooltip("The point of the mesh nearest to a point q, found through the BVH or the KD\n"
+                                  "tree and stepped node by node: boxes outside the sphere of the best distance\n"
+                                  "so far are skipped. Drag q in the view.");
         }
         if (ImGui::CollapsingHeader("Measure structures")) {
             ImGui::Checkbox("Measure every structure", &state.comparison.open);
@@ -471,13 +507,15 @@ void draw_right_panel(AppState& state, Session& session, const FrameInput& input
                                          layout.right_panel_width, float(layout.view.height),
                                          layout.gl_view.height > 0 ? double(layout.gl_view.width) / layout.gl_view.height
                                                                    : 1.0);
-    if (plan.right_panel == RightPanel::Stepper || plan.right_panel == RightPanel::Comparison ||
-        plan.right_panel == RightPanel::TwoBvhs) {
+    if (plan.right_panel == RightPanel::Stepper || plan.right_panel == RightPanel::Nearest ||
+        plan.right_panel == RightPanel::Comparison || plan.right_panel == RightPanel::TwoBvhs) {
         ImGui::SetNextWindowPos(ImVec2(float(input.width) - layout.right_panel_width, 0), ImGuiCond_Always);
         ImGui::SetNextWindowSize(ImVec2(layout.right_panel_width, float(input.height) - layout.status_height),
                                  ImGuiCond_Always);
         if (plan.right_panel == RightPanel::Stepper) {
             if (ImGui::Begin("##stepper", nullptr, kFixedPanel)) session.stepper.draw(state, session, plan.lecture);
+        } else if (plan.right_panel == RightPanel::Nearest) {
+            if (ImGui::Begin("##nearest", nullptr, kFixedPanel)) session.nearest.draw(state, session, plan.lecture);
         } else if (plan.right_panel == RightPanel::Comparison) {
             if (ImGui::Begin("##comparison", nullptr, kFixedPanel))
                 session.comparison.draw(ImGui::GetContentRegionAvail().x, plan.lecture);
@@ -507,12 +545,12 @@ void draw_panels(AppState& state, Session& session, const FrameInput& input, con
     ImGui::End();
     ImGui::PopStyleVar();
 
-    if (plan.right_panel == RightPanel::Stepper || plan.right_panel == RightPanel::Comparison ||
-        plan.right_panel == RightPanel::TwoBvhs)
+    if (plan.right_panel == RightPanel::Stepper || plan.right_panel == RightPanel::Nearest ||
+        plan.right_panel == RightPanel::Comparison || plan.right_panel == RightPanel::TwoBvhs)
         draw_right_panel(state, session, input, plan);
     // The overlay's legend: not over the CPU rasterizer's picture in the left half (it draws no overlay).
     const bool structure_legend =
-        state.overlay.show_structure && !session.build_stepper.shows_3d(state) && !stepping &&
+        state.overlay.show_structure && !session.build_stepper.shows_3d(state) && !stepping && !plan.nearest &&
         !(split && (session.ray_cast.left_texture() || state.view.left_view == LeftView::OpenGlDepth));
     draw_view_labels(state, session, {layout.view, layout.gl_view, layout.ray_view, split}, structure_legend,
                      input.deterministic);
@@ -528,7 +566,7 @@ void draw_lecture_labels(AppState& state, Session& session, const FrameInput& in
     draw_right_panel(state, session, input, plan);
     const bool stepping = plan.stepping;
     draw_view_labels(state, session, {layout.view, layout.gl_view, layout.ray_view, plan.split},
-                     state.overlay.show_structure && !stepping, input.deterministic);
+                     state.overlay.show_structure && !stepping && !plan.nearest, input.deterministic);
     const int current = session.presets.current();
     const int count = int(session.presets.entries().size());
     constexpr ImGuiWindowFlags kBar = kFixedPanel | ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoInputs;
@@ -578,11 +616,13 @@ FrameLayout draw_scene(AppState& state, Renderer& renderer, Session& session, co
         out.view = make_view3d(*state.camera, layout.gl_view, session.scene->bounds);
         renderer.begin_view(out.view);
         renderer.set_line_width(state.view.line_width);
-        // While a ray is stepped, the step's own boxes replace the whole structure's.
-        const bool overlay = state.overlay.show_structure && !stepping;
+        // While a ray or a nearest-point search is stepped, the step's own boxes replace
+        // the whole structure's.
+        const bool overlay = state.overlay.show_structure && !stepping && !plan.nearest;
         auto draw_overlay = [&] {
             if (state.view.show_bounds) renderer.draw_boxes(*session.bounds_buffer);
             if (stepping) session.stepper.draw_3d(renderer, state.view.line_width);
+            if (plan.nearest) session.nearest.draw_3d(renderer, state.view.line_width);
             if (!overlay) return;
             renderer.draw_quads(*session.overlay_quads,
                                 plan.moving ? session.overlay.moving_quads(Session::kMovingBoxBudget) : SIZE_MAX);
@@ -682,6 +722,9 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
     if (state.stepper.open && session.scene && state.camera && !plan.layout.gl_view.empty() &&
         !(plan.lecture && session.lecture.blank))
         session.stepper.draw_labels(make_view3d(*state.camera, plan.layout.gl_view, session.scene->bounds));
+    if (state.nearest.open && session.scene && state.camera && !plan.layout.gl_view.empty() &&
+        !(plan.lecture && session.lecture.blank))
+        session.nearest.draw_labels(make_view3d(*state.camera, plan.layout.gl_view, session.scene->bounds));
     ImGui::Render();
     const FrameLayout out = draw_scene(state, renderer, session, input, plan);
     if (plan.ui || plan.lecture) renderer.draw_imgui(ImGui::GetDrawData());

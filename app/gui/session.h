@@ -22,6 +22,7 @@
 #include "app/gui/ray_cast_view.h"
 #include "app/gui/surface_cast.h"
 #include "app/gui/scene_loader.h"
+#include "app/gui/nearest_panel.h"
 #include "app/gui/stepper_panel.h"
 #include "app/gui/structure_overlay.h"
 #include "app/gui/ui_style.h"
@@ -102,13 +103,15 @@ struct Session {
     /// The two-BVHs panel: the scene's BVH by two builders, side by side (on a worker).
     TwoBvhsPanel two_bvhs;
     /// Which right panels were open in the previous frame (two BVHs, comparison, ray
-    /// stepper, construction stepper): draw_frame keeps the one switched on last.
-    std::array<bool, 4> right_panel_was_open{};
+    /// stepper, nearest-point stepper, construction stepper): draw_frame keeps the one switched on last.
+    std::array<bool, 5> right_panel_was_open{};
 
     UiStyle style;
     bool dragging_view = false;  ///< a mouse drag that started in the 3D view
     bool dragging_light = false;  ///< ... on the point light's marker: it moves the light
     std::vector<std::array<float, 2>> light_markers;  ///< where the light's markers were drawn last (window pixels)
+    bool dragging_query = false;  ///< ... on the nearest-point query point's marker: it moves the point
+    std::vector<std::array<float, 2>> query_markers;  ///< where the query point's marker was drawn last
 
     /// Lecture mode (L, or `accelviz --lecture`): the window full screen, no panels,
     /// text at projector scale, the preset's number and title in a caption bar.
@@ -127,6 +130,7 @@ struct Session {
     HelpWindow help_window;
     /// assets/presets: PageDown / PageUp and the Scene panel's list.
     PresetList presets;
+    NearestPanel nearest;
     StepperPanel stepper;  ///< last: its worker may hold the scene's mesh
 
     /// Starts loading `source` with the state's structure (on the worker).

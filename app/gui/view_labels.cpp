@@ -406,6 +406,21 @@ void draw_light_marker(const AppState& state, Session& session, const ViewRect& 
     draw->AddText(text, sun, "light");
 }
 
+/// The nearest-point query point q as a ring (white, dark-edged) to grab and drag;
+/// nothing when it is behind the camera or outside the view.
+void draw_query_marker(const AppState& state, Session& session, const ViewRect& rect) {
+    if (!state.nearest.open || !state.nearest.point || !state.camera || rect.empty()) return;
+    const Camera camera(*state.camera, rect.width, rect.height);
+    const Camera::ImagePoint at = camera.project(*state.nearest.point);
+    if (!(at.depth > 0) || at.x < 0 || at.y < 0 || at.x > rect.width || at.y > rect.height) return;
+    ImDrawList* draw = ImGui::GetBackgroundDrawList();
+    const ImVec2 c(float(rect.x + at.x), float(rect.y + at.y));
+    session.query_markers.push_back({c.x, c.y});
+    const float r = 0.6f * float(light_marker_radius(state.view.ui_scale));
+    draw->AddCircle(c, r, IM_COL32(0, 0, 0, 220), 0, 4.0f * state.view.ui_scale);
+    draw->AddCircle(c, r, IM_COL32(255, 255, 255, 255), 0, 2.0f * state.view.ui_scale);
+}
+
 }  // namespace
 
 void draw_view_labels(const AppState& state, Session& session, const ViewAreas& areas, bool structure_legend,
@@ -414,6 +429,8 @@ void draw_view_labels(const AppState& state, Session& session, const ViewAreas& 
     session.light_markers.clear();
     draw_light_marker(state, session, areas.gl_view);
     if (areas.split) draw_light_marker(state, session, areas.ray_view);
+    session.query_markers.clear();
+    draw_query_marker(state, session, areas.gl_view);
     // The bottom stacks first (legends keep their size); the top labels wrap into the rest.
     LabelStack gl(areas.gl_view);
     if (structure_legend) draw_structure_legend(session, gl);

@@ -144,6 +144,7 @@ public:
         j["size"] = {io.DisplaySize.x, io.DisplaySize.y};
         j["view"] = {layout.view_rect.x, layout.view_rect.y, layout.view_rect.width, layout.view_rect.height};
         j["light_markers"] = session.light_markers;
+        j["query_markers"] = session.query_markers;
         // What is on screen, which lags the state while a load or a build runs.
         if (session.scene)
             j["shown"] = {{"scene", session.scene->source},
@@ -156,6 +157,14 @@ public:
                                 {"events", traced.events.size()},
                                 {"any_hit", traced.query == StopAt::AnyHit},
                                 {"hit_triangle", traced.hit.found() ? nlohmann::json(traced.hit.tri) : nlohmann::json()}};
+        }
+        if (state.nearest.open && session.nearest.search) {
+            const SteppedNearest& n = *session.nearest.search;
+            j["nearest_search"] = {{"structure", n.structure},
+                                   {"events", n.events.size()},
+                                   {"point", {n.query.x, n.query.y, n.query.z}},
+                                   {"triangle", n.result.found() ? nlohmann::json(n.result.tri) : nlohmann::json()},
+                                   {"distance", n.result.found() ? nlohmann::json(n.result.distance()) : nlohmann::json()}};
         }
         if (const StructureComparison* c = session.comparison.measured()) {
             nlohmann::json rows = nlohmann::json::array();

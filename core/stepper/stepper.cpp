@@ -317,6 +317,8 @@ bool has_interval(const TraversalEvent& e) {
     }
 }
 
+}  // namespace
+
 void add_cross(DebugGeometry& g, Vec3 p, float size, DebugColour c) {
     for (int a = 0; a < 3; ++a) {
         Vec3 d(0, 0, 0);
@@ -324,8 +326,6 @@ void add_cross(DebugGeometry& g, Vec3 p, float size, DebugColour c) {
         g.segments.push_back({p - d, p + d, c});
     }
 }
-
-}  // namespace
 
 SiblingTests sibling_box_tests(const std::vector<TraversalEvent>& events, size_t index) {
     if (index >= events.size() || events[index].kind != EventKind::BoxTest) return {index, index};

@@ -197,6 +197,9 @@ struct DebugGeometry {
     std::vector<DebugLabel> labels;
 };
 
+/// Three short segments along the axes, crossing at p (`size` each way).
+void add_cross(DebugGeometry& g, Vec3 p, float size, DebugColour c);
+
 /// The palette of the step geometry (and of the panels that name it).
 struct StepColours {
     DebugColour ray{200, 200, 200, 255};           ///< the whole ray
@@ -213,6 +216,7 @@ struct StepColours {
     DebugColour closest{255, 240, 60, 255};        ///< the closest hit so far
     DebugColour rejected{255, 80, 200, 255};       ///< a hit outside the current cell (not yet accepted)
     DebugColour split{80, 220, 230, 90};           ///< KD/octree split plane
+    DebugColour query{255, 255, 255, 255};         ///< the nearest-point search's query point
 };
 inline constexpr StepColours kStepColours{};
 

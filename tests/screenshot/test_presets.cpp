@@ -25,6 +25,7 @@
 #include "core/measure/comparison.h"
 #include "core/measure/two_bvhs.h"
 #include "core/render/camera.h"
+#include "core/stepper/nearest_stepper.h"
 #include "core/stepper/stepper.h"
 #include "golden.h"
 
@@ -592,6 +593,32 @@ TEST(Presets, TheShadowRayStopsAtItsFirstHitAndTheReflectionRayFindsTheNearest) 
     EXPECT_GT(off_plane, 0.0f);
     EXPECT_LT(off_plane, 1e-4f);
     EXPECT_EQ(reflection.mesh.mirror.at(24), 1);
+}
+
+TEST(Presets, TheNearestPointSearchSkipsABoxOutsideTheSphere) {
+    auto state = load_app_state_file(kPresetDir + "/43-nearest-point.json");
+    ASSERT_TRUE(state) << state.error();
+    ASSERT_TRUE(state->nearest.open && state->nearest.point);
+    auto mesh = load_scene(state->scene);
+    ASSERT_TRUE(mesh) << mesh.error();
+    auto accel = build_accelerator(*mesh, state->accel);
+    ASSERT_TRUE(accel) << accel.error();
+    auto search = record_nearest(**accel, *mesh, *state->nearest.point);
+    ASSERT_TRUE(search) << search.error();
+    const size_t step = state->nearest.step;
+    ASSERT_GT(step, 0u);
+    ASSERT_LE(step, search->events.size());
+    const TraversalEvent& shown = search->events[step - 1];
+    const StepState before = replay(search->events, step);
+    // The step shown: a box skipped because it lies wholly outside the sphere of the
+    // best distance, found earlier, which is already the final answer's.
+    ASSERT_EQ(shown.kind, EventKind::Cull);
+    ASSERT_TRUE(before.closest.found());
+    EXPECT_GT(shown.t_enter, before.closest.t);
+    EXPECT_EQ(before.closest.tri, search->result.tri);
+    const NearestPoint brute = [&] { NoObserver none; return nearest_point_brute_force(*mesh, *state->nearest.point, none); }();
+    EXPECT_EQ(search->result.tri, brute.tri);
+    EXPECT_EQ(search->result.distance_squared, brute.distance_squared);
 }
 
 }  // namespace

@@ -742,6 +742,41 @@ TEST(WindowClicks, DraggingTheSunInTheRayCastHalfMovesTheLight) {
     EXPECT_NEAR(after["light_markers"][1][0].get<double>(), x + 60, 3.0) << "the sun follows the mouse";
 }
 
+/// The nearest-point stepper, as a user opens it: the sidebar's checkbox opens its
+/// panel with q in front of the teapot and its search recorded; a drag that starts on
+/// q's ring moves q (not the camera) and the nearest point follows; Right and End step.
+TEST(WindowClicks, DraggingTheNearestPointsQueryPointMovesItAndRightSteps) {
+    Window w;
+    w.start("builtin:teapot");
+    w.toggle("Nearest point to q", "/nearest/open");
+    const json before = w.wait_for("q drawn, its search recorded", [](const json& s) {
+        return s["query_markers"].size() == 1 && s.contains("nearest_search") && !s["busy"].get<bool>();
+    });
+    EXPECT_EQ(before["nearest_search"]["structure"], "bvh");
+    EXPECT_TRUE(before["nearest_search"]["triangle"].is_number());
+    const auto ring = before["query_markers"][0];
+    const double x = ring[0].get<double>(), y = ring[1].get<double>();
+    w.move_to(x, y);
+    w.press();
+    for (int i = 1; i <= 6; ++i) w.move_to(x - 8 * i, y - 5 * i);
+    w.release();
+    const json after = w.wait_for("q moved, searched again", [&](const json& s) {
+        return s["state"]["nearest"]["point"] != before["state"]["nearest"]["point"] &&
+               s["nearest_search"]["point"] == s["state"]["nearest"]["point"];
+    });
+    EXPECT_EQ(after["state"]["camera"], before["state"]["camera"]) << "the drag orbited the camera";
+    EXPECT_NEAR(after["query_markers"][0][0].get<double>(), x - 48, 3.0) << "q follows the mouse";
+    EXPECT_NEAR(after["query_markers"][0][1].get<double>(), y - 30, 3.0);
+    const int events = after["nearest_search"]["events"].get<int>();
+    EXPECT_EQ(after["state"]["nearest"]["step"].get<int>(), events) << "while dragging, the final state is shown";
+    w.key("Home");
+    w.wait_for("Home: before the first event", [](const json& s) { return s["state"]["nearest"]["step"] == 0; });
+    w.key("Right");
+    w.wait_for("Right: one step", [](const json& s) { return s["state"]["nearest"]["step"] == 1; });
+    w.key("End");
+    w.wait_for("End: the last step", [&](const json& s) { return s["state"]["nearest"]["step"].get<int>() == events; });
+}
+
 /// A long build shows its progress with a Cancel button; Cancel (or Esc) stops it and
 /// the scene on screen stays with the structure it had, which the panels show again.
 TEST(WindowClicks, CancelStopsALongBuildAndKeepsTheScene) {
