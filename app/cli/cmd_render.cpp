@@ -26,6 +26,7 @@
 #include "app/gui/stepper_panel.h"
 #include "app/gui/scene_loader.h"
 #include "core/geometry/scene.h"
+#include "core/query/inside_slice.h"
 #include "core/render/ray_caster.h"
 #include "core/render/views.h"
 #include "core/util/enum_names.h"
@@ -55,17 +56,22 @@ struct RenderOptions {
     std::string draw;            ///< --draw: how the window's views draw the mesh ("": the preset's, else raster)
     LightFlags light;            ///< --shadows, --reflections, --light
     std::string rays = "primary";  ///< --rays: which rays' work the heat maps show
+    std::string slice_axis;        ///< --slice-axis x|y|z ("": the preset's, else z)
+    std::optional<float> slice_at;  ///< --slice-at: 0..1 of the box along the axis
 };
 
 
+
+
 /// The views the CPU renderers of core/render compose (the window's own views are WindowView).
-enum class CpuView { RayCast, Raster, Split, DepthDiff, HeatNodes, HeatTris };
-constexpr EnumNames<CpuView, 6> kCpuViewNames{{{{CpuView::RayCast, "raycast"},
+enum class CpuView { RayCast, Raster, Split, DepthDiff, HeatNodes, HeatTris, Slice };
+constexpr EnumNames<CpuView, 7> kCpuViewNames{{{{CpuView::RayCast, "raycast"},
                                                 {CpuView::Raster, "raster"},
                                                 {CpuView::Split, "split"},
                                                 {CpuView::DepthDiff, "depth-diff"},
                                                 {CpuView::HeatNodes, "heat-nodes"},
-                                                {CpuView::HeatTris, "heat-tris"}}}};
+                                                {CpuView::HeatTris, "heat-tris"},
+                                                {CpuView::Slice, "slice"}}}};
 
 /// --view's names: the CPU views, then the window's.
 std::vector<std::string> all_views() {
@@ -103,6 +109,38 @@ void print_shadow_lesson(const ShadowQueryWork& w) {
 int fail(const std::string& message) {
     std::cerr << "accelviz render: " << message << "\n";
     return 1;
+}
+
+/// Samples along each side of `render --view slice` (3 rays per sample).
+constexpr int kRenderSliceSamples = 256;
+
+/// `--view slice`: the plane of --slice-axis / --slice-at across the scene, each
+/// point inside or outside by the ray-parity vote, counted through naive or the BVH.
+int run_render_slice(const RenderOptions& opt, const AppState& state) {
+    const auto mesh = load_scene_noting(state.scene, "render");
+    if (!mesh) return fail(mesh.error());
+    auto accel = [&] {
+        const StepProgress progress("render", "building " + std::string(to_string(state.accel.type)));
+        return build_accelerator(*mesh, state.accel);
+    }();
+    if (!accel) return fail(accel.error());
+    if (!has_crossing_count(**accel))
+        return fail("--view slice counts every crossing through naive or the binary BVH: use --accel naive or bvh");
+    SliceSpec spec;
+    spec.axis = opt.slice_axis.empty() ? state.view.slice_axis : opt.slice_axis[0] - 'x';
+    spec.fraction = opt.slice_at.value_or(state.view.slice_at);
+    spec.columns = spec.rows = kRenderSliceSamples;
+    const auto start = std::chrono::steady_clock::now();
+    const StepProgress progress("render", "counting crossings");
+    auto slice = inside_slice(**accel, *mesh, spec);
+    if (!slice) return fail(slice.error());
+    std::fprintf(stderr, "slice (%s): %llu rays, %llu nodes visited, %llu triangles tested, %.1f ms\n",
+                 (*accel)->name().c_str(), (unsigned long long)slice->rays, (unsigned long long)slice->nodes_visited,
+                 (unsigned long long)slice->triangle_tests,
+                 std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    if (auto err = write_png(slice_view(*slice, opt.width, opt.height), opt.out)) return fail(err->message);
+    std::cout << opt.out << "\n";
+    return 0;
 }
 
 double ms_since(std::chrono::steady_clock::time_point start) {
@@ -215,6 +253,8 @@ int run_render(const RenderOptions& given) {
     const CpuView cpu_view = kCpuViewNames.parse(opt.view).value_or(CpuView::Split);  // CLI11 checked the name
     if (opt.rays != "primary" && cpu_view != CpuView::HeatNodes && cpu_view != CpuView::HeatTris)
         return fail("--rays is for --view heat-nodes or heat-tris, not --view " + opt.view);
+    if ((!opt.slice_axis.empty() || opt.slice_at) && (window_view || cpu_view != CpuView::Slice))
+        return fail("--slice-axis and --slice-at are for --view slice, not --view " + opt.view);
     if (window_view == WindowView::Step) return run_render_step(opt);
     if ((opt.step >= 0 && window_view != WindowView::BuildStep && window_view != WindowView::FillOrder) ||
         !opt.pixel.empty())
@@ -246,6 +286,10 @@ int run_render(const RenderOptions& given) {
     if (window_view) {
         if (!opt.depth_out.empty()) return fail("--depth-out: only the CPU views write a depth file, not --view " + opt.view);
         return run_window_view(opt, *window_view, std::move(state));
+    }
+    if (cpu_view == CpuView::Slice) {
+        if (!opt.depth_out.empty()) return fail("--depth-out: --view slice has no depth to write");
+        return run_render_slice(opt, state);
     }
 
     auto mesh = load_scene_noting(state.scene, "render");
@@ -296,6 +340,7 @@ int run_render(const RenderOptions& given) {
         case CpuView::Raster: image = raster_frame.colour; break;
         case CpuView::Split: image = split_view(raster_frame, ray_frame, work); break;
         case CpuView::DepthDiff: image = depth_diff_view(raster_frame, ray_frame); break;
+        case CpuView::Slice: break;  // drawn by run_render_slice
         case CpuView::HeatNodes:
         case CpuView::HeatTris: {
             const bool nodes = cpu_view == CpuView::HeatNodes;
@@ -350,7 +395,7 @@ Command register_render(CLI::App& app) {
     sub->add_option("--out,-o", opt->out, "Output PNG file")->required();
     sub->add_option("--view", opt->view,
                     "raycast | raster | split (raster left, ray cast right, each --width wide) | depth-diff | "
-                    "heat-nodes | heat-tris: the CPU renderers; structure (the window's 3D view with the "
+                    "heat-nodes | heat-tris: the CPU renderers; slice (a plane across the scene coloured inside / outside by ray parity, --slice-axis, --slice-at; naive or bvh); structure (the window's 3D view with the "
                     "structure overlay) | gui (the whole window frame, panels included) | build-step (the window "
                     "with the BVH construction stepper at --step; with --accel kd or --structure, the tree's node --step) | step (the window with the traversal stepper "
                     "at --step K on the ray of --pixel X,Y, the 3D view seeing the ray from the side: the camera "
@@ -376,6 +421,12 @@ Command register_render(CLI::App& app) {
     sub->add_option("--depth-out", opt->depth_out,
                     "CPU views: also write the ray-cast depth (hit distance t, +inf on a miss) as a PFM file");
     add_light_flags(*sub, opt->light);
+    sub->add_option("--slice-axis", opt->slice_axis,
+                    "slice: the plane is perpendicular to x, y or z (default: the preset's, else z)")
+        ->check(CLI::IsMember({"x", "y", "z"}));
+    sub->add_option("--slice-at", opt->slice_at,
+                    "slice: where along that axis, 0 to 1 of the mesh's box (default: the preset's, else 0.5)")
+        ->check(number_between(0, 1));
     sub->add_option("--rays", opt->rays,
                     "heat-nodes, heat-tris: whose work per pixel: primary (the camera's rays) | shadow (--shadows on) | "
                     "reflection (--reflections on)")

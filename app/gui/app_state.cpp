@@ -252,7 +252,9 @@ nlohmann::json to_json(const AppState& s) {
                  {"right_view", std::string(to_string(s.view.right_view))},
                  {"left_view", std::string(to_string(s.view.left_view))}, {"heat_same_scale", s.view.heat_same_scale},
                  {"heat_rays", std::string(to_string(s.view.heat_rays))},
-                 {"line_width", s.view.line_width}, {"fill_order", s.view.fill_order}, {"fill", s.view.fill}};
+                 {"line_width", s.view.line_width}, {"fill_order", s.view.fill_order}, {"fill", s.view.fill},
+                 {"slice", s.view.slice}, {"slice_axis", std::string(1, "xyz"[s.view.slice_axis])},
+                 {"slice_at", s.view.slice_at}};
     j["light"] = {{"shadows", s.light.shadows},
                   {"reflections", s.light.reflections},
                   {"position", s.light.position ? vec3_json(*s.light.position) : nlohmann::json(nullptr)}};
@@ -328,6 +330,14 @@ Expected<AppState> app_state_from_json(const nlohmann::json& j) {
             if (v.contains("heat_rays")) s.view.heat_rays = read_named(v["heat_rays"], "view.heat_rays", kHeatRaysNames);
             s.view.fill_order = read(v, "fill_order", s.view.fill_order, "view");
             s.view.fill = read(v, "fill", s.view.fill, "view");
+            s.view.slice = read(v, "slice", s.view.slice, "view");
+            if (v.contains("slice_axis")) {
+                const std::string axis = read(v, "slice_axis", std::string("z"), "view");
+                if (axis != "x" && axis != "y" && axis != "z") return Error{"view.slice_axis: x, y or z"};
+                s.view.slice_axis = axis[0] - 'x';
+            }
+            s.view.slice_at = read(v, "slice_at", s.view.slice_at, "view");
+            if (!(s.view.slice_at >= 0.0f && s.view.slice_at <= 1.0f)) return Error{"view.slice_at: must be between 0 and 1"};
             if (!(s.view.fill >= 0.0f && s.view.fill <= 1.0f)) return Error{"view.fill: must be between 0 and 1"};
         }
         if (j.contains("light")) {

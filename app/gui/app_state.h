@@ -96,6 +96,12 @@ struct ViewSettings {
     /// after the first `fill` of its pixels on the right (0 to 1).
     bool fill_order = false;
     float fill = 1.0f;
+    /// The inside/outside slice (core/query/inside_slice.h): a plane across the scene
+    /// perpendicular to axis `slice_axis` (0 x, 1 y, 2 z) at `slice_at` (0..1 of the
+    /// mesh's box), its points coloured by the ray-parity vote, drawn in the 3D view.
+    bool slice = false;
+    int slice_axis = 2;
+    float slice_at = 0.5f;
 };
 
 /// What of the current structure the 3D view draws over the mesh.

@@ -395,6 +395,7 @@ FramePlan plan_frame(AppState& state, Session& session, const FrameInput& input)
     if (input.draw_ui) handle_view_input(state, session, layout);
     session.stepper.update(state, session, input.deterministic ? 0.0 : ImGui::GetIO().DeltaTime, input.deterministic);
     session.nearest.update(state, session, input.deterministic ? 0.0 : ImGui::GetIO().DeltaTime, input.deterministic);
+    session.slice.update(state, session.scene, input.deterministic);
     session.view_panel.advance_fill(state.view, input.deterministic ? 0.0 : ImGui::GetIO().DeltaTime, split);
     // The comparison measures the rays of the 3D view's picture, while its panel is on
     // screen (headless waits for it).
@@ -662,6 +663,9 @@ FrameLayout draw_scene(AppState& state, Renderer& renderer, Session& session, co
                 session.raster_ms_per_triangle =
                     session.raster_mesh_ms / double(std::max<size_t>(1, session.scene->mesh->triangle_count()));
             };
+            // The inside/outside slice before a rasterized mesh (depth-tested with it, seen
+            // through it when it is translucent), after a ray-cast picture (which covers the view).
+            if (!plan.mesh_ray_cast) session.slice.draw_3d(renderer);
             if (mesh_style.opacity < 1.0f) {
                 // X-ray: the structure first (all of it), the nearest surface blended
                 // over it, then the structure again where it is in front of the surface.
@@ -670,6 +674,7 @@ FrameLayout draw_scene(AppState& state, Renderer& renderer, Session& session, co
             } else {
                 draw_surface();
             }
+            if (plan.mesh_ray_cast) session.slice.draw_3d(renderer);
             draw_overlay();
         }
         out.scene_drawn = true;

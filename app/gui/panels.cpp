@@ -449,6 +449,8 @@ void ViewPanel::draw(AppState& state, Session& session, double view_aspect) {
     ImGui::Separator();
     draw_light(state, session);
     ImGui::Separator();
+    draw_slice(state, session);
+    ImGui::Separator();
     draw_camera(state, session, view_aspect);
     ImGui::Separator();
     draw_files(state, session);
@@ -547,6 +549,27 @@ void ViewPanel::draw_split_choices(ViewSettings& view) {
         }
         draw_fill_order(view);
     }
+}
+
+void ViewPanel::draw_slice(AppState& state, const Session& session) {
+    ViewSettings& view = state.view;
+    // Switched on, the mesh turns translucent (once): the cross-section lies inside it.
+    if (ImGui::Checkbox("Inside / outside slice", &view.slice) && view.slice && state.overlay.mesh_opacity >= 1.0f)
+        state.overlay.mesh_opacity = 0.35f;
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("A plane across the scene, each of its points coloured by ray parity: three rays\n"
+                          "from the point count the surfaces they cross (odd: inside) and vote.\n"
+                          "Orange: inside (3 of 3), dark blue: outside; lighter shades: the rays disagree.");
+    if (!view.slice) return;
+    ImGui::SameLine();
+    for (int axis = 0; axis < 3; ++axis) {
+        const char* names[3] = {"x##slice", "y##slice", "z##slice"};
+        if (axis > 0) ImGui::SameLine();
+        ImGui::RadioButton(names[axis], &view.slice_axis, axis);
+    }
+    ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);
+    ImGui::SliderFloat("Slice at", &view.slice_at, 0.0f, 1.0f, "%.2f of the box", ImGuiSliderFlags_AlwaysClamp);
+    if (!session.slice.status().empty()) hint(session.slice.status().c_str());
 }
 
 void ViewPanel::draw_light(AppState& state, const Session& session) {

@@ -73,6 +73,7 @@ private:
     void draw_split_choices(ViewSettings& view);          ///< raster | ray cast and what each half shows
     void draw_fill_order(ViewSettings& view);             ///< the fill order: share done, play, speed, step
     static void draw_light(AppState& state, const Session& session);  ///< the point light, shadows, reflections
+    static void draw_slice(AppState& state, const Session& session);  ///< the inside/outside slice
     void draw_camera(AppState& state, const Session& session, double view_aspect);
     void draw_files(AppState& state, Session& session);   ///< state JSON save / load, screenshots
 };

@@ -22,6 +22,7 @@
 #include "app/gui/ray_cast_view.h"
 #include "app/gui/surface_cast.h"
 #include "app/gui/scene_loader.h"
+#include "app/gui/slice_view.h"
 #include "app/gui/nearest_panel.h"
 #include "app/gui/stepper_panel.h"
 #include "app/gui/structure_overlay.h"
@@ -131,6 +132,7 @@ struct Session {
     /// assets/presets: PageDown / PageUp and the Scene panel's list.
     PresetList presets;
     NearestPanel nearest;
+    SliceView slice;  ///< the inside/outside slice (on a worker)
     StepperPanel stepper;  ///< last: its worker may hold the scene's mesh
 
     /// Starts loading `source` with the state's structure (on the worker).

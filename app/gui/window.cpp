@@ -166,6 +166,12 @@ public:
                                    {"triangle", n.result.found() ? nlohmann::json(n.result.tri) : nlohmann::json()},
                                    {"distance", n.result.found() ? nlohmann::json(n.result.distance()) : nlohmann::json()}};
         }
+        if (const InsideSlice* slice = session.slice.shown()) {
+            size_t inside = 0;
+            for (uint8_t v : slice->votes) inside += v >= 2 ? 1 : 0;
+            j["slice"] = {{"axis", slice->spec.axis}, {"position", slice->position}, {"points", slice->votes.size()},
+                          {"inside", inside}};
+        }
         if (const StructureComparison* c = session.comparison.measured()) {
             nlohmann::json rows = nlohmann::json::array();
             for (const StructureMeasurement& row : c->rows)
@@ -345,7 +351,7 @@ int run_window(AppState state, const std::string& preset_path, bool lecture, boo
             if (session.loader.busy() || session.build_stepper.busy() || session.ray_cast.busy() ||
                 session.surface_cast.busy() ||
                 session.stepper.has_pending_work() || session.comparison.busy() ||
-                session.two_bvhs.busy()) {
+                session.two_bvhs.busy() || session.slice.busy()) {
                 std::cout.flush();
                 std::cerr.flush();
                 std::_Exit(exit_code);

@@ -777,6 +777,30 @@ TEST(WindowClicks, DraggingTheNearestPointsQueryPointMovesItAndRightSteps) {
     w.wait_for("End: the last step", [&](const json& s) { return s["state"]["nearest"]["step"].get<int>() == events; });
 }
 
+/// The inside/outside slice, as a user turns it on in the View panel: the sphere's
+/// slice arrives from the worker (inside on its disc, no split votes on a closed mesh),
+/// the mesh turns translucent, and the x radio button moves the plane to the x axis.
+TEST(WindowClicks, TheInsideOutsideSliceComesOnAClickAndFollowsItsAxis) {
+    Window w;
+    w.start("builtin:sphere?subdiv=3");
+    w.toggle("Inside / outside slice", "/view/slice");
+    const json first = w.wait_for("the z slice computed", [](const json& s) {
+        return s.contains("slice") && s["slice"]["axis"] == 2 && !s["busy"].get<bool>();
+    });
+    const int points = first["slice"]["points"].get<int>();
+    const int inside = first["slice"]["inside"].get<int>();
+    // The disc of the sphere's middle in the square of its box grown by a tenth each way:
+    // pi r^2 / (2.4 r)^2 = 0.545 of the points.
+    EXPECT_NEAR(double(inside) / points, 0.545, 0.03);
+    EXPECT_LT(first["state"]["overlay"]["mesh_opacity"].get<double>(), 1.0) << "the cross-section is inside the mesh";
+    w.click("x##slice");
+    const json moved = w.wait_for("the x slice computed", [](const json& s) {
+        return s.contains("slice") && s["slice"]["axis"] == 0 && !s["busy"].get<bool>();
+    });
+    EXPECT_EQ(moved["state"]["view"]["slice_axis"], "x");
+    EXPECT_NEAR(double(moved["slice"]["inside"].get<int>()) / points, 0.545, 0.03);
+}
+
 /// A long build shows its progress with a Cancel button; Cancel (or Esc) stops it and
 /// the scene on screen stays with the structure it had, which the panels show again.
 TEST(WindowClicks, CancelStopsALongBuildAndKeepsTheScene) {
