@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
@@ -23,6 +24,8 @@
 #include "core/accel/bvh.h"
 #include "core/accel/factory.h"
 #include "core/geometry/scene.h"
+#include "core/render/chart.h"
+#include "core/render/image.h"
 #include "core/render/ray_caster.h"
 
 namespace accelviz::cli {
@@ -35,8 +38,48 @@ struct BenchMotionOptions {
     int width = 640, height = 360;
     int threads = 1;
     bool json = false;
+    std::string chart;  ///< --chart: a PNG of the figures over the period
     CameraFlags camera;
 };
+
+/// The figures over the period as two charts, one above the other: the BVH's SAH cost
+/// refitted and rebuilt, and each method's cost of a frame (update + trace), with the
+/// time from which a rebuild pays marked.
+Image motion_chart(const nlohmann::ordered_json& frames, const char* const methods[4],
+                   std::optional<double> rebuild_pays_from, const std::string& scene) {
+    const Rgb colours[4] = {{220, 110, 40}, {40, 110, 200}, {60, 160, 80}, {140, 90, 170}};
+    LineChart cost, frame;
+    cost.title = "SAH cost of the BVH over the period (" + scene + ")";
+    cost.x_label = "time t";
+    cost.y_label = "SAH cost";
+    frame.title = "milliseconds per frame: update (refit or build) + trace";
+    frame.x_label = "time t";
+    frame.y_label = "ms";
+    for (int m = 0; m < 4; ++m) {
+        ChartSeries series{methods[m], colours[m], {}, {}};
+        ChartSeries sah{methods[m], colours[m], {}, {}};
+        for (const auto& f : frames) {
+            const auto& u = f[methods[m]];
+            series.x.push_back(f["t"].get<double>());
+            series.y.push_back(u["update_ms"].get<double>() + u["trace_ms"].get<double>());
+            if (u.contains("sah_cost")) {
+                sah.x.push_back(f["t"].get<double>());
+                sah.y.push_back(u["sah_cost"].get<double>());
+            }
+        }
+        frame.series.push_back(std::move(series));
+        if (!sah.x.empty()) cost.series.push_back(std::move(sah));
+    }
+    if (rebuild_pays_from) {
+        frame.mark_x = rebuild_pays_from;
+        frame.mark_label = "a rebuild pays from here";
+    }
+    Image out(1280, 720);
+    draw_line_chart(out, 0, 0, 1280, 360, cost);
+    draw_line_chart(out, 0, 360, 1280, 360, frame);
+    return out;
+}
+
 
 double ms_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -140,6 +183,24 @@ int run_bench_motion(const BenchMotionOptions& opt) {
     out["width"] = opt.width;
     out["height"] = opt.height;
     out["times"] = frames;
+    // Where a rebuild pays: the first time at which refit + trace costs more than rebuild + trace.
+    std::optional<double> rebuild_pays_from;
+    double pay_rebuild = 0, pay_refit = 0;
+    for (const auto& frame : frames) {
+        const double refit = frame[kMethods[0]]["update_ms"].get<double>() + frame[kMethods[0]]["trace_ms"].get<double>();
+        const double rebuild = frame[kMethods[1]]["update_ms"].get<double>() + frame[kMethods[1]]["trace_ms"].get<double>();
+        if (frame["t"].get<double>() > 0 && rebuild < refit) {
+            rebuild_pays_from = frame["t"].get<double>();
+            pay_rebuild = rebuild;
+            pay_refit = refit;
+            break;
+        }
+    }
+    if (!opt.chart.empty()) {
+        if (auto err = write_png(motion_chart(frames, kMethods, rebuild_pays_from, opt.scene), opt.chart))
+            return fail(err->message);
+        std::fprintf(stderr, "bench-motion: chart written to %s\n", opt.chart.c_str());
+    }
     if (opt.json) {
         std::cout << out.dump(2) << "\n";
         return 0;
@@ -162,17 +223,11 @@ int run_bench_motion(const BenchMotionOptions& opt) {
         std::printf("%6.3f  %-24s %-24s %-16s %-16s\n", frame["t"].get<double>(), cell(kMethods[0]).c_str(),
                     cell(kMethods[1]).c_str(), cell(kMethods[2]).c_str(), cell(kMethods[3]).c_str());
     }
-    // Where a rebuild pays: the first time at which refit + trace costs more than rebuild + trace.
-    for (const auto& frame : frames) {
-        const double refit = frame[kMethods[0]]["update_ms"].get<double>() + frame[kMethods[0]]["trace_ms"].get<double>();
-        const double rebuild = frame[kMethods[1]]["update_ms"].get<double>() + frame[kMethods[1]]["trace_ms"].get<double>();
-        if (frame["t"].get<double>() > 0 && rebuild < refit) {
-            std::printf("a rebuild pays from t = %.3f: %.1f ms a frame against the refit tree's %.1f\n",
-                        frame["t"].get<double>(), rebuild, refit);
-            return 0;
-        }
-    }
-    std::printf("the refit tree stays cheaper (update + trace) than a rebuild at every time\n");
+    if (rebuild_pays_from)
+        std::printf("a rebuild pays from t = %.3f: %.1f ms a frame against the refit tree's %.1f\n",
+                    *rebuild_pays_from, pay_rebuild, pay_refit);
+    else
+        std::printf("the refit tree stays cheaper (update + trace) than a rebuild at every time\n");
     return 0;
 }
 
@@ -194,6 +249,9 @@ Command register_bench_motion(CLI::App& app) {
         ->check(whole_number(0, 1024))
         ->capture_default_str();
     sub->add_flag("--json", opt->json, "One JSON object instead of a table");
+    sub->add_option("--chart", opt->chart,
+                    "Also write a PNG: the BVH's SAH cost refitted and rebuilt over the period, and each method's "
+                    "ms per frame (update + trace), the time from which a rebuild pays marked");
     opt->camera.add_to(*sub);
     return {sub, [opt] { return run_bench_motion(*opt); }};
 }

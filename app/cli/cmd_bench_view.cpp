@@ -86,7 +86,7 @@ int run_bench_view(const BenchViewOptions& opt) {
     const auto start = std::chrono::steady_clock::now();
     LoadResult loaded = [&] {
         const StepProgress progress("bench-view", "loading and building");
-        return load_and_build(state.scene, state.accel);
+        return load_and_build_or_refit(state.scene, state.accel, state.refit_bvh);
     }();
     if (!loaded) return fail(loaded.error());
     const double load_and_build_ms = ms_since(start);

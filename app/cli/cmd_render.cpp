@@ -149,7 +149,7 @@ double ms_since(std::chrono::steady_clock::time_point start) {
 
 /// A window view (structure, gui, build-step, comparison, fill-order, two-bvhs): draw_frame() through OSMesa, as the window draws it.
 int run_window_view(const RenderOptions& opt, WindowView view, AppState state) {
-    auto loaded = load_and_build(state.scene, state.accel);
+    auto loaded = load_and_build_or_refit(state.scene, state.accel, state.refit_bvh);
     if (!loaded) return fail(loaded.error());
     print_scene_note((*loaded)->degenerate_note, state.scene, "render");
     if (opt.camera.any()) {  // over the preset's camera, or the scene's default view

@@ -255,6 +255,7 @@ nlohmann::json to_json(const AppState& s) {
                  {"line_width", s.view.line_width}, {"fill_order", s.view.fill_order}, {"fill", s.view.fill},
                  {"slice", s.view.slice}, {"slice_axis", std::string(1, "xyz"[s.view.slice_axis])},
                  {"slice_at", s.view.slice_at}};
+    j["refit_bvh"] = s.refit_bvh;
     j["light"] = {{"shadows", s.light.shadows},
                   {"reflections", s.light.reflections},
                   {"position", s.light.position ? vec3_json(*s.light.position) : nlohmann::json(nullptr)}};
@@ -288,6 +289,7 @@ Expected<AppState> app_state_from_json(const nlohmann::json& j) {
         if (!j.is_object()) return Error{"state: expected a JSON object"};
         s.scene = read(j, "scene", s.scene, "");
         if (j.contains("structure")) read_accel(j["structure"], s.accel);
+        s.refit_bvh = read(j, "refit_bvh", s.refit_bvh, "");
         if (j.contains("overlay")) {
             const auto& o = j["overlay"];
             s.overlay.show_structure = read(o, "show_structure", s.overlay.show_structure, "overlay");

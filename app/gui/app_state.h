@@ -207,6 +207,10 @@ std::optional<Lighting> lighting_for(const LightSettings& light, const Mesh& mes
 
 struct AppState {
     std::string scene = "builtin:cube";  ///< "builtin:NAME?k=v" or an OBJ path
+    /// A moving scene (builtin:moving, builtin:wave) with a binary BVH: each new time
+    /// refits the tree of the time before (the same tree, its boxes recomputed) instead
+    /// of building anew; a scene loaded at t != 0 (a preset) refits the t = 0 build.
+    bool refit_bvh = false;
     /// The structure and its build parameters; the window starts with a BVH
     /// (a preset can start from naive).
     AccelConfig accel = bvh_config_default();

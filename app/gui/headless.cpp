@@ -69,7 +69,7 @@ Expected<HeadlessRender> render_headless(const AppState& state, WindowView view,
                                          int frames, const std::function<void(Session&)>& prepare) {
     if (view == WindowView::Step && !state.stepper.ray) return Error{"view step: no ray to step (pick a pixel)"};
 
-    LoadResult loaded = load_and_build(state.scene, state.accel);
+    LoadResult loaded = load_and_build_or_refit(state.scene, state.accel, state.refit_bvh);
     if (!loaded) return Error{loaded.error()};
     return render_headless(state, std::move(*loaded), view, width, height, frames, prepare);
 }

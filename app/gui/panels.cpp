@@ -146,13 +146,13 @@ void ScenePanel::draw_timeline(AppState& state, Session& session, double dt) {
     ImGui::SameLine();
     const bool can_refit = state.accel.type == AccelType::Bvh && state.accel.bvh.width == 2;
     if (!can_refit) ImGui::BeginDisabled();
-    ImGui::Checkbox("Refit the BVH", &refit);
+    ImGui::Checkbox("Refit the BVH", &state.refit_bvh);
     if (!can_refit) ImGui::EndDisabled();
     if (playing && !waiting && dt > 0) {  // one time at a time: the next once this one has arrived
         time = std::fmod(time + float(dt) * kPlaySpeed, 1.0f);
         changed = true;
     }
-    if (changed) session.open_scene_at_time(state, time, refit && can_refit);
+    if (changed) session.open_scene_at_time(state, time, state.refit_bvh && can_refit);
     hint(session.scene->refitted ? "The BVH is refitted: an earlier time's tree, its boxes stretched."
                                  : "Each time builds the structure anew.");
 }

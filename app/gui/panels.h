@@ -20,7 +20,6 @@ struct ScenePanel {
     // A moving scene's timeline (builtin:moving, builtin:wave).
     float time = 0;            ///< the slider's t (follows the scene's while idle)
     bool playing = false;      ///< t advances by kPlaySpeed per second, a frame at a time
-    bool refit = false;        ///< each new time refits the BVH instead of building it
     static constexpr float kPlaySpeed = 0.1f;  ///< units of t (one period) per second
     /// `dt`: seconds since the last frame (0 in golden images: play does not advance).
     void draw(AppState& state, Session& session, double dt);

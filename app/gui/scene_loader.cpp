@@ -45,6 +45,21 @@ LoadResult load_and_build(const std::string& source, const AccelConfig& config,
     return rebuild(**scene, config, on_stage, progress);
 }
 
+std::optional<std::string> refit_start(const std::string& source, const AccelConfig& config, bool refit) {
+    if (!refit || config.type != AccelType::Bvh || config.bvh.width != 2 || !config.structure_file.empty()) return {};
+    auto start = scene_at_time(source, 0.0);
+    if (!start || *start == source) return {};
+    return *start;
+}
+
+LoadResult load_and_build_or_refit(const std::string& source, const AccelConfig& config, bool refit) {
+    const std::optional<std::string> start = refit_start(source, config, refit);
+    if (!start) return load_and_build(source, config);
+    LoadResult earlier = load_and_build(*start, config);
+    if (!earlier) return earlier;
+    return load_and_refit(source, **earlier);
+}
+
 LoadResult load_and_refit(const std::string& source, const LoadedScene& previous,
                           const std::function<void(const std::string&)>& on_stage, WorkProgress* progress) {
     auto scene = load_mesh(source, previous.accel_config, on_stage, progress);
@@ -132,7 +147,7 @@ void SceneLoader::replace_request(Request request) {
 void SceneLoader::request(const std::string& source, const AccelConfig& config) {
     {
         std::lock_guard lock(mutex_);
-        replace_request(Request{++newest_id_, source, config, nullptr, nullptr});
+        replace_request(Request{++newest_id_, source, config, nullptr, nullptr, {}});
     }
     wake_.notify_all();
 }
@@ -141,7 +156,7 @@ void SceneLoader::request_rebuild(std::shared_ptr<const LoadedScene> scene, cons
     {
         std::lock_guard lock(mutex_);
         const std::string source = scene->source;
-        replace_request(Request{++newest_id_, source, config, std::move(scene), nullptr});
+        replace_request(Request{++newest_id_, source, config, std::move(scene), nullptr, {}});
     }
     wake_.notify_all();
 }
@@ -150,7 +165,18 @@ void SceneLoader::request_refit(const std::string& source, std::shared_ptr<const
     {
         std::lock_guard lock(mutex_);
         const AccelConfig config = scene->accel_config;
-        replace_request(Request{++newest_id_, source, config, nullptr, std::move(scene)});
+        replace_request(Request{++newest_id_, source, config, nullptr, std::move(scene), {}});
+    }
+    wake_.notify_all();
+}
+
+void SceneLoader::request_refit_from(const std::string& earlier, const std::string& source,
+                                     const AccelConfig& config) {
+    {
+        std::lock_guard lock(mutex_);
+        Request request{++newest_id_, source, config, nullptr, nullptr, {}};
+        request.refit_from = earlier;
+        replace_request(std::move(request));
     }
     wake_.notify_all();
 }
@@ -219,6 +245,10 @@ void SceneLoader::run() {
             std::lock_guard stage_lock(mutex_);
             activity_ = what;
         };
+        if (!request.refit_from.empty()) {  // the earlier time built first, then refitted from below
+            LoadResult earlier = load_and_build(request.refit_from, request.config, on_stage, progress.get());
+            if (earlier) request.refit_of = *earlier;
+        }
         LoadResult result = request.rebuild_of ? rebuild(*request.rebuild_of, request.config, on_stage, progress.get())
                             : request.refit_of
                                 ? load_and_refit(request.source, *request.refit_of, on_stage, progress.get())

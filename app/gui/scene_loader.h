@@ -51,6 +51,15 @@ LoadResult load_and_build(const std::string& source, const AccelConfig& config,
                           const std::function<void(const std::string&)>& on_stage = {},
                           WorkProgress* progress = nullptr);
 
+/// With `refit` (AppState::refit_bvh): the time a moving scene at `source` is refitted
+/// from when it is loaded, t = 0, if `source` is a later time and `config` a binary
+/// BVH; none otherwise (then it is built).
+std::optional<std::string> refit_start(const std::string& source, const AccelConfig& config, bool refit);
+
+/// load_and_build, or, with a refit start, that time built and its BVH refitted to
+/// `source` (what the window shows after playing from t = 0 with "Refit the BVH").
+LoadResult load_and_build_or_refit(const std::string& source, const AccelConfig& config, bool refit);
+
 /// Builds `config` over the mesh of `scene` (no reloading): the new scene shares
 /// the mesh and keeps its source and load time.
 LoadResult rebuild(const LoadedScene& scene, const AccelConfig& config,
@@ -83,6 +92,9 @@ public:
     /// Asks for `source`, a later time of `scene`'s moving scene, with `scene`'s BVH
     /// refitted to it (load_and_refit).
     void request_refit(const std::string& source, std::shared_ptr<const LoadedScene> scene);
+    /// Asks for `source`, a moving scene's time, with the BVH of `earlier` (another time
+    /// of it, built with `config`) refitted to it: what a preset of a refitted time shows.
+    void request_refit_from(const std::string& earlier, const std::string& source, const AccelConfig& config);
     /// Stops the running request and drops a waiting one; the running one's result
     /// is then the error "cancelled" (was_cancelled), unless it had finished.
     void cancel();
@@ -109,6 +121,7 @@ private:
         AccelConfig config;
         std::shared_ptr<const LoadedScene> rebuild_of;  ///< set: rebuild over this scene's mesh
         std::shared_ptr<const LoadedScene> refit_of;    ///< set: load source, refit this scene's BVH to it
+        std::string refit_from;  ///< set: build this source (an earlier time), then refit it to `source`
     };
     /// Queues `request`, cancelling the running one (call with mutex_ held).
     void replace_request(Request request);

@@ -6,6 +6,9 @@ namespace accelviz {
 
 void Session::open_scene(const AppState& state, const std::string& source, bool keep_camera) {
     keep_camera_on_load = keep_camera;
+    // A moving scene at a later time, refitting: the BVH of its t = 0, refitted to it.
+    if (auto start = refit_start(source, state.accel, state.refit_bvh))
+        return loader.request_refit_from(*start, source, state.accel);
     loader.request(source, state.accel);
 }
 

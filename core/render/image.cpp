@@ -87,6 +87,18 @@ void fill_rect(Image& dst, int x0, int y0, int w, int h, Rgb colour) {
         for (int x = xa; x < xb; ++x) dst.at(x, y) = colour;
 }
 
+void draw_line(Image& dst, double x0, double y0, double x1, double y1, Rgb colour, int thickness) {
+    // One square dab per pixel step along the longer axis.
+    const double steps = std::max({std::abs(x1 - x0), std::abs(y1 - y0), 1.0});
+    if (!(steps < 1e5)) return;  // not finite, or far off the image
+    const int half = thickness / 2;
+    for (int k = 0; k <= int(steps); ++k) {
+        const double f = double(k) / steps;
+        fill_rect(dst, int(std::lround(x0 + f * (x1 - x0))) - half, int(std::lround(y0 + f * (y1 - y0))) - half,
+                  thickness, thickness, colour);
+    }
+}
+
 namespace {
 
 /// The labels' font (kDejaVuSansPath), read once.

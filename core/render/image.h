@@ -44,6 +44,8 @@ Expected<std::vector<float>> read_pfm(const std::string& path, int* width, int* 
 void blit(Image& dst, const Image& src, int x0, int y0);
 /// Fills a rectangle (clipped).
 void fill_rect(Image& dst, int x0, int y0, int w, int h, Rgb colour);
+/// A straight line from (x0, y0) to (x1, y1), `thickness` pixels wide (clipped).
+void draw_line(Image& dst, double x0, double y0, double x1, double y1, Rgb colour, int thickness = 1);
 /// DejaVu Sans (Debian's fonts-dejavu-core): the font of the window's panels and of
 /// the text drawn into images, so the two read alike.
 inline constexpr const char* kDejaVuSansPath = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";

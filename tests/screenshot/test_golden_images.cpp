@@ -10,6 +10,7 @@
 #include "core/accel/factory.h"
 #include "core/geometry/scene.h"
 #include "core/measure/comparison.h"
+#include "core/render/chart.h"
 #include "core/render/ray_caster.h"
 #include "core/render/views.h"
 #include "golden.h"
@@ -291,6 +292,30 @@ TEST(GoldenImage, SplitCpuRasterDepthNextToRayCastDepthDifference) {
     AppState state = teapot_state(R"({"structure": {"type": "bvh"}, "overlay": {"show_structure": false},
                                       "view": {"mode": "split", "left_view": "raster-depth", "right_view": "depth-diff"}})");
     EXPECT_TRUE(view_matches_golden(state, WindowView::Gui, 800, 400, "teapot_gui_split_depth_diff"));
+}
+
+TEST(GoldenImage, LineChartOfFixedSeriesWithItsMark) {
+    // bench-motion --chart's drawing, on figures that do not depend on the machine.
+    LineChart chart;
+    chart.title = "SAH cost over the period";
+    chart.x_label = "time t";
+    chart.y_label = "SAH cost";
+    chart.series.push_back({"bvh refit", {220, 110, 40}, {0, 0.25, 0.5, 0.75, 1}, {34.6, 43.3, 47.4, 42.6, 34.6}});
+    chart.series.push_back({"bvh rebuild", {40, 110, 200}, {0, 0.25, 0.5, 0.75, 1}, {34.6, 34.2, 34.8, 34.3, 34.6}});
+    chart.mark_x = 0.25;
+    chart.mark_label = "a rebuild pays from here";
+    Image image(640, 360);
+    draw_line_chart(image, 0, 0, 640, 360, chart);
+    // Both lines and the mark are drawn; the refit line (its peak, 47.4) rises above the rebuild's.
+    auto highest_row = [&](Rgb c) {
+        for (int y = 0; y < image.height; ++y)
+            for (int x = 0; x < image.width; ++x)
+                if (image.at(x, y) == c) return y;
+        return image.height;
+    };
+    EXPECT_LT(highest_row({220, 110, 40}), highest_row({40, 110, 200}));
+    EXPECT_LT(highest_row({200, 60, 60}), image.height) << "the mark";
+    EXPECT_TRUE(testing::matches_golden(image, "line_chart"));
 }
 
 TEST(GoldenImage, SplitCpuRasterImageNextToRayCastDepthOnOneScale) {

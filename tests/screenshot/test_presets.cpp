@@ -595,6 +595,22 @@ TEST(Presets, TheShadowRayStopsAtItsFirstHitAndTheReflectionRayFindsTheNearest) 
     EXPECT_EQ(reflection.mesh.mirror.at(24), 1);
 }
 
+TEST(Presets, TheRefitPresetShowsAnEarlierTreeRefittedAndCostlierThanARebuild) {
+    auto state = load_app_state_file(kPresetDir + "/45-refit-against-rebuild.json");
+    ASSERT_TRUE(state) << state.error();
+    ASSERT_TRUE(state->refit_bvh);
+    auto refitted = load_and_build_or_refit(state->scene, state->accel, true);
+    auto rebuilt = load_and_build(state->scene, state->accel);
+    ASSERT_TRUE(refitted) << refitted.error();
+    ASSERT_TRUE(rebuilt) << rebuilt.error();
+    EXPECT_TRUE((*refitted)->refitted);
+    EXPECT_FALSE((*rebuilt)->refitted);
+    EXPECT_EQ((*refitted)->mesh->positions, (*rebuilt)->mesh->positions) << "the same time of the scene";
+    const double refit_cost = structure_if<Bvh>(*(*refitted)->accel)->build_stats.sah_cost;
+    const double rebuild_cost = structure_if<Bvh>(*(*rebuilt)->accel)->build_stats.sah_cost;
+    EXPECT_GT(refit_cost, 1.25 * rebuild_cost) << "the caption says a third above";
+}
+
 TEST(Presets, TheNearestPointSearchSkipsABoxOutsideTheSphere) {
     auto state = load_app_state_file(kPresetDir + "/43-nearest-point.json");
     ASSERT_TRUE(state) << state.error();
