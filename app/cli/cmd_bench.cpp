@@ -32,6 +32,8 @@
 #include "app/cli/commands.h"
 #include "app/cli/scene_input.h"
 #include "app/cli/embree_reference.h"
+#include "app/gl/gpu_ray_caster.h"
+#include "app/platform/osmesa_context.h"
 #include "app/cli/flag_checks.h"
 #include "app/cli/ray_batch.h"
 #include "core/accel/bvh.h"
@@ -53,9 +55,11 @@ struct BenchOptions {
     int embree_width = 0;  ///< children per node of Embree's BVH: 4, 8, or 0 = Embree's choice
     std::string refit_from;  ///< a moving scene's earlier state: build over it, refit to `scene` (bvh only)
     std::optional<double> time;  ///< --time: the moving scene's t (scene_at_time)
+    bool gpu = false;            ///< --gpu: also the compute shader's traversal of the same rays
     CameraFlags camera;
     AccelConfig accel;
 };
+
 
 double ms_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -73,6 +77,33 @@ double median(std::vector<double> values) {
     std::sort(values.begin(), values.end());
     const size_t n = values.size();
     return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+/// --gpu: the binary BVH traversed by the compute shader (a headless OpenGL context), the
+/// same rays as ours `repeat` times: the median ms from dispatch to results read back,
+/// and how far its answers agree with ours (`ours`: the CPU's triangle and t per ray).
+Expected<nlohmann::ordered_json> gpu_figures(const Bvh& bvh, const std::vector<Ray>& rays, int width, int height,
+                                             int repeat, const RayResults& ours) {
+    auto context = OsMesaContext::create(1, 1);
+    if (!context) return Error{context.error()};
+    auto caster = GpuRayCaster::create();
+    if (!caster) return Error{caster.error()};
+    (*caster)->upload(bvh);
+    std::vector<double> frame_ms;
+    GpuCast cast;
+    for (int run = 0; run < repeat; ++run) {
+        cast = (*caster)->cast(rays, width, height);
+        frame_ms.push_back(cast.gpu_ms);
+    }
+    const GpuAgreement agree = compare_with_cpu(cast, ours.tri, ours.t);
+    const double ms = median(frame_ms);
+    nlohmann::ordered_json out;
+    out["device"] = (*context)->description();
+    out["frame_ms"] = ms;
+    out["mrays_per_s"] = double(cast.tri.size()) / (ms * 1e3);
+    out["same_triangle_share"] = agree.same_share();
+    out["max_relative_t"] = agree.max_relative_t;
+    return out;
 }
 
 /// The median over runs of numerator_ms[i] / denominator_ms[i]: the two runs of a pair
@@ -186,6 +217,13 @@ void print_table(const BenchOptions& opt, const nlohmann::ordered_json& out, siz
                     (unsigned long long)j["hit_count"].get<uint64_t>(), j["depth_sum"].get<double>());
     };
     row(name.c_str(), out);
+    if (out.contains("gpu")) {
+        const auto& g = out["gpu"];
+        std::printf("gpu        frame %.1f ms, %.2f Mrays/s (%s); the same triangle as the CPU on %.4f%% of rays, t "
+                    "within %.2g relative\n",
+                    g["frame_ms"].get<double>(), g["mrays_per_s"].get<double>(), g["device"].get<std::string>().c_str(),
+                    100.0 * g["same_triangle_share"].get<double>(), g["max_relative_t"].get<double>());
+    }
     const auto& w = out["per_ray"];
     std::printf("per ray    %.2f nodes visited, %.2f box tests, %.2f triangle tests, %.2f mailbox skips\n",
                 w["nodes_visited"].get<double>(), w["box_tests"].get<double>(), w["triangle_tests"].get<double>(),
@@ -309,6 +347,14 @@ int run_bench(const BenchOptions& opt) {
     out["per_ray"] = work_per_ray(*accel, rays);
     out["build_stats"] = accel->stats();
     if (reference) out["reference"] = reference_json(*reference, embree, ours, rays.size());
+    if (opt.gpu) {
+        const Bvh* bvh = structure_if<Bvh>(*accel);
+        if (!bvh) return fail("--gpu traverses the binary BVH: use --accel bvh (width 2)");
+        progress("bench: tracing with %s (%d/%d)\n", "the GPU", opt.repeat, opt.repeat);
+        auto gpu = gpu_figures(*bvh, rays, opt.width, opt.height, opt.repeat, ours.results);
+        if (!gpu) return fail("--gpu: " + gpu.error());
+        out["gpu"] = *gpu;
+    }
 
     if (opt.json)
         std::cout << out.dump(2) << "\n";
@@ -342,6 +388,9 @@ Command register_bench(CLI::App& app) {
                     "With --reference embree: children per node of Embree's BVH, 4 or 8 "
                     "(default: Embree's choice, 8 on a CPU with AVX)")
         ->check(CLI::IsMember({4, 8}));
+    sub->add_flag("--gpu", opt->gpu,
+                  "Also trace the same rays on the GPU: the binary BVH traversed by an OpenGL 4.3 compute shader "
+                  "(headless: llvmpipe); its median frame ms and its agreement with the CPU's answers");
     sub->add_option("--time", opt->time,
                     "A moving scene's time t (builtin:moving, builtin:wave: sets its t=; one period per unit)");
     sub->add_option("--refit-from", opt->refit_from,

@@ -26,6 +26,8 @@
 #include "app/gui/stepper_panel.h"
 #include "app/gui/scene_loader.h"
 #include "core/geometry/scene.h"
+#include "app/gl/gpu_ray_caster.h"
+#include "app/platform/osmesa_context.h"
 #include "core/query/inside_slice.h"
 #include "core/render/ray_caster.h"
 #include "core/render/views.h"
@@ -58,20 +60,23 @@ struct RenderOptions {
     std::string rays = "primary";  ///< --rays: which rays' work the heat maps show
     std::string slice_axis;        ///< --slice-axis x|y|z ("": the preset's, else z)
     std::optional<float> slice_at;  ///< --slice-at: 0..1 of the box along the axis
+    bool gpu = false;               ///< --gpu: the ray cast by the compute shader
 };
 
 
 
 
 /// The views the CPU renderers of core/render compose (the window's own views are WindowView).
-enum class CpuView { RayCast, Raster, Split, DepthDiff, HeatNodes, HeatTris, Slice };
-constexpr EnumNames<CpuView, 7> kCpuViewNames{{{{CpuView::RayCast, "raycast"},
+enum class CpuView { RayCast, Raster, Split, DepthDiff, HeatNodes, HeatTris, Slice, HeatLoop, HeatStack };
+constexpr EnumNames<CpuView, 9> kCpuViewNames{{{{CpuView::RayCast, "raycast"},
                                                 {CpuView::Raster, "raster"},
                                                 {CpuView::Split, "split"},
                                                 {CpuView::DepthDiff, "depth-diff"},
                                                 {CpuView::HeatNodes, "heat-nodes"},
                                                 {CpuView::HeatTris, "heat-tris"},
-                                                {CpuView::Slice, "slice"}}}};
+                                                {CpuView::Slice, "slice"},
+                                                {CpuView::HeatLoop, "heat-loop"},
+                                                {CpuView::HeatStack, "heat-stack"}}}};
 
 /// --view's names: the CPU views, then the window's.
 std::vector<std::string> all_views() {
@@ -109,6 +114,49 @@ void print_shadow_lesson(const ShadowQueryWork& w) {
 int fail(const std::string& message) {
     std::cerr << "accelviz render: " << message << "\n";
     return 1;
+}
+
+/// `--gpu`: the binary BVH traversed by the compute shader (app/gl/gpu_ray_caster.h)
+/// in a headless OpenGL context, beside the CPU's cast of the same rays; the view is
+/// its picture (raycast), its loop iterations per pixel (heat-loop) or its stack
+/// depth per pixel (heat-stack). Prints how far the two agree, and both times.
+int run_render_gpu(const RenderOptions& opt, const AppState& state, CpuView view) {
+    const auto mesh = load_scene_noting(state.scene, "render");
+    if (!mesh) return fail(mesh.error());
+    auto accel = build_accelerator(*mesh, state.accel);
+    if (!accel) return fail(accel.error());
+    const Bvh* bvh = structure_if<Bvh>(**accel);
+    if (!bvh) return fail("--gpu traverses the binary BVH: use --accel bvh (width 2)");
+    if (state.accel.triangle_test != TriangleTestKind::MollerTrumbore)
+        return fail("--gpu tests triangles by Moller-Trumbore: drop --triangle-test watertight");
+    auto camera_params = state.camera ? opt.camera.resolve(*state.camera) : opt.camera.resolve(mesh->bounds());
+    if (!camera_params) return fail(camera_params.error());
+    const Camera camera(*camera_params, opt.width, opt.height);
+    auto context = OsMesaContext::create(1, 1);
+    if (!context) return fail(context.error());
+    auto caster = GpuRayCaster::create();
+    if (!caster) return fail("--gpu: " + caster.error());
+    (*caster)->upload(*bvh);
+    const GpuCast gpu = (*caster)->cast(camera);
+    const TriangleArray triangles = make_triangles(*mesh);
+    const auto start = std::chrono::steady_clock::now();
+    const Frame cpu = ray_cast(**accel, triangles, camera, {.threads = opt.threads});
+    const double cpu_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    const GpuAgreement agree = compare_with_cpu(gpu, cpu.tri, cpu.depth);
+    std::fprintf(stderr,
+                 "gpu (%s): %.1f ms; cpu: %.1f ms; the same triangle on %.4f%% of %zu pixels, t within %.2g "
+                 "relative\n",
+                 context->get()->description().c_str(), gpu.gpu_ms, cpu_ms, 100.0 * agree.same_share(), agree.pixels,
+                 agree.max_relative_t);
+    Image image;
+    if (view == CpuView::RayCast) image = gpu.colour;
+    else if (view == CpuView::HeatLoop)
+        image = heat_view(gpu.iterations, opt.width, opt.height, "GPU: loop iterations per invocation (bvh)", opt.heat_max);
+    else
+        image = heat_view(gpu.stack_depth, opt.width, opt.height, "GPU: deepest stack per invocation (bvh)", opt.heat_max);
+    if (auto err = write_png(image, opt.out)) return fail(err->message);
+    std::cout << opt.out << "\n";
+    return 0;
 }
 
 /// Samples along each side of `render --view slice` (3 rays per sample).
@@ -253,6 +301,11 @@ int run_render(const RenderOptions& given) {
     const CpuView cpu_view = kCpuViewNames.parse(opt.view).value_or(CpuView::Split);  // CLI11 checked the name
     if (opt.rays != "primary" && cpu_view != CpuView::HeatNodes && cpu_view != CpuView::HeatTris)
         return fail("--rays is for --view heat-nodes or heat-tris, not --view " + opt.view);
+    if (opt.gpu && (window_view || (cpu_view != CpuView::RayCast && cpu_view != CpuView::HeatLoop &&
+                                     cpu_view != CpuView::HeatStack)))
+        return fail("--gpu draws --view raycast, heat-loop or heat-stack, not --view " + opt.view);
+    if (!opt.gpu && (cpu_view == CpuView::HeatLoop || cpu_view == CpuView::HeatStack) && !window_view)
+        return fail("--view " + opt.view + " is the GPU traversal's: add --gpu");
     if ((!opt.slice_axis.empty() || opt.slice_at) && (window_view || cpu_view != CpuView::Slice))
         return fail("--slice-axis and --slice-at are for --view slice, not --view " + opt.view);
     if (window_view == WindowView::Step) return run_render_step(opt);
@@ -290,6 +343,11 @@ int run_render(const RenderOptions& given) {
     if (cpu_view == CpuView::Slice) {
         if (!opt.depth_out.empty()) return fail("--depth-out: --view slice has no depth to write");
         return run_render_slice(opt, state);
+    }
+    if (opt.gpu) {
+        if (!opt.depth_out.empty()) return fail("--depth-out: not with --gpu");
+        if (state.light.point_light()) return fail("--gpu shades with the headlight: drop --shadows, --reflections, --light");
+        return run_render_gpu(opt, state, cpu_view);
     }
 
     auto mesh = load_scene_noting(state.scene, "render");
@@ -340,7 +398,9 @@ int run_render(const RenderOptions& given) {
         case CpuView::Raster: image = raster_frame.colour; break;
         case CpuView::Split: image = split_view(raster_frame, ray_frame, work); break;
         case CpuView::DepthDiff: image = depth_diff_view(raster_frame, ray_frame); break;
-        case CpuView::Slice: break;  // drawn by run_render_slice
+        case CpuView::Slice:
+        case CpuView::HeatLoop:
+        case CpuView::HeatStack: break;  // drawn by run_render_slice, run_render_gpu
         case CpuView::HeatNodes:
         case CpuView::HeatTris: {
             const bool nodes = cpu_view == CpuView::HeatNodes;
@@ -395,7 +455,7 @@ Command register_render(CLI::App& app) {
     sub->add_option("--out,-o", opt->out, "Output PNG file")->required();
     sub->add_option("--view", opt->view,
                     "raycast | raster | split (raster left, ray cast right, each --width wide) | depth-diff | "
-                    "heat-nodes | heat-tris: the CPU renderers; slice (a plane across the scene coloured inside / outside by ray parity, --slice-axis, --slice-at; naive or bvh); structure (the window's 3D view with the "
+                    "heat-nodes | heat-tris: the CPU renderers; heat-loop | heat-stack (with --gpu); slice (a plane across the scene coloured inside / outside by ray parity, --slice-axis, --slice-at; naive or bvh); structure (the window's 3D view with the "
                     "structure overlay) | gui (the whole window frame, panels included) | build-step (the window "
                     "with the BVH construction stepper at --step; with --accel kd or --structure, the tree's node --step) | step (the window with the traversal stepper "
                     "at --step K on the ray of --pixel X,Y, the 3D view seeing the ray from the side: the camera "
@@ -421,6 +481,10 @@ Command register_render(CLI::App& app) {
     sub->add_option("--depth-out", opt->depth_out,
                     "CPU views: also write the ray-cast depth (hit distance t, +inf on a miss) as a PFM file");
     add_light_flags(*sub, opt->light);
+    sub->add_flag("--gpu", opt->gpu,
+                  "Ray cast on the GPU: the binary BVH traversed by an OpenGL 4.3 compute shader (headless: "
+                  "llvmpipe), one invocation per pixel; prints its agreement with the CPU and both times. Views: "
+                  "raycast, heat-loop (each invocation's loop iterations: divergence), heat-stack (its deepest stack)");
     sub->add_option("--slice-axis", opt->slice_axis,
                     "slice: the plane is perpendicular to x, y or z (default: the preset's, else z)")
         ->check(CLI::IsMember({"x", "y", "z"}));

@@ -29,14 +29,15 @@ Expected<GLuint> compile_stage(GLenum stage, std::string_view file) {
     return Error{"shader " + std::string(file) + ": " + log};
 }
 
-}  // namespace
+struct Stage {
+    GLenum type;
+    std::string_view file;
+};
 
-Expected<ShaderProgram> ShaderProgram::from_embedded(std::string_view vertex_file, std::string_view fragment_file,
-                                                     std::string_view geometry_file) {
-    struct Stage { GLenum type; std::string_view file; };
+/// Compiles the stages (those with a file) and links them.
+Expected<GLuint> link_program(std::initializer_list<Stage> stages, const std::string& name) {
     std::vector<GLuint> shaders;
-    for (const Stage& stage : {Stage{GL_VERTEX_SHADER, vertex_file}, Stage{GL_GEOMETRY_SHADER, geometry_file},
-                               Stage{GL_FRAGMENT_SHADER, fragment_file}}) {
+    for (const Stage& stage : stages) {
         if (stage.file.empty()) continue;
         auto shader = compile_stage(stage.type, stage.file);
         if (!shader) {
@@ -56,9 +57,27 @@ Expected<ShaderProgram> ShaderProgram::from_embedded(std::string_view vertex_fil
         gl.GetProgramInfoLog(program, GLsizei(log.size()), nullptr, log.data());
         gl.DeleteProgram(program);
         log.resize(log.find('\0'));
-        return Error{"shader program " + std::string(vertex_file) + " + " + std::string(fragment_file) + ": " + log};
+        return Error{"shader program " + name + ": " + log};
     }
-    return ShaderProgram(program);
+    return program;
+}
+
+}  // namespace
+
+Expected<ShaderProgram> ShaderProgram::from_embedded(std::string_view vertex_file, std::string_view fragment_file,
+                                                     std::string_view geometry_file) {
+    auto program = link_program({Stage{GL_VERTEX_SHADER, vertex_file}, Stage{GL_GEOMETRY_SHADER, geometry_file},
+                                 Stage{GL_FRAGMENT_SHADER, fragment_file}},
+                                std::string(vertex_file) + " + " + std::string(fragment_file));
+    if (!program) return Error{program.error()};
+    return ShaderProgram(*program);
+}
+
+Expected<ShaderProgram> ShaderProgram::compute_from_embedded(std::string_view compute_file) {
+    if (!gl.has_compute) return Error{"compute shaders need OpenGL 4.3; this context is " + gl_description()};
+    auto program = link_program({Stage{GL_COMPUTE_SHADER, compute_file}}, std::string(compute_file));
+    if (!program) return Error{program.error()};
+    return ShaderProgram(*program);
 }
 
 ShaderProgram& ShaderProgram::operator=(ShaderProgram&& other) noexcept {

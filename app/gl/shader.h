@@ -21,6 +21,8 @@ public:
     /// With `geometry_file` non-empty, a geometry stage goes between them.
     static Expected<ShaderProgram> from_embedded(std::string_view vertex_file, std::string_view fragment_file,
                                                  std::string_view geometry_file = {});
+    /// Compiles and links one embedded compute shader (OpenGL 4.3: gl.has_compute).
+    static Expected<ShaderProgram> compute_from_embedded(std::string_view compute_file);
 
     ShaderProgram() = default;
     ShaderProgram(ShaderProgram&& other) noexcept : id_(other.id_) { other.id_ = 0; }

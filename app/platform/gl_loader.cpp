@@ -16,6 +16,18 @@ bool load_gl(GlProcLookup lookup, std::string* missing) {
     }
     ACCELVIZ_GL_FUNCTIONS(ACCELVIZ_GL_LOAD)
 #undef ACCELVIZ_GL_LOAD
+    // The compute entry points: optional (a lookup may hand out pointers for functions
+    // the context does not provide, so the version decides).
+    loaded.has_compute = true;
+#define ACCELVIZ_GL_LOAD_OPTIONAL(type, name)                               \
+    loaded.name = reinterpret_cast<type>(lookup("gl" #name));               \
+    if (!loaded.name) loaded.has_compute = false;
+    ACCELVIZ_GL_COMPUTE_FUNCTIONS(ACCELVIZ_GL_LOAD_OPTIONAL)
+#undef ACCELVIZ_GL_LOAD_OPTIONAL
+    GLint major = 0, minor = 0;
+    loaded.GetIntegerv(GL_MAJOR_VERSION, &major);
+    loaded.GetIntegerv(GL_MINOR_VERSION, &minor);
+    if (major < 4 || (major == 4 && minor < 3)) loaded.has_compute = false;
     gl = loaded;
     return true;
 }

@@ -89,11 +89,23 @@ namespace accelviz {
     X(PFNGLUNIFORM4FPROC, Uniform4f)                                \
     X(PFNGLUNIFORMMATRIX4FVPROC, UniformMatrix4fv)
 
+/// OpenGL 4.3's compute shaders and storage buffers (the GPU ray caster): loaded when
+/// the context has them, not required (the rest of the program needs 3.3 only).
+#define ACCELVIZ_GL_COMPUTE_FUNCTIONS(X)                           \
+    X(PFNGLDISPATCHCOMPUTEPROC, DispatchCompute)                    \
+    X(PFNGLBINDBUFFERBASEPROC, BindBufferBase)                      \
+    X(PFNGLMEMORYBARRIERPROC, MemoryBarrier)                        \
+    X(PFNGLGETBUFFERSUBDATAPROC, GetBufferSubData)                  \
+    X(PFNGLUNIFORM2IPROC, Uniform2i)
+
 /// The function table. A null entry means "not loaded yet".
 struct GlFunctions {
 #define ACCELVIZ_GL_DECLARE(type, name) type name = nullptr;
     ACCELVIZ_GL_FUNCTIONS(ACCELVIZ_GL_DECLARE)
+    ACCELVIZ_GL_COMPUTE_FUNCTIONS(ACCELVIZ_GL_DECLARE)
 #undef ACCELVIZ_GL_DECLARE
+    /// The context is OpenGL 4.3 or later and every compute entry point was found.
+    bool has_compute = false;
 };
 
 /// The table for the current context. GL is used from one thread only (the UI

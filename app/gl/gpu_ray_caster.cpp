@@ -1,0 +1,107 @@
+#include "app/gl/gpu_ray_caster.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+
+#include "core/render/frame.h"
+
+namespace accelviz {
+
+namespace {
+
+/// Fills buffer `buffer` with `bytes` bytes (at least one word: GL rejects empty stores).
+void store(const GlBuffer& buffer, const void* data, size_t bytes) {
+    static const uint32_t kZero = 0;
+    gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, buffer.id());
+    gl.BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(bytes ? bytes : 4), bytes ? data : &kZero, GL_STATIC_DRAW);
+}
+
+}  // namespace
+
+Expected<std::unique_ptr<GpuRayCaster>> GpuRayCaster::create() {
+    auto program = ShaderProgram::compute_from_embedded("bvh_traversal.comp");
+    if (!program) return Error{program.error()};
+    std::unique_ptr<GpuRayCaster> caster(new GpuRayCaster());
+    caster->program_ = std::move(*program);
+    return caster;
+}
+
+void GpuRayCaster::upload(const Bvh& bvh) {
+    static_assert(sizeof(BvhNode) == 8 * sizeof(uint32_t), "the shader reads a node as 8 words");
+    static_assert(sizeof(Triangle) == 9 * sizeof(float), "the shader reads a triangle as 9 floats");
+    store(nodes_, bvh.nodes.data(), bvh.nodes.size() * sizeof(BvhNode));
+    store(triangles_, bvh.triangles.data(), bvh.triangles.size() * sizeof(Triangle));
+    store(prim_ids_, bvh.prim_ids.data(), bvh.prim_ids.size() * sizeof(uint32_t));
+    node_count_ = int(bvh.nodes.size());
+}
+
+GpuCast GpuRayCaster::cast(const Camera& camera) {
+    std::vector<Ray> rays;
+    rays.reserve(size_t(camera.width()) * size_t(camera.height()));
+    for (int y = 0; y < camera.height(); ++y)
+        for (int x = 0; x < camera.width(); ++x) rays.push_back(camera.ray(x, y));
+    return cast(rays, camera.width(), camera.height());
+}
+
+GpuCast GpuRayCaster::cast(const std::vector<Ray>& given, int width, int height) {
+    GpuCast out;
+    out.width = width;
+    out.height = height;
+    const size_t pixels = size_t(out.width) * size_t(out.height);
+    std::vector<float> rays(pixels * 9);
+    for (size_t i = 0; i < pixels && i < given.size(); ++i) {
+        const Ray& ray = given[i];
+        const Vec3 inv(1.0f / ray.dir.x, 1.0f / ray.dir.y, 1.0f / ray.dir.z);  // as BoxTestRay
+        const float values[9] = {ray.origin.x, ray.origin.y, ray.origin.z, ray.dir.x, ray.dir.y,
+                                 ray.dir.z,    inv.x,        inv.y,        inv.z};
+        std::memcpy(&rays[i * 9], values, sizeof values);
+    }
+    store(rays_, rays.data(), rays.size() * sizeof(float));
+    gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, results_.id());
+    gl.BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(pixels * 5 * sizeof(uint32_t)), nullptr, GL_DYNAMIC_READ);
+
+    const auto start = std::chrono::steady_clock::now();
+    program_.use();
+    gl.Uniform2i(program_.uniform("u_size"), out.width, out.height);
+    gl.Uniform1i(program_.uniform("u_node_count"), node_count_);
+    gl.Uniform3f(program_.uniform("u_background"), kBackground.r, kBackground.g, kBackground.b);
+    const GLuint buffers[5] = {nodes_.id(), triangles_.id(), prim_ids_.id(), rays_.id(), results_.id()};
+    for (GLuint k = 0; k < 5; ++k) gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, k, buffers[k]);
+    gl.DispatchCompute(GLuint((out.width + 7) / 8), GLuint((out.height + 7) / 8), 1);
+    gl.MemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<uint32_t> words(pixels * 5);
+    gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, results_.id());
+    gl.GetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, GLsizeiptr(words.size() * sizeof(uint32_t)), words.data());
+    out.gpu_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+
+    out.tri.resize(pixels);
+    out.t.resize(pixels);
+    out.iterations.resize(pixels);
+    out.stack_depth.resize(pixels);
+    out.colour = Image(out.width, out.height);
+    for (size_t i = 0; i < pixels; ++i) {
+        const uint32_t* w = &words[i * 5];
+        out.tri[i] = w[0];
+        std::memcpy(&out.t[i], &w[1], sizeof(float));
+        out.colour.pixels[i] = {uint8_t(w[2] & 0xff), uint8_t((w[2] >> 8) & 0xff), uint8_t((w[2] >> 16) & 0xff)};
+        out.iterations[i] = w[3];
+        out.stack_depth[i] = w[4];
+    }
+    return out;
+}
+
+GpuAgreement compare_with_cpu(const GpuCast& gpu, const std::vector<uint32_t>& cpu_tri, const std::vector<float>& cpu_t) {
+    GpuAgreement a;
+    a.pixels = std::min(gpu.tri.size(), cpu_tri.size());
+    for (size_t i = 0; i < a.pixels; ++i) {
+        if (gpu.tri[i] != cpu_tri[i]) continue;
+        ++a.same_triangle;
+        if (gpu.tri[i] == Hit::kNoHit) continue;
+        const double diff = std::abs(double(gpu.t[i]) - double(cpu_t[i])) / std::max(1e-30, std::abs(double(cpu_t[i])));
+        a.max_relative_t = std::max(a.max_relative_t, diff);
+    }
+    return a;
+}
+
+}  // namespace accelviz
