@@ -12,8 +12,8 @@
 //   1 triangles in leaf order: 9 floats each, p0, edge1 = p1 - p0, edge2 = p2 - p0
 //   2 prim_ids: the triangle id of each leaf slot
 //   3 rays, one per pixel: origin, dir, 1/dir (9 floats; the camera's, made on the CPU)
-//   4 results, 5 words per pixel: triangle id (or ~0), t (float bits), colour (RGBA8),
-//     the loop's iterations (nodes visited), the deepest the stack got
+//   4 results, 6 words per pixel: triangle id (or ~0), t (float bits), colour (RGBA8),
+//     the loop's iterations (nodes visited), the deepest the stack got, triangle tests
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -119,7 +119,7 @@ void main() {
 
     uint best_tri = kNoHit, best_slot = 0u;
     float best_t = inf();
-    uint iterations = 0u, deepest = 0u;
+    uint iterations = 0u, deepest = 0u, tests = 0u;
     uint stack_node[kStackSize];
     float stack_enter[kStackSize];
     int top = 0;
@@ -134,6 +134,7 @@ void main() {
             bool descended = false;
             if (count > 0u) {
                 for (uint k = first; k < first + count; ++k) {
+                    ++tests;
                     float t;
                     if (intersect(k, best_t, t) && (t < best_t || (t == best_t && prim_ids[k] < best_tri))) {
                         best_tri = prim_ids[k];
@@ -194,10 +195,11 @@ void main() {
     } else {
         colour = uint(u_background.r) | (uint(u_background.g) << 8) | (uint(u_background.b) << 16) | (255u << 24);
     }
-    const uint o = index * 5u;
+    const uint o = index * 6u;
     results[o] = best_tri;
     results[o + 1u] = floatBitsToUint(best_t);
     results[o + 2u] = colour;
     results[o + 3u] = iterations;
     results[o + 4u] = deepest;
+    results[o + 5u] = tests;
 }

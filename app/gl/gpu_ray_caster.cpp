@@ -10,6 +10,9 @@ namespace accelviz {
 
 namespace {
 
+/// Words the shader writes per pixel (bvh_traversal.comp, binding 4).
+constexpr size_t kWords = 6;
+
 /// Fills buffer `buffer` with `bytes` bytes (at least one word: GL rejects empty stores).
 void store(const GlBuffer& buffer, const void* data, size_t bytes) {
     static const uint32_t kZero = 0;
@@ -59,7 +62,7 @@ GpuCast GpuRayCaster::cast(const std::vector<Ray>& given, int width, int height)
     }
     store(rays_, rays.data(), rays.size() * sizeof(float));
     gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, results_.id());
-    gl.BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(pixels * 5 * sizeof(uint32_t)), nullptr, GL_DYNAMIC_READ);
+    gl.BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(pixels * kWords * sizeof(uint32_t)), nullptr, GL_DYNAMIC_READ);
 
     const auto start = std::chrono::steady_clock::now();
     program_.use();
@@ -70,7 +73,7 @@ GpuCast GpuRayCaster::cast(const std::vector<Ray>& given, int width, int height)
     for (GLuint k = 0; k < 5; ++k) gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, k, buffers[k]);
     gl.DispatchCompute(GLuint((out.width + 7) / 8), GLuint((out.height + 7) / 8), 1);
     gl.MemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    std::vector<uint32_t> words(pixels * 5);
+    std::vector<uint32_t> words(pixels * kWords);
     gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, results_.id());
     gl.GetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, GLsizeiptr(words.size() * sizeof(uint32_t)), words.data());
     out.gpu_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -79,14 +82,16 @@ GpuCast GpuRayCaster::cast(const std::vector<Ray>& given, int width, int height)
     out.t.resize(pixels);
     out.iterations.resize(pixels);
     out.stack_depth.resize(pixels);
+    out.tests.resize(pixels);
     out.colour = Image(out.width, out.height);
     for (size_t i = 0; i < pixels; ++i) {
-        const uint32_t* w = &words[i * 5];
+        const uint32_t* w = &words[i * kWords];
         out.tri[i] = w[0];
         std::memcpy(&out.t[i], &w[1], sizeof(float));
         out.colour.pixels[i] = {uint8_t(w[2] & 0xff), uint8_t((w[2] >> 8) & 0xff), uint8_t((w[2] >> 16) & 0xff)};
         out.iterations[i] = w[3];
         out.stack_depth[i] = w[4];
+        out.tests[i] = w[5];
     }
     return out;
 }

@@ -28,6 +28,7 @@ struct GpuCast {
     Image colour;                      ///< headlight-shaded, the CPU ray caster's colours
     std::vector<uint32_t> iterations;  ///< times the invocation's loop ran (nodes visited)
     std::vector<uint32_t> stack_depth;  ///< the deepest its stack got
+    std::vector<uint32_t> tests;       ///< triangle tests
     double gpu_ms = 0;                 ///< dispatch to results read back (the ray upload excluded)
 };
 

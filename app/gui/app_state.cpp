@@ -253,6 +253,7 @@ nlohmann::json to_json(const AppState& s) {
                  {"left_view", std::string(to_string(s.view.left_view))}, {"heat_same_scale", s.view.heat_same_scale},
                  {"heat_rays", std::string(to_string(s.view.heat_rays))},
                  {"line_width", s.view.line_width}, {"fill_order", s.view.fill_order}, {"fill", s.view.fill},
+                 {"ray_cast_by", std::string(to_string(s.view.ray_cast_by))},
                  {"slice", s.view.slice}, {"slice_axis", std::string(1, "xyz"[s.view.slice_axis])},
                  {"slice_at", s.view.slice_at}};
     j["refit_bvh"] = s.refit_bvh;
@@ -332,6 +333,8 @@ Expected<AppState> app_state_from_json(const nlohmann::json& j) {
             if (v.contains("heat_rays")) s.view.heat_rays = read_named(v["heat_rays"], "view.heat_rays", kHeatRaysNames);
             s.view.fill_order = read(v, "fill_order", s.view.fill_order, "view");
             s.view.fill = read(v, "fill", s.view.fill, "view");
+            if (v.contains("ray_cast_by"))
+                s.view.ray_cast_by = read_named(v["ray_cast_by"], "view.ray_cast_by", kRayCastByNames);
             s.view.slice = read(v, "slice", s.view.slice, "view");
             if (v.contains("slice_axis")) {
                 const std::string axis = read(v, "slice_axis", std::string("z"), "view");

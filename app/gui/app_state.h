@@ -29,12 +29,20 @@ inline constexpr EnumNames<ViewMode, 2> kViewModeNames{{{{ViewMode::View3D, "3d"
 /// camera, shaded; its work per pixel through the current structure (heat maps);
 /// its depth as grey, on one scale with the rasterizer's; or where the core
 /// rasterizer's and the ray caster's depths disagree.
-enum class RightView { RayCast, HeatNodes, HeatTris, Depth, DepthDiff };
-inline constexpr EnumNames<RightView, 5> kRightViewNames{{{{RightView::RayCast, "raycast"},
+enum class RightView { RayCast, HeatNodes, HeatTris, Depth, DepthDiff, HeatStack };
+inline constexpr EnumNames<RightView, 6> kRightViewNames{{{{RightView::RayCast, "raycast"},
                                                            {RightView::HeatNodes, "heat-nodes"},
                                                            {RightView::HeatTris, "heat-tris"},
                                                            {RightView::Depth, "depth"},
-                                                           {RightView::DepthDiff, "depth-diff"}}}};
+                                                           {RightView::DepthDiff, "depth-diff"},
+                                                           {RightView::HeatStack, "heat-stack"}}}};
+
+/// Who casts the split view's right half: the CPU ray caster (every structure), or
+/// the GPU's compute shader (the binary BVH, OpenGL 4.3: app/gl/gpu_ray_caster.h).
+/// heat-stack (each invocation's deepest stack) is the GPU's alone.
+enum class RayCastBy { Cpu, Gpu };
+inline constexpr EnumNames<RayCastBy, 2> kRayCastByNames{{{{RayCastBy::Cpu, "cpu"}, {RayCastBy::Gpu, "gpu"}}}};
+constexpr std::string_view to_string(RayCastBy v) { return kRayCastByNames.name(v); }
 
 /// What the left half shows: the live OpenGL view (its own z-buffer), the core
 /// CPU rasterizer's image of the same camera, its depth as grey (one scale with
@@ -96,6 +104,7 @@ struct ViewSettings {
     /// after the first `fill` of its pixels on the right (0 to 1).
     bool fill_order = false;
     float fill = 1.0f;
+    RayCastBy ray_cast_by = RayCastBy::Cpu;  ///< the split view's right half
     /// The inside/outside slice (core/query/inside_slice.h): a plane across the scene
     /// perpendicular to axis `slice_axis` (0 x, 1 y, 2 z) at `slice_at` (0..1 of the
     /// mesh's box), its points coloured by the ray-parity vote, drawn in the 3D view.

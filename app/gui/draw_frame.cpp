@@ -449,6 +449,15 @@ FramePlan plan_frame(AppState& state, Session& session, const FrameInput& input)
     plan.mesh_picture = session.surface_cast.update_textures() && plan.mesh_ray_cast;
     session.mesh_ray_cast = plan.mesh_ray_cast;
 
+    // Ray cast by GPU: the right half's shaded picture and heat maps from the compute
+    // shader (UI thread: a new cast once the camera is still); depths stay the CPU's.
+    const RightView right = state.view.right_view;
+    session.gpu_cast_shown = split && state.view.ray_cast_by == RayCastBy::Gpu && session.scene && state.camera &&
+                             !layout.ray_view.empty() && !state.view.fill_order && right != RightView::Depth &&
+                             right != RightView::DepthDiff && !state.light.point_light() &&
+                             session.gpu_cast.update(state.view, session.scene, *state.camera, layout.ray_view.width,
+                                                     layout.ray_view.height, !plan.moving);
+
     return plan;
 }
 
@@ -678,7 +687,10 @@ FrameLayout draw_scene(AppState& state, Renderer& renderer, Session& session, co
             draw_overlay();
         }
         out.scene_drawn = true;
-        if (split && session.ray_cast.texture()) renderer.draw_image(*session.ray_cast.texture(), layout.ray_view);
+        if (split && session.gpu_cast_shown && session.gpu_cast.texture())
+            renderer.draw_image(*session.gpu_cast.texture(), layout.ray_view);
+        else if (split && session.ray_cast.texture())
+            renderer.draw_image(*session.ray_cast.texture(), layout.ray_view);
         // The left half from the core CPU rasterizer instead of OpenGL's own picture.
         if (split && session.ray_cast.left_texture())
             renderer.draw_image(*session.ray_cast.left_texture(), layout.gl_view);

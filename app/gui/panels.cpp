@@ -531,11 +531,24 @@ void ViewPanel::draw_split_choices(ViewSettings& view) {
         if (ImGui::Combo("Raster shows", &left, kLeftLabels, int(std::size(kLeftLabels))))
             view.left_view = LeftView(left);
         static constexpr const char* kLabels[] = {"shaded", "heat: nodes visited", "heat: triangle tests", "depth",
-                                                  "depth difference"};
+                                                  "depth difference", "heat: stack depth (GPU)"};
         static_assert(std::size(kLabels) == kRightViewNames.entries.size());
         int current = int(view.right_view);  // the labels are in the enum's order
         ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);
         if (ImGui::Combo("Ray cast shows", &current, kLabels, int(std::size(kLabels)))) view.right_view = RightView(current);
+        // Who casts the right half: the CPU, or the GPU's compute shader (the binary BVH).
+        int by = int(view.ray_cast_by);
+        ImGui::TextUnformatted("Ray cast by");
+        ImGui::SameLine();
+        ImGui::RadioButton("CPU##cast_by", &by, int(RayCastBy::Cpu));
+        ImGui::SameLine();
+        ImGui::RadioButton("GPU##cast_by", &by, int(RayCastBy::Gpu));
+        if (ImGui::IsItemHovered())
+            ImGui::SetTooltip("The binary BVH traversed by an OpenGL 4.3 compute shader, one invocation per\n"
+                              "pixel (algorithm 2, a stack each): the same triangles at the same t as the CPU.\n"
+                              "Heat maps then show each invocation's loop iterations, tests or stack depth.\n"
+                              "Cast on this thread once the camera stops (llvmpipe has no GPU: it is slow).");
+        view.ray_cast_by = RayCastBy(by);
         ImGui::Checkbox("Heat: same scale for all structures", &view.heat_same_scale);
         if (is_heat(view.right_view)) {
             static constexpr const char* kRaysLabels[] = {"camera rays", "shadow rays", "reflection rays"};

@@ -23,6 +23,7 @@
 #include "app/gui/surface_cast.h"
 #include "app/gui/scene_loader.h"
 #include "app/gui/slice_view.h"
+#include "app/gui/gpu_cast_view.h"
 #include "app/gui/nearest_panel.h"
 #include "app/gui/stepper_panel.h"
 #include "app/gui/structure_overlay.h"
@@ -133,6 +134,10 @@ struct Session {
     PresetList presets;
     NearestPanel nearest;
     SliceView slice;  ///< the inside/outside slice (on a worker)
+    /// The split view's right half cast by the GPU (View: Ray cast by GPU), and whether
+    /// this frame shows it (else the CPU's picture: the GPU cannot, or another view).
+    GpuCastView gpu_cast;
+    bool gpu_cast_shown = false;
     StepperPanel stepper;  ///< last: its worker may hold the scene's mesh
 
     /// Starts loading `source` with the state's structure (on the worker).

@@ -291,10 +291,23 @@ void draw_raster_label(const AppState& state, const Session& session, LabelStack
 /// difference (what core's image legends show, in the window's font).
 void draw_ray_legend(const AppState& state, const Session& session, LabelStack& stack) {
     const RightView right = state.view.right_view;
-    if (!session.ray_cast.shown() || session.ray_cast.fill_shown() || stack.lines_left() < 3) return;
+    if (stack.lines_left() < 3) return;
     std::string title;
     std::array<std::string, 3> ticks;
-    if (is_heat(right)) {
+    const bool gpu = session.gpu_cast_shown && session.gpu_cast.shown();
+    if (gpu && (is_heat(right) || right == RightView::HeatStack)) {
+        const HeatScale& scale = session.gpu_cast.heat_scale_shown();
+        char text[96];
+        std::snprintf(text, sizeof text, "%s per invocation (mean %.1f)",
+                      right == RightView::HeatNodes  ? "loop iterations"
+                      : right == RightView::HeatTris ? "triangle tests"
+                                                     : "deepest stack",
+                      scale.mean);
+        title = text;
+        ticks = scale.ticks;
+    } else if (gpu || !session.ray_cast.shown() || session.ray_cast.fill_shown()) {
+        return;
+    } else if (is_heat(right)) {
         const HeatScale& scale = session.ray_cast.heat_scale_shown();
         char text[96];
         std::snprintf(text, sizeof text, "%s per pixel (mean %.1f)",
@@ -317,7 +330,41 @@ void draw_ray_legend(const AppState& state, const Session& session, LabelStack& 
 
 /// Split view, right half, top: the ray caster's structure, what the picture
 /// shows, and the work per ray.
+/// The right half cast by the GPU: what it shows, its invocations and time, and how
+/// far it agrees with the CPU's cast of the same camera (when that one is there).
+void draw_gpu_label(const AppState& state, const Session& session, LabelStack& stack, bool deterministic) {
+    const RightView right = state.view.right_view;
+    std::string title = "Ray cast (GPU compute shader, bvh)";
+    if (right == RightView::HeatNodes) title += ": loop iterations (nodes visited) per invocation";
+    if (right == RightView::HeatTris) title += ": triangle tests per invocation";
+    if (right == RightView::HeatStack) title += ": deepest stack per invocation";
+    const GpuCast& gpu = *session.gpu_cast.shown();
+    char text[320];
+    std::snprintf(text, sizeof text, "%d x %d invocations, one per pixel, each with its own stack (algorithm 2)",
+                  gpu.width, gpu.height);
+    std::string detail = text;
+    if (const auto& cpu = session.ray_cast.shown();
+        cpu && cpu->frame.width == gpu.width && cpu->frame.height == gpu.height && state.camera &&
+        cpu->key.camera == *state.camera && !session.gpu_cast.stale()) {
+        const GpuAgreement a = compare_with_cpu(gpu, cpu->frame.tri, cpu->frame.depth);
+        std::snprintf(text, sizeof text, "; the same triangle as the CPU on %.4f%% of pixels, t within %.2g",
+                      100.0 * a.same_share(), a.max_relative_t);
+        detail += text;
+    }
+    if (is_heat(right) || right == RightView::HeatStack) {
+        std::snprintf(text, sizeof text, "; mean %.2f per pixel", session.gpu_cast.heat_scale_shown().mean);
+        detail += text;
+    }
+    if (!deterministic) {
+        std::snprintf(text, sizeof text, "  (%.0f ms, %s)", gpu.gpu_ms, session.gpu_cast.device().c_str());
+        detail += text;
+    }
+    if (session.gpu_cast.stale()) detail += "  waiting for the camera to stop ...";
+    titled_label(stack, "##ray_label", LabelStack::Edge::Top, title, detail, 4);
+}
+
 void draw_ray_label(const AppState& state, const Session& session, LabelStack& stack, bool deterministic) {
+    if (session.gpu_cast_shown && session.gpu_cast.shown()) return draw_gpu_label(state, session, stack, deterministic);
     char text[256];
     const RightView right = state.view.right_view;
     const size_t triangles = session.scene ? session.scene->mesh->triangle_count() : 0;
@@ -329,6 +376,9 @@ void draw_ray_label(const AppState& state, const Session& session, LabelStack& s
         title += std::string(" by ") + std::string(to_string(session.ray_cast.heat_rays_shown())) + " rays";
     if (right == RightView::Depth) title += ": depth";
     if (right == RightView::DepthDiff) title = "Depth: CPU raster vs ray cast (" + structure + ")";
+    if (right == RightView::HeatStack) title += " (the stack depth is the GPU's: View, Ray cast by GPU)";
+    if (state.view.ray_cast_by == RayCastBy::Gpu && !session.gpu_cast.error().empty())
+        title += " (GPU: " + session.gpu_cast.error() + ")";
     if (session.ray_cast.fill_shown()) {
         const RayFillCounts& c = session.ray_cast.ray_fill_shown();
         std::snprintf(text, sizeof text, "%llu of %llu pixels, one ray each: %llu nodes, %llu triangle tests",

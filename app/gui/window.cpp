@@ -166,6 +166,14 @@ public:
                                    {"triangle", n.result.found() ? nlohmann::json(n.result.tri) : nlohmann::json()},
                                    {"distance", n.result.found() ? nlohmann::json(n.result.distance()) : nlohmann::json()}};
         }
+        if (session.gpu_cast_shown && session.gpu_cast.shown()) {
+            const GpuCast& gpu = *session.gpu_cast.shown();
+            size_t hits = 0;
+            for (uint32_t tri : gpu.tri) hits += tri != Hit::kNoHit ? 1 : 0;
+            j["gpu_cast"] = {{"width", gpu.width}, {"height", gpu.height}, {"hits", hits}, {"stale", session.gpu_cast.stale()}};
+        } else if (!session.gpu_cast.error().empty()) {
+            j["gpu_cast"] = {{"error", session.gpu_cast.error()}};
+        }
         if (const InsideSlice* slice = session.slice.shown()) {
             size_t inside = 0;
             for (uint8_t v : slice->votes) inside += v >= 2 ? 1 : 0;

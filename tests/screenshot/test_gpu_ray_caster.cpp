@@ -58,14 +58,16 @@ TEST(GpuRayCaster, AgreesWithTheCpuPixelForPixelAndLoopsAsOftenAsItVisitsNodes) 
         const GpuAgreement agree = compare_with_cpu(gpu, cpu.tri, cpu.depth);
         EXPECT_GE(agree.same_share(), 0.9999) << agree.same_triangle << " of " << agree.pixels;
         EXPECT_LE(agree.max_relative_t, 1e-6);
-        size_t hits = 0, same_visits = 0;
+        size_t hits = 0, same_visits = 0, same_tests = 0;
         for (size_t i = 0; i < gpu.tri.size(); ++i) {
             hits += gpu.tri[i] != Hit::kNoHit ? 1 : 0;
             same_visits += gpu.iterations[i] == cpu.nodes[i] ? 1 : 0;
+            same_tests += gpu.tests[i] == cpu.tests[i] ? 1 : 0;
             EXPECT_LE(gpu.stack_depth[i], 64u);
         }
         EXPECT_GT(hits, 0u) << "the camera sees the mesh";
         EXPECT_EQ(same_visits, gpu.tri.size()) << "one loop iteration per node the CPU's walk visits";
+        EXPECT_EQ(same_tests, gpu.tri.size()) << "the same triangle tests";
     }
 }
 

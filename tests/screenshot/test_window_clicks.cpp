@@ -801,6 +801,28 @@ TEST(WindowClicks, TheInsideOutsideSliceComesOnAClickAndFollowsItsAxis) {
     EXPECT_NEAR(double(moved["slice"]["inside"].get<int>()) / points, 0.545, 0.03);
 }
 
+/// Ray cast by GPU, as a user asks for it: S splits the view, the View panel's GPU
+/// button makes the compute shader cast the right half (Xvfb's GLX is Mesa's llvmpipe,
+/// OpenGL 4.5); a KD tree cannot be cast by it, and the window says why and keeps the
+/// CPU's picture.
+TEST(WindowClicks, RayCastByGpuCastsTheRightHalfAndSaysWhyNotForAKdTree) {
+    Window w;
+    w.start("builtin:teapot");
+    w.key("s");
+    w.wait_for("the split view", [](const json& s) { return s["state"]["view"]["mode"] == "split"; });
+    w.click("GPU##cast_by");
+    const json gpu = w.wait_for("the GPU's picture", [](const json& s) {
+        return s["state"]["view"]["ray_cast_by"] == "gpu" && s.contains("gpu_cast") && s["gpu_cast"].contains("hits");
+    });
+    EXPECT_GT(gpu["gpu_cast"]["hits"].get<int>(), 1000) << "the teapot in the right half";
+    EXPECT_GT(gpu["gpu_cast"]["width"].get<int>(), 100);
+    w.pick("Structure", "kd", kCombo);
+    const json kd = w.wait_for("the KD tree, the GPU refusing", [](const json& s) {
+        return s["shown"]["structure"] == "kd" && s.contains("gpu_cast") && s["gpu_cast"].contains("error");
+    });
+    EXPECT_NE(kd["gpu_cast"]["error"].get<std::string>().find("binary BVH"), std::string::npos);
+}
+
 /// A long build shows its progress with a Cancel button; Cancel (or Esc) stops it and
 /// the scene on screen stays with the structure it had, which the panels show again.
 TEST(WindowClicks, CancelStopsALongBuildAndKeepsTheScene) {
