@@ -258,6 +258,9 @@ int run_render_step(const RenderOptions& opt) {
     auto light = apply_light_flags(opt.light, state.light);
     if (!light) return fail(light.error());
     state.light = *light;
+    auto mirrored = apply_mirror_flag(opt.light, state.scene);
+    if (!mirrored) return fail(mirrored.error());
+    state.scene = *mirrored;
     open_stepper_on(state, *picked, opt.step < 0 ? 0 : size_t(opt.step));
     auto image = render_gui_view_headless(state, WindowView::Step, opt.width, opt.height);
     if (!image) return fail(image.error());
@@ -325,6 +328,9 @@ int run_render(const RenderOptions& given) {
     auto light = apply_light_flags(opt.light, state.light);
     if (!light) return fail(light.error());
     state.light = *light;
+    auto mirrored = apply_mirror_flag(opt.light, state.scene);
+    if (!mirrored) return fail(mirrored.error());
+    state.scene = *mirrored;
     const HeatRays heat_rays = *kHeatRaysNames.parse(opt.rays);  // CLI11 checked the name
     if (heat_rays == HeatRays::Shadow && !state.light.shadows)
         return fail("--rays shadow: no shadow rays without --shadows on");

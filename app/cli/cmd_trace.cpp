@@ -56,7 +56,7 @@ int run_trace(const TraceOptions& opt) {
     Ray ray = picked->ray;
     StopAt query = StopAt::ClosestHit;
     if (!opt.light.empty() && opt.ray_kind != "shadow") return fail("--light is for --ray shadow");
-    auto light_settings = apply_light_flags(LightFlags{.shadows = "", .reflections = "", .light = opt.light}, LightSettings{});
+    auto light_settings = apply_light_flags(LightFlags{.shadows = "", .reflections = "", .light = opt.light, .mirror = std::nullopt}, LightSettings{});
     if (!light_settings) return fail(light_settings.error());
     const Vec3 light = to_float(light_position(*light_settings, mesh->bounds()));
     if (opt.ray_kind != "camera") {

@@ -21,6 +21,18 @@ void add_light_flags(CLI::App& app, LightFlags& flags) {
     app.add_option("--light", flags.light,
                    "The point light's position X,Y,Z (default: the preset's, else inside the scene's box, near its "
                    "top and front right); given alone, the scene is lit by it without shadows");
+    app.add_option("--mirror", flags.mirror,
+                   "Make object N of the OBJ file a mirror for --reflections on (its objects: the faces between its o "
+                   "and g statements, numbered from 0 in file order; faces before the first statement are object 0)")
+        ->check(CLI::Range(0, 1000000));
+}
+
+Expected<std::string> apply_mirror_flag(const LightFlags& flags, const std::string& scene) {
+    if (!flags.mirror) return scene;
+    if (scene.rfind("builtin:", 0) == 0)
+        return Error{"--mirror picks an object of an OBJ file, not of " + scene +
+                     " (builtin:cornell-mirror has its mirror already)"};
+    return "builtin:mirror?mesh=" + scene + "&object=" + std::to_string(*flags.mirror);
 }
 
 Expected<LightSettings> apply_light_flags(const LightFlags& flags, LightSettings light) {

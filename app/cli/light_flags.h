@@ -2,6 +2,7 @@
 /// --shadows, --reflections and --light: the ray caster's point light (LightSettings),
 /// on the commands that draw (render, the window). Given flags replace the preset's.
 
+#include <optional>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -14,10 +15,14 @@ struct LightFlags {
     std::string shadows;      ///< "on" | "off" | "" (not given)
     std::string reflections;  ///< "on" | "off" | ""
     std::string light;        ///< "X,Y,Z" | ""
+    std::optional<int> mirror;  ///< --mirror N: object N of the OBJ file is a mirror
 };
 
 void add_light_flags(CLI::App& app, LightFlags& flags);
 /// The flags given laid over `state.light`; a one-line error for a bad --light.
 Expected<LightSettings> apply_light_flags(const LightFlags& flags, LightSettings light);
+/// `scene` with --mirror N applied: builtin:mirror?mesh=SCENE&object=N (an OBJ file's
+/// object N made a mirror); `scene` itself without the flag. An error for a built-in.
+Expected<std::string> apply_mirror_flag(const LightFlags& flags, const std::string& scene);
 
 }  // namespace accelviz::cli

@@ -76,6 +76,9 @@ Expected<AppState> window_state(const WindowOptions& opt, const std::string& def
     auto light = apply_light_flags(opt.light, state.light);
     if (!light) return Error{light.error()};
     state.light = *light;
+    auto mirrored = apply_mirror_flag(opt.light, state.scene);
+    if (!mirrored) return Error{mirrored.error()};
+    state.scene = *mirrored;
     if (!opt.pixel.empty()) {
         auto picked = [&] {
             const StepProgress progress("window", "loading " + state.scene + " for --pixel");

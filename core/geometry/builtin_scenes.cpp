@@ -709,6 +709,40 @@ Expected<Mesh> make_wave(const Params& params) {
     return mesh;
 }
 
+/// An OBJ file with one of its objects (obj_objects: the faces between `o`/`g`
+/// statements) made a mirror, for the ray caster's reflections (`--mirror N`).
+Expected<Mesh> make_mirror(const Params& params) {
+    const std::string& source = params.text("mesh");
+    auto loaded = load_scene(source, params.cache, params.progress);
+    if (!loaded) return Error{loaded.error()};
+    // A built-in mesh is one object; an OBJ file's are its runs of faces between o / g.
+    auto objects = source.rfind("builtin:", 0) == 0
+                       ? Expected<std::vector<ObjObject>>(std::vector<ObjObject>{{"", 0, loaded->triangle_count()}})
+                       : obj_objects(source);
+    if (!objects) return Error{objects.error()};
+    const uint64_t index = params.whole("object");
+    if (index >= objects->size()) {
+        std::string names;
+        for (size_t i = 0; i < objects->size() && i < 8; ++i) {
+            if (i > 0) names += ", ";
+            names += std::to_string(i);
+            names += ' ';
+            names += (*objects)[i].name.empty() ? std::string("(unnamed)") : (*objects)[i].name;
+        }
+        if (objects->size() > 8) names += ", ...";
+        return Error{source + " has " + std::to_string(objects->size()) + " object" +
+                     (objects->size() == 1 ? "" : "s") + " (" + names + "): --mirror " + std::to_string(index) +
+                     " is not one"};
+    }
+    Mesh mesh = std::move(*loaded);
+    const ObjObject& object = (*objects)[index];
+    if (object.first_triangle + object.triangle_count > mesh.triangle_count())
+        return Error{source + ": its objects count more triangles than it loaded (a bug)"};
+    mesh.mirror.assign(mesh.triangle_count(), 0);
+    std::fill_n(mesh.mirror.begin() + std::ptrdiff_t(object.first_triangle), object.triangle_count, uint8_t(1));
+    return mesh;
+}
+
 // ---------------------------------------------------------------------------
 // [SECTION] Registry
 // ---------------------------------------------------------------------------
@@ -789,6 +823,12 @@ const std::vector<BuiltinDef>& registry() {
           {"t", ParamKind::Real, -1000, 1000, 0},
           {"height", ParamKind::Real, 0, 1, 0.05}},
          make_wave},
+        {"mirror",
+         "an OBJ file with one object (the faces between its o / g statements, numbered from 0; a built-in is one "
+         "object) made a mirror, "
+         "e.g. builtin:mirror?mesh=room.obj&object=2 (what --mirror 2 asks for)",
+         {{"mesh", ParamKind::Source, 0, 0, 0}, {"object", ParamKind::Count, 0, 1000000, 0}},
+         make_mirror},
         {"instances",
          "a mesh repeated nx x nz times on a grid in the x-z plane (a 10M-triangle scene from one scan: "
          "builtin:instances?mesh=armadillo.obj&nx=6&nz=5)",

@@ -509,6 +509,41 @@ Expected<Mesh> load_obj(const std::string& path, WorkProgress* progress) {
     });
 }
 
+Expected<std::vector<ObjObject>> obj_objects(const std::string& path) {
+    auto bytes = read_whole_file(path);
+    if (!bytes) return Error{bytes.error()};
+    std::vector<ObjObject> objects(1);
+    size_t triangles = 0;
+    for_each_line(*bytes, 0, bytes->size(), [&](std::string_view line) {
+        if (const size_t hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
+        const ObjLine kind = classify(line);  // (leading blanks removed)
+        if (kind == ObjLine::Face) {
+            // As the scan counts them: a face of k corners makes k - 2 triangles (a fan).
+            size_t corners = 0;
+            for (size_t i = 1; i < line.size();) {
+                while (i < line.size() && is_blank(line[i])) ++i;
+                if (i >= line.size()) break;
+                ++corners;
+                while (i < line.size() && !is_blank(line[i])) ++i;
+            }
+            if (corners >= 3) {
+                triangles += corners - 2;
+                objects.back().triangle_count += corners - 2;
+            }
+            return;
+        }
+        if (kind != ObjLine::Other || line.size() < 1 || (line[0] != 'o' && line[0] != 'g') ||
+            (line.size() > 1 && !is_blank(line[1])))
+            return;
+        std::string_view name = line.substr(1);
+        while (!name.empty() && is_blank(name.front())) name.remove_prefix(1);
+        while (!name.empty() && is_blank(name.back())) name.remove_suffix(1);
+        if (objects.back().triangle_count > 0) objects.push_back({std::string(), triangles, 0});
+        objects.back().name = std::string(name);
+    });
+    return objects;
+}
+
 Expected<Mesh> parse_obj(std::string text, const std::string& name) {
     return guarded(name, [&]() -> Expected<Mesh> { return parse_obj_unguarded(std::move(text), name, nullptr); });
 }

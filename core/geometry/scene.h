@@ -29,6 +29,17 @@ namespace accelviz {
 /// the file's bytes and may cancel the load (WorkProgress::cancelled_error()).
 Expected<Mesh> load_obj(const std::string& path, WorkProgress* progress = nullptr);
 
+/// An OBJ file's objects: the runs of faces between `o` and `g` statements, in file
+/// order (faces before the first statement make object 0; statements with no faces
+/// between them name one object), with their triangles in load_obj's numbering.
+struct ObjObject {
+    std::string name;  ///< the statement's text ("" before the first)
+    size_t first_triangle = 0, triangle_count = 0;
+};
+/// The objects of the OBJ file at `path` (one more pass over its lines; the file is
+/// assumed to load: load_obj checks it).
+Expected<std::vector<ObjObject>> obj_objects(const std::string& path);
+
 /// load_obj of OBJ text held in memory; `name` stands for the path in messages.
 Expected<Mesh> parse_obj(std::string text, const std::string& name);
 
