@@ -88,7 +88,7 @@ Expected<nlohmann::ordered_json> gpu_figures(const Bvh& bvh, const std::vector<R
     if (!context) return Error{context.error()};
     auto caster = GpuRayCaster::create();
     if (!caster) return Error{caster.error()};
-    (*caster)->upload(bvh);
+    if (auto err = (*caster)->upload(bvh)) return *err;
     std::vector<double> frame_ms;
     GpuCast cast;
     for (int run = 0; run < repeat; ++run) {
@@ -251,6 +251,10 @@ int run_bench(const BenchOptions& opt) {
     if (!opt.reference.empty() && !embree_available())
         return fail("--reference embree: this build has no Embree (CMake did not find embree 3)");
     if (opt.embree_width != 0 && opt.reference != "embree") return fail("--embree-width needs --reference embree");
+    if (opt.gpu && (opt.accel.type != AccelType::Bvh || opt.accel.bvh.width != 2))
+        return fail("--gpu traverses the binary BVH: use --accel bvh (width 2)");
+    if (opt.gpu && opt.accel.triangle_test != TriangleTestKind::MollerTrumbore)
+        return fail("--gpu tests triangles by Moller-Trumbore: drop --triangle-test watertight");
     std::string scene = opt.scene;
     if (opt.time) {
         auto at_time = scene_at_time(scene, *opt.time);

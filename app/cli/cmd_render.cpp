@@ -116,6 +116,17 @@ int fail(const std::string& message) {
     return 1;
 }
 
+/// The structure `state` asks for over `mesh`: built, or for a refitting moving scene
+/// at a later time (refit_bvh), the t = 0 tree refitted to it, as the window shows it.
+Expected<std::shared_ptr<const Accelerator>> structure_for(const AppState& state, const Mesh& mesh) {
+    if (refit_start(state.scene, state.accel, state.refit_bvh)) {
+        auto loaded = load_and_build_or_refit(state.scene, state.accel, true);
+        if (!loaded) return Error{loaded.error()};
+        return (*loaded)->accel;
+    }
+    return build_accelerator(mesh, state.accel);
+}
+
 /// `--gpu`: the binary BVH traversed by the compute shader (app/gl/gpu_ray_caster.h)
 /// in a headless OpenGL context, beside the CPU's cast of the same rays; the view is
 /// its picture (raycast), its loop iterations per pixel (heat-loop) or its stack
@@ -123,7 +134,7 @@ int fail(const std::string& message) {
 int run_render_gpu(const RenderOptions& opt, const AppState& state, CpuView view) {
     const auto mesh = load_scene_noting(state.scene, "render");
     if (!mesh) return fail(mesh.error());
-    auto accel = build_accelerator(*mesh, state.accel);
+    auto accel = structure_for(state, *mesh);
     if (!accel) return fail(accel.error());
     const Bvh* bvh = structure_if<Bvh>(**accel);
     if (!bvh) return fail("--gpu traverses the binary BVH: use --accel bvh (width 2)");
@@ -136,7 +147,7 @@ int run_render_gpu(const RenderOptions& opt, const AppState& state, CpuView view
     if (!context) return fail(context.error());
     auto caster = GpuRayCaster::create();
     if (!caster) return fail("--gpu: " + caster.error());
-    (*caster)->upload(*bvh);
+    if (auto err = (*caster)->upload(*bvh)) return fail("--gpu: " + err->message);
     const GpuCast gpu = (*caster)->cast(camera);
     const TriangleArray triangles = make_triangles(*mesh);
     const auto start = std::chrono::steady_clock::now();
@@ -169,7 +180,7 @@ int run_render_slice(const RenderOptions& opt, const AppState& state) {
     if (!mesh) return fail(mesh.error());
     auto accel = [&] {
         const StepProgress progress("render", "building " + std::string(to_string(state.accel.type)));
-        return build_accelerator(*mesh, state.accel);
+        return structure_for(state, *mesh);
     }();
     if (!accel) return fail(accel.error());
     if (!has_crossing_count(**accel))
@@ -373,7 +384,7 @@ int run_render(const RenderOptions& given) {
         auto start = clock::now();
         auto accel = [&] {
             const StepProgress progress("render", "building " + std::string(to_string(state.accel.type)));
-            return build_accelerator(*mesh, state.accel);
+            return structure_for(state, *mesh);
         }();
         if (!accel) return fail(accel.error());
         const double build_ms = ms_since(start);

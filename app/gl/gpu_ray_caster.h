@@ -9,6 +9,7 @@
 /// real GPU this is the fast path.
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "app/gl/gl_objects.h"
@@ -37,12 +38,14 @@ public:
     /// Compiles the compute shader in the current context; an error if the context is
     /// below OpenGL 4.3 or the driver rejects the shader.
     static Expected<std::unique_ptr<GpuRayCaster>> create();
-    /// Uploads `bvh` (a binary BVH): its nodes, leaf-ordered triangles and prim ids.
-    void upload(const Bvh& bvh);
+    /// Uploads `bvh` (a binary BVH): its nodes, leaf-ordered triangles and prim ids. An
+    /// error when an array is larger than the device's storage-buffer limit.
+    std::optional<Error> upload(const Bvh& bvh);
     /// Casts the camera's rays, one per pixel, row-major (the context current). Needs upload() first.
     GpuCast cast(const Camera& camera);
     /// Casts `rays` (width x height of them, in any order: the answers come back in it;
-    /// `colour` is a picture only when they are row-major).
+    /// `colour` is a picture only when they are row-major). In bands of rows, each within
+    /// the device's storage-buffer limit.
     GpuCast cast(const std::vector<Ray>& rays, int width, int height);
 
 private:
@@ -50,6 +53,7 @@ private:
     ShaderProgram program_;
     GlBuffer nodes_, triangles_, prim_ids_, rays_, results_;
     int node_count_ = 0;
+    size_t max_buffer_bytes_ = 0;  ///< GL_MAX_SHADER_STORAGE_BLOCK_SIZE
 };
 
 /// The GPU's answers against the CPU's for the same pixels: how many name the same

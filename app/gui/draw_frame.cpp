@@ -452,11 +452,23 @@ FramePlan plan_frame(AppState& state, Session& session, const FrameInput& input)
     // Ray cast by GPU: the right half's shaded picture and heat maps from the compute
     // shader (UI thread: a new cast once the camera is still); depths stay the CPU's.
     const RightView right = state.view.right_view;
-    session.gpu_cast_shown = split && state.view.ray_cast_by == RayCastBy::Gpu && session.scene && state.camera &&
-                             !layout.ray_view.empty() && !state.view.fill_order && right != RightView::Depth &&
-                             right != RightView::DepthDiff && !state.light.point_light() &&
-                             session.gpu_cast.update(state.view, session.scene, *state.camera, layout.ray_view.width,
-                                                     layout.ray_view.height, !plan.moving);
+    session.gpu_cast_shown = false;
+    session.gpu_cast_reason.clear();
+    if (split && state.view.ray_cast_by == RayCastBy::Gpu && session.scene && state.camera && !layout.ray_view.empty()) {
+        if (right == RightView::Depth || right == RightView::DepthDiff)
+            session.gpu_cast_reason = "the depth views are the CPU's";
+        else if (state.view.fill_order)
+            session.gpu_cast_reason = "the fill order is the CPU's";
+        else if (state.light.point_light())
+            session.gpu_cast_reason = "it shades with the headlight only: no point light";
+        else if (session.gpu_cast.update(state.view, session.scene, *state.camera, layout.ray_view.width,
+                                         layout.ray_view.height, !plan.moving))
+            session.gpu_cast_shown = true;
+        else
+            session.gpu_cast_reason = session.gpu_cast.error();
+    } else {
+        session.gpu_cast.release();  // the GPU's copy of a scene not shown
+    }
 
     return plan;
 }

@@ -27,8 +27,14 @@ bool GpuCastView::update(const ViewSettings& view, const std::shared_ptr<const L
     }
     error_.clear();
     if (uploaded_ != scene) {
-        caster_->upload(*bvh);
+        if (auto err = caster_->upload(*bvh)) {
+            error_ = err->message;
+            uploaded_.reset();
+            shown_.reset();
+            return false;
+        }
         uploaded_ = scene;
+        shown_.reset();  // (another scene's picture)
     }
     const Key key{scene.get(), camera, width, height};
     stale_ = !(key == cast_of_);

@@ -25,6 +25,13 @@ public:
     /// 4.3, or not a binary BVH): the CPU's picture is shown instead.
     bool update(const ViewSettings& view, const std::shared_ptr<const LoadedScene>& scene, const CameraParams& camera,
                 int width, int height, bool still);
+    /// Lets go of the scene and picture (the view is not shown): the GPU's copy of a
+    /// big scene stays no longer than it is needed.
+    void release() {
+        uploaded_.reset();
+        shown_.reset();
+        cast_of_ = Key{};
+    }
     const Texture* texture() const { return texture_.get(); }
     const std::optional<GpuCast>& shown() const { return shown_; }
     const HeatScale& heat_scale_shown() const { return heat_scale_; }

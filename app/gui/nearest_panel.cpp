@@ -30,7 +30,13 @@ void legend_entry(DebugColour c, const char* meaning) {
 }  // namespace
 
 void NearestPanel::update(AppState& state, Session& session, double delta_seconds, bool wait) {
-    if (!state.nearest.open || !session.scene) return;
+    if (!state.nearest.open || !session.scene) {
+        // Closed: the recording goes, and with it the scene it held.
+        searched_scene.reset();
+        searched_point.reset();
+        search.reset();
+        return;
+    }
     if (!state.nearest.point) state.nearest.point = default_query_point(session.scene->bounds);
     const Vec3d q = *state.nearest.point;
     const bool new_scene = searched_scene != session.scene;

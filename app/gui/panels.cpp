@@ -146,7 +146,8 @@ void ScenePanel::draw_timeline(AppState& state, Session& session, double dt) {
     ImGui::SameLine();
     const bool can_refit = state.accel.type == AccelType::Bvh && state.accel.bvh.width == 2;
     if (!can_refit) ImGui::BeginDisabled();
-    ImGui::Checkbox("Refit the BVH", &state.refit_bvh);
+    // Ticked or unticked, the time on screen is loaded again the new way.
+    if (ImGui::Checkbox("Refit the BVH", &state.refit_bvh)) changed = true;
     if (!can_refit) ImGui::EndDisabled();
     if (playing && !waiting && dt > 0) {  // one time at a time: the next once this one has arrived
         time = std::fmod(time + float(dt) * kPlaySpeed, 1.0f);
@@ -545,7 +546,8 @@ void ViewPanel::draw_split_choices(ViewSettings& view) {
         ImGui::RadioButton("GPU##cast_by", &by, int(RayCastBy::Gpu));
         if (ImGui::IsItemHovered())
             ImGui::SetTooltip("The binary BVH traversed by an OpenGL 4.3 compute shader, one invocation per\n"
-                              "pixel (algorithm 2, a stack each): the same triangles at the same t as the CPU.\n"
+                              "pixel (algorithm 2, a stack each) with the CPU's arithmetic: the same triangles at\n"
+                              "the same t (bit for bit on llvmpipe).\n"
                               "Heat maps then show each invocation's loop iterations, tests or stack depth.\n"
                               "Cast on this thread once the camera stops (llvmpipe has no GPU: it is slow).");
         view.ray_cast_by = RayCastBy(by);

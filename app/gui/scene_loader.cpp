@@ -47,8 +47,10 @@ LoadResult load_and_build(const std::string& source, const AccelConfig& config,
 
 std::optional<std::string> refit_start(const std::string& source, const AccelConfig& config, bool refit) {
     if (!refit || config.type != AccelType::Bvh || config.bvh.width != 2 || !config.structure_file.empty()) return {};
+    const std::optional<double> t = scene_time(source);
+    if (!t || *t == 0.0) return {};
     auto start = scene_at_time(source, 0.0);
-    if (!start || *start == source) return {};
+    if (!start) return {};
     return *start;
 }
 

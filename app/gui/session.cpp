@@ -17,6 +17,13 @@ void Session::open_scene_at_time(const AppState& state, double t, bool refit) {
     auto source = scene_at_time(scene->source, t);
     if (!source) return notify(source.error(), true);
     keep_camera_on_load = true;
+    // Refitting continues the chain of refitted trees; a scene built at a later time
+    // (refit just ticked) starts it again from the t = 0 build.
+    const std::optional<double> shown_t = scene_time(scene->source);
+    if (refit && !scene->refitted && shown_t && *shown_t != 0.0) {
+        if (auto start = refit_start(*source, state.accel, true))
+            return loader.request_refit_from(*start, *source, state.accel);
+    }
     if (refit) loader.request_refit(*source, scene);
     else loader.request(*source, state.accel);
 }
@@ -65,7 +72,11 @@ void Session::set_scene(AppState& state, std::shared_ptr<const LoadedScene> load
 void Session::apply_state(AppState& state, const AppState& loaded) {
     view_panel.fill_playing = false;  // a saved state shows its own moment of the fill order
     scene_panel.playing = false;      // and of a moving scene
-    const bool new_scene = !scene || loaded.scene != scene->source;
+    // A refitting state of a moving scene's later time shows the t = 0 tree refitted:
+    // a scene on screen built otherwise is loaded again.
+    const bool refit_differs = scene && refit_start(loaded.scene, loaded.accel, loaded.refit_bvh).has_value() &&
+                               !scene->refitted;
+    const bool new_scene = !scene || loaded.scene != scene->source || refit_differs;
     const bool new_structure =
         !scene || accel_config_json(loaded.accel) != accel_config_json(scene->accel_config);
     // A load or build for an earlier state still on its way must not land after this
@@ -75,7 +86,10 @@ void Session::apply_state(AppState& state, const AppState& loaded) {
     state = loaded;
     if (new_scene) {
         state.scene = current_scene;  // until the new one has loaded
-        loader.request(loaded.scene, loaded.accel);
+        if (auto start = refit_start(loaded.scene, loaded.accel, loaded.refit_bvh))
+            loader.request_refit_from(*start, loaded.scene, loaded.accel);
+        else
+            loader.request(loaded.scene, loaded.accel);
         keep_camera_on_load = loaded.camera.has_value();
     } else if (new_structure || superseding) {
         rebuild_structure(state);

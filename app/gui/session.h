@@ -138,6 +138,7 @@ struct Session {
     /// this frame shows it (else the CPU's picture: the GPU cannot, or another view).
     GpuCastView gpu_cast;
     bool gpu_cast_shown = false;
+    std::string gpu_cast_reason;  ///< why the GPU does not cast it (the label says so)
     StepperPanel stepper;  ///< last: its worker may hold the scene's mesh
 
     /// Starts loading `source` with the state's structure (on the worker).

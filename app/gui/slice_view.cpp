@@ -8,6 +8,7 @@ namespace accelviz {
 void SliceView::update(const AppState& state, const std::shared_ptr<const LoadedScene>& scene, bool wait) {
     if (!state.view.slice || !scene) {
         if (cancel_) *cancel_ = true;
+        job_.take();  // a finished slice nobody wants (left, it would count as pending work)
         requested_scene_.reset();
         requested_spec_.reset();
         shown_.reset();
@@ -44,7 +45,7 @@ void SliceView::take(const Result& done) {
     if (done.scene != requested_scene_ || !requested_spec_ || done.spec != *requested_spec_) return;  // stale
     if (!done.slice) {
         shown_.reset();
-        status_ = done.error == "cancelled" ? status_ : done.error + ": choose naive or the BVH (width 2)";
+        if (done.error != "cancelled") status_ = done.error;
         dirty_ = true;
         return;
     }

@@ -27,7 +27,7 @@ public:
     void update(const AppState& state, const std::shared_ptr<const LoadedScene>& scene, bool wait);
     /// The slice's quads (context current, view begun); nothing until one has arrived.
     void draw_3d(Renderer& renderer);
-    bool busy() const { return job_.busy() || job_.has_result(); }
+    bool busy() const { return job_.busy() || job_.has_result(); }  ///< (a result not taken yet counts)
     /// One line for the View panel: the work of the slice shown, "computing ...", or why
     /// there is none (a structure that does not count crossings).
     const std::string& status() const { return status_; }

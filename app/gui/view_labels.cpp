@@ -377,8 +377,7 @@ void draw_ray_label(const AppState& state, const Session& session, LabelStack& s
     if (right == RightView::Depth) title += ": depth";
     if (right == RightView::DepthDiff) title = "Depth: CPU raster vs ray cast (" + structure + ")";
     if (right == RightView::HeatStack) title += " (the stack depth is the GPU's: View, Ray cast by GPU)";
-    if (state.view.ray_cast_by == RayCastBy::Gpu && !session.gpu_cast.error().empty())
-        title += " (GPU: " + session.gpu_cast.error() + ")";
+    if (!session.gpu_cast_reason.empty()) title += " (not the GPU: " + session.gpu_cast_reason + ")";
     if (session.ray_cast.fill_shown()) {
         const RayFillCounts& c = session.ray_cast.ray_fill_shown();
         std::snprintf(text, sizeof text, "%llu of %llu pixels, one ray each: %llu nodes, %llu triangle tests",

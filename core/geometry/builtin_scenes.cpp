@@ -736,6 +736,9 @@ Expected<Mesh> make_mirror(const Params& params) {
     }
     Mesh mesh = std::move(*loaded);
     const ObjObject& object = (*objects)[index];
+    if (object.triangle_count == 0)
+        return Error{source + ": object " + std::to_string(index) + " (" + object.name +
+                     ") has no faces: nothing to make a mirror"};
     if (object.first_triangle + object.triangle_count > mesh.triangle_count())
         return Error{source + ": its objects count more triangles than it loaded (a bug)"};
     mesh.mirror.assign(mesh.triangle_count(), 0);

@@ -512,6 +512,7 @@ Expected<Mesh> load_obj(const std::string& path, WorkProgress* progress) {
 Expected<std::vector<ObjObject>> obj_objects(const std::string& path) {
     auto bytes = read_whole_file(path);
     if (!bytes) return Error{bytes.error()};
+    if (bytes->starts_with("\xEF\xBB\xBF")) bytes->erase(0, 3);  // a byte-order mark, as the loader skips it
     std::vector<ObjObject> objects(1);
     size_t triangles = 0;
     for_each_line(*bytes, 0, bytes->size(), [&](std::string_view line) {

@@ -63,7 +63,7 @@ void draw_line_chart(Image& dst, int x0, int y0, int w, int h, const LineChart& 
     auto py = [&](double y) { return bottom - y / y_hi * (bottom - top); };
 
     // Grid lines and ticks.
-    for (double y = 0; y <= y_hi * (1 + 1e-9); y += y_step) {
+    for (double y = 0; y <= y_hi * (1 + 1e-9) && y <= 50 * y_step; y += y_step) {
         draw_line(dst, left, py(y), right, py(y), grid);
         const std::string label = tick_text(y);
         int lw = 0, lh = 0;
@@ -71,7 +71,8 @@ void draw_line_chart(Image& dst, int x0, int y0, int w, int h, const LineChart& 
         draw_text(dst, left - lw - 4 * s, int(py(y)) - lh / 2, label, s, ink);
     }
     const double x_step = tick_step(x_hi - x_lo, 8);
-    for (double x = std::ceil(x_lo / x_step) * x_step; x <= x_hi * (1 + 1e-9) + 1e-12; x += x_step) {
+    int ticks = 0;
+    for (double x = std::ceil(x_lo / x_step) * x_step; x <= x_hi * (1 + 1e-9) + 1e-12 && ticks < 50; x += x_step, ++ticks) {
         draw_line(dst, px(x), top, px(x), bottom, grid);
         const std::string label = tick_text(x);
         int lw = 0, lh = 0;
@@ -93,11 +94,14 @@ void draw_line_chart(Image& dst, int x0, int y0, int w, int h, const LineChart& 
     // The series, then the legend.
     int legend_y = top;
     for (const ChartSeries& series : chart.series) {
+        auto finite = [&](size_t i) { return std::isfinite(series.x[i]) && std::isfinite(series.y[i]); };
         for (size_t i = 0; i + 1 < series.x.size() && i + 1 < series.y.size(); ++i)
-            draw_line(dst, px(series.x[i]), py(series.y[i]), px(series.x[i + 1]), py(series.y[i + 1]), series.colour,
-                      2 * s);
+            if (finite(i) && finite(i + 1))
+                draw_line(dst, px(series.x[i]), py(series.y[i]), px(series.x[i + 1]), py(series.y[i + 1]),
+                          series.colour, 2 * s);
         for (size_t i = 0; i < series.x.size() && i < series.y.size(); ++i)
-            fill_rect(dst, int(px(series.x[i])) - 2 * s, int(py(series.y[i])) - 2 * s, 5 * s, 5 * s, series.colour);
+            if (finite(i))
+                fill_rect(dst, int(px(series.x[i])) - 2 * s, int(py(series.y[i])) - 2 * s, 5 * s, 5 * s, series.colour);
         fill_rect(dst, right + 8 * s, legend_y + text_h / 2 - s, 12 * s, 3 * s, series.colour);
         draw_text(dst, right + 22 * s, legend_y, series.name, s, ink);
         legend_y += text_h + 4 * s;

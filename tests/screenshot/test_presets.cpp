@@ -3,6 +3,7 @@
 // golden image, and every one that steps a ray stops at the event its caption
 // describes.
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <optional>
 #include <fstream>
@@ -609,6 +610,36 @@ TEST(Presets, TheRefitPresetShowsAnEarlierTreeRefittedAndCostlierThanARebuild) {
     const double refit_cost = structure_if<Bvh>(*(*refitted)->accel)->build_stats.sah_cost;
     const double rebuild_cost = structure_if<Bvh>(*(*rebuilt)->accel)->build_stats.sah_cost;
     EXPECT_GT(refit_cost, 1.25 * rebuild_cost) << "the caption says a third above";
+}
+
+TEST(Presets, TheRefitPresetLoadedInTheWindowShowsTheRefittedTree) {
+    // As PageDown or the preset list loads it (Session::apply_state), not only at start-up.
+    Session session;
+    AppState state;
+    auto preset = load_app_state_file(kPresetDir + "/45-refit-against-rebuild.json");
+    ASSERT_TRUE(preset) << preset.error();
+    session.apply_state(state, *preset);
+    wait_for_loader(session);
+    session.take_finished_load(state);
+    ASSERT_NE(session.scene, nullptr);
+    EXPECT_EQ(session.scene->source, preset->scene);
+    EXPECT_TRUE(session.scene->refitted);
+}
+
+TEST(Presets, TheSliceViewTurnedOffWhileComputingGoesIdle) {
+    auto loaded = load_and_build("builtin:sphere?subdiv=3", AccelConfig{});
+    ASSERT_TRUE(loaded) << loaded.error();
+    SliceView slice;
+    AppState state;
+    state.view.slice = true;
+    slice.update(state, *loaded, /*wait=*/false);  // asked for, not waited for
+    state.view.slice = false;
+    const auto start = std::chrono::steady_clock::now();
+    while (slice.busy() && std::chrono::steady_clock::now() - start < std::chrono::seconds(10)) {
+        slice.update(state, *loaded, false);
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    EXPECT_FALSE(slice.busy()) << "a slice nobody wants any more must not count as pending work";
 }
 
 TEST(Presets, TheNearestPointSearchSkipsABoxOutsideTheSphere) {

@@ -92,3 +92,18 @@ TEST(ObjObjects, BuiltinMirrorFlagsExactlyThatObjectAndTheRayCasterReflectsOffIt
     EXPECT_GT(on_mirror, 100u) << "the camera sees the floor";
     EXPECT_EQ(frame.reflection.rays, on_mirror) << "one reflection ray from every mirror pixel";
 }
+
+TEST(ObjObjects, AByteOrderMarkAndAnObjectWithoutFaces) {
+    // The loader skips a UTF-8 byte-order mark, so the objects must too; a statement at
+    // the end names an object with no faces, which cannot be a mirror.
+    const std::string path = write_obj("bom.obj", "\xEF\xBB\xBFo first\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\ng last\n");
+    auto objects = obj_objects(path);
+    ASSERT_TRUE(objects) << objects.error();
+    ASSERT_EQ(objects->size(), 2u);
+    EXPECT_EQ((*objects)[0].name, "first");
+    EXPECT_EQ((*objects)[0].triangle_count, 1u);
+    EXPECT_EQ((*objects)[1].triangle_count, 0u);
+    auto empty = load_scene("builtin:mirror?mesh=" + path + "&object=1");
+    ASSERT_FALSE(empty);
+    EXPECT_NE(empty.error().find("has no faces"), std::string::npos) << empty.error();
+}

@@ -10,6 +10,7 @@
 #include "core/query/inside.h"
 #include "core/traversal/observers.h"
 #include "core/util/random.h"
+#include "test_support.h"
 
 using namespace accelviz;
 
@@ -48,6 +49,24 @@ TEST(InsideByParity, TheBvhCountsEveryCrossingBruteForceCounts) {
                 EXPECT_EQ(count_crossings(bvh, ray, none), count_crossings_brute_force(triangles, ray, none));
             }
     }
+}
+
+TEST(InsideByParity, OnAScannedMeshTheBvhCountsEveryCrossingBruteForceCounts) {
+    if (!test::shared_asset_exists("bunny.obj")) GTEST_SKIP() << "../shared/assets/bunny.obj is not here";
+    const Mesh mesh = *load_scene(test::shared_asset("bunny.obj"));
+    const Bvh bvh = *build_bvh(mesh, BvhConfig{});
+    const TriangleArray triangles = make_triangles(mesh);
+    const Aabb box = mesh.bounds();
+    std::vector<Vec3> points;
+    for (const Vec3& p : seeded_points(40, 1.0f, 19))  // in the scan's box
+        points.push_back(box.center() + Vec3{p.x * box.extent().x, p.y * box.extent().y, p.z * box.extent().z} * 0.6f);
+    for (uint32_t t = 0; t < mesh.triangle_count(); t += 4001) points.push_back(mesh.vertex(t, 0));  // on the surface
+    for (const Vec3& q : points)
+        for (const Vec3& d : parity_directions()) {
+            NoObserver none;
+            const Ray ray{q, d, 0.0f, kInfinity};
+            EXPECT_EQ(count_crossings(bvh, ray, none), count_crossings_brute_force(triangles, ray, none));
+        }
 }
 
 TEST(InsideByParity, PointsInAndOutClosedMeshesAreToldApart) {

@@ -9,6 +9,7 @@
 #include "core/query/nearest_point.h"
 #include "core/traversal/observers.h"
 #include "core/util/random.h"
+#include "test_support.h"
 
 using namespace accelviz;
 
@@ -97,6 +98,20 @@ TEST(NearestPoint, BvhAndKdTreeAnswerAsBruteForce) {
             for (const Bvh& bvh : bvhs) expect_same(nearest_point(bvh, mesh, q, none), want, q);
             expect_same(nearest_point(kd, mesh, q, none), want, q);
         }
+    }
+}
+
+TEST(NearestPoint, OnAScannedMeshTheBvhAndKdTreeAnswerAsBruteForce) {
+    if (!test::shared_asset_exists("bunny.obj")) GTEST_SKIP() << "../shared/assets/bunny.obj is not here";
+    const Mesh mesh = *load_scene(test::shared_asset("bunny.obj"));
+    const Bvh bvh = *build_bvh(mesh, BvhConfig{});
+    const KdTree kd = *build_kd_tree(mesh, KdConfig{});
+    // Points near and on the scan's surface (its corners, centroids) and around it.
+    for (const Vec3d& q : query_points(mesh, 120, 23)) {
+        NoObserver none;
+        const NearestPoint want = nearest_point_brute_force(mesh, q, none);
+        expect_same(nearest_point(bvh, mesh, q, none), want, q);
+        expect_same(nearest_point(kd, mesh, q, none), want, q);
     }
 }
 
