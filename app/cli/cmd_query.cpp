@@ -86,10 +86,13 @@ int run_inside(const QueryOptions& opt, const Mesh& mesh, const Accelerator& acc
     const Bvh* bvh = structure_if<Bvh>(accel);
     const TriangleArray triangles = bvh ? TriangleArray{} : make_triangles(mesh);
     Counters counters;
+    std::vector<std::vector<TraversalEvent>> events;  // per ray, for --json (a stepper's replay)
     const InsideTest result = inside_by_parity(q, [&](const Ray& ray) {
-        CountingObserver counter;
-        const uint32_t n = bvh ? count_crossings(*bvh, ray, counter) : count_crossings_brute_force(triangles, ray, counter);
-        counters += counter.counters;
+        RecordingObserver recorder;
+        const uint32_t n =
+            bvh ? count_crossings(*bvh, ray, recorder) : count_crossings_brute_force(triangles, ray, recorder);
+        counters += recorder.counters();
+        events.push_back(std::move(recorder.events));
         return n;
     });
     const auto directions = parity_directions();
@@ -102,7 +105,8 @@ int run_inside(const QueryOptions& opt, const Mesh& mesh, const Accelerator& acc
         nlohmann::json rays = nlohmann::json::array();
         for (size_t i = 0; i < 3; ++i)
             rays.push_back({{"dir", {directions[i].x, directions[i].y, directions[i].z}},
-                            {"crossings", result.crossings[i]}});
+                            {"crossings", result.crossings[i]},
+                            {"events", to_json(events[i])}});
         out["rays"] = rays;
         out["votes_inside"] = result.votes_inside;
         out["inside"] = result.inside;
