@@ -138,14 +138,9 @@ DebugGeometry nearest_geometry(const SteppedNearest& r, const StepState& s, cons
             g.boxes.push_back({*b, skipped ? c.tested_miss : c.current});
         }
 
-    // Triangles measured (the latest max_triangles), and the current one's nearest point.
-    const size_t first_tri = s.tested.size() > max_triangles ? s.tested.size() - max_triangles : 0;
-    for (size_t i = first_tri; i < s.tested.size(); ++i) {
-        const StepState::TestedTriangle& x = s.tested[i];
-        if (x.tri >= mesh.triangle_count()) continue;
-        g.triangles.push_back({{mesh.vertex(x.tri, 0), mesh.vertex(x.tri, 1), mesh.vertex(x.tri, 2)},
-                               x.hit ? c.triangle_hit : c.triangle_miss});
-    }
+    // Triangles measured (the latest max_triangles; green: nearer than all before), and
+    // the current one's nearest point.
+    add_tested_triangles(g, s, mesh, max_triangles);
     if (s.current && s.current->kind == EventKind::TriangleTest && s.current->tri < mesh.triangle_count()) {
         const NearestPoint m = measure_triangle(mesh, s.current->tri, q);
         const DebugColour colour = s.current->hit ? c.tested_hit : c.tested_miss;

@@ -327,6 +327,16 @@ void add_cross(DebugGeometry& g, Vec3 p, float size, DebugColour c) {
     }
 }
 
+void add_tested_triangles(DebugGeometry& g, const StepState& s, const Mesh& mesh, size_t max_triangles) {
+    const size_t first = s.tested.size() > max_triangles ? s.tested.size() - max_triangles : 0;
+    for (size_t i = first; i < s.tested.size(); ++i) {
+        const StepState::TestedTriangle& x = s.tested[i];
+        if (x.tri >= mesh.triangle_count()) continue;
+        g.triangles.push_back({{mesh.vertex(x.tri, 0), mesh.vertex(x.tri, 1), mesh.vertex(x.tri, 2)},
+                               x.hit ? kStepColours.triangle_hit : kStepColours.triangle_miss});
+    }
+}
+
 SiblingTests sibling_box_tests(const std::vector<TraversalEvent>& events, size_t index) {
     if (index >= events.size() || events[index].kind != EventKind::BoxTest) return {index, index};
     SiblingTests run{index, index + 1};
@@ -427,14 +437,7 @@ DebugGeometry step_geometry(const SteppedRay& r, const StepState& s, const NodeB
         }
     }
 
-    // Triangles tested so far (the latest max_triangles).
-    const size_t first_tri = s.tested.size() > max_triangles ? s.tested.size() - max_triangles : 0;
-    for (size_t i = first_tri; i < s.tested.size(); ++i) {
-        const StepState::TestedTriangle& x = s.tested[i];
-        if (x.tri >= mesh.triangle_count()) continue;
-        g.triangles.push_back({{mesh.vertex(x.tri, 0), mesh.vertex(x.tri, 1), mesh.vertex(x.tri, 2)},
-                               x.hit ? c.triangle_hit : c.triangle_miss});
-    }
+    add_tested_triangles(g, s, mesh, max_triangles);
 
     // Hits: waiting for their cell, and the closest so far.
     for (const TraversalEvent& e : s.rejected) {

@@ -200,6 +200,11 @@ struct DebugGeometry {
 /// Three short segments along the axes, crossing at p (`size` each way).
 void add_cross(DebugGeometry& g, Vec3 p, float size, DebugColour c);
 
+struct StepState;
+/// The triangles tested so far in `s` (the latest `max_triangles`), filled green where
+/// the test hit and red where it missed; `mesh` gives their corners.
+void add_tested_triangles(DebugGeometry& g, const StepState& s, const Mesh& mesh, size_t max_triangles);
+
 /// The palette of the step geometry (and of the panels that name it).
 struct StepColours {
     DebugColour ray{200, 200, 200, 255};           ///< the whole ray

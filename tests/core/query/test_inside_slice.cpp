@@ -7,6 +7,7 @@
 #include <tbb/task_arena.h>
 
 #include "core/accel/factory.h"
+#include "test_support.h"
 #include "core/geometry/scene.h"
 #include "core/query/inside.h"
 #include "core/query/inside_slice.h"
@@ -16,21 +17,15 @@ using namespace accelviz;
 
 namespace {
 
-std::shared_ptr<const Accelerator> build(const Mesh& mesh, AccelType type) {
-    AccelConfig config;
-    config.type = type;
-    auto accel = build_accelerator(mesh, config);
-    EXPECT_TRUE(accel) << accel.error();
-    return accel ? std::move(*accel) : nullptr;
-}
+using test::build_default;
 
 }  // namespace
 
 TEST(InsideSlice, EverySampleIsTheParityVoteAtItsPointThroughBvhAndBruteForce) {
     auto mesh = load_scene("builtin:teapot");
     ASSERT_TRUE(mesh);
-    auto bvh = build(*mesh, AccelType::Bvh);
-    auto naive = build(*mesh, AccelType::Naive);
+    auto bvh = build_default(*mesh, AccelType::Bvh);
+    auto naive = build_default(*mesh, AccelType::Naive);
     for (int axis = 0; axis < 3; ++axis) {
         const SliceSpec spec{.axis = axis, .fraction = 0.4f, .columns = 24, .rows = 17};
         auto a = inside_slice(*bvh, *mesh, spec);
@@ -59,7 +54,7 @@ TEST(InsideSlice, EverySampleIsTheParityVoteAtItsPointThroughBvhAndBruteForce) {
 TEST(InsideSlice, OneThreadGivesTheVotesOfAll) {
     auto mesh = load_scene("builtin:teapot");
     ASSERT_TRUE(mesh);
-    auto bvh = build(*mesh, AccelType::Bvh);
+    auto bvh = build_default(*mesh, AccelType::Bvh);
     const SliceSpec spec{.axis = 1, .fraction = 0.55f, .columns = 40, .rows = 40};
     auto all = inside_slice(*bvh, *mesh, spec);
     tbb::task_arena one(1);
@@ -73,7 +68,7 @@ TEST(InsideSlice, OneThreadGivesTheVotesOfAll) {
 TEST(InsideSlice, AClosedSphereIsInsideOnItsDiscAndNoVoteSplits) {
     auto mesh = load_scene("builtin:sphere?subdiv=4");
     ASSERT_TRUE(mesh);
-    auto bvh = build(*mesh, AccelType::Bvh);
+    auto bvh = build_default(*mesh, AccelType::Bvh);
     const SliceSpec spec{.axis = 2, .fraction = 0.5f, .columns = 64, .rows = 64};
     auto slice = inside_slice(*bvh, *mesh, spec);
     ASSERT_TRUE(slice) << slice.error();
@@ -102,8 +97,8 @@ TEST(InsideSlice, AClosedSphereIsInsideOnItsDiscAndNoVoteSplits) {
 TEST(InsideSlice, ABadSpecOrAStructureThatCannotCountIsAnError) {
     auto mesh = load_scene("builtin:cube");
     ASSERT_TRUE(mesh);
-    auto grid = build(*mesh, AccelType::Grid);
-    auto bvh = build(*mesh, AccelType::Bvh);
+    auto grid = build_default(*mesh, AccelType::Grid);
+    auto bvh = build_default(*mesh, AccelType::Bvh);
     auto refused = inside_slice(*grid, *mesh, SliceSpec{});
     ASSERT_FALSE(refused);
     EXPECT_NE(refused.error().find("naive or the binary BVH"), std::string::npos) << refused.error();

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "core/accel/factory.h"
+#include "test_support.h"
 #include "core/geometry/scene.h"
 #include "core/stepper/nearest_stepper.h"
 #include "core/util/random.h"
@@ -14,13 +15,7 @@ using namespace accelviz;
 
 namespace {
 
-std::shared_ptr<const Accelerator> build(const Mesh& mesh, AccelType type) {
-    AccelConfig config;
-    config.type = type;
-    auto accel = build_accelerator(mesh, config);
-    EXPECT_TRUE(accel) << accel.error();
-    return accel ? std::move(*accel) : nullptr;
-}
+using test::build_default;
 
 }  // namespace
 
@@ -29,7 +24,7 @@ TEST(NearestStepper, TheRecordedSearchIsBruteForcesAnswerAndItsStepsAreConsisten
         auto mesh = load_scene(scene);
         ASSERT_TRUE(mesh) << mesh.error();
         for (AccelType type : {AccelType::Bvh, AccelType::Kd, AccelType::Naive}) {
-            auto accel = build(*mesh, type);
+            auto accel = build_default(*mesh, type);
             ASSERT_TRUE(accel);
             const NodeBoxes boxes(*accel);
             Rng rng(7);
@@ -90,7 +85,7 @@ TEST(NearestStepper, AStructureWithoutTheSearchIsAnErrorThatSaysWhich) {
     auto mesh = load_scene("builtin:cube");
     ASSERT_TRUE(mesh);
     for (AccelType type : {AccelType::Grid, AccelType::Octree}) {
-        auto accel = build(*mesh, type);
+        auto accel = build_default(*mesh, type);
         ASSERT_TRUE(accel);
         auto search = record_nearest(*accel, *mesh, {2, 2, 2});
         ASSERT_FALSE(search);
@@ -101,7 +96,7 @@ TEST(NearestStepper, AStructureWithoutTheSearchIsAnErrorThatSaysWhich) {
 TEST(NearestStepper, EveryEventHasASentenceAndALine) {
     auto mesh = load_scene("builtin:teapot");
     ASSERT_TRUE(mesh);
-    auto accel = build(*mesh, AccelType::Bvh);
+    auto accel = build_default(*mesh, AccelType::Bvh);
     auto search = record_nearest(*accel, *mesh, {0.0, 0.45, 0.75});
     ASSERT_TRUE(search);
     for (size_t k = 1; k <= search->events.size(); ++k) {
