@@ -22,6 +22,18 @@
 
 namespace accelviz::test {
 
+/// How many of `n` seeded rays an exactness test traces in this build: all of them,
+/// or a quarter in a sanitized build (scripts/test --sanitize), which runs every
+/// code path the plain build does several times slower; a memory error shows on the
+/// first rays that take its path, and the plain build checks every ray's answer.
+constexpr size_t rays_for_this_build(size_t n) {
+#ifdef ACCELVIZ_SANITIZED
+    return n / 4;
+#else
+    return n;
+#endif
+}
+
 /// Every structure with every option that changes what it builds or how it walks
 /// (builders, the BVH's two traversals, grid insertion, KD and octree clipping,
 /// mailbox on and off), each with a label: what exactness and determinism are

@@ -21,8 +21,8 @@
 
 namespace accelviz::test {
 
-/// 100,000 rays per configuration, as the issue asks.
-inline constexpr size_t kRaysPerConfig = 100000;
+/// 100,000 rays per configuration (a quarter in a sanitized build).
+inline constexpr size_t kRaysPerConfig = rays_for_this_build(100000);
 
 struct SceneCase {
     Mesh mesh;

@@ -19,7 +19,7 @@ using namespace accelviz::test;
 
 namespace {
 
-constexpr size_t kRays = 100'000;
+constexpr size_t kRays = rays_for_this_build(100'000);
 
 struct Variant {
     std::string label;

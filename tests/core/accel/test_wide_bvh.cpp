@@ -26,7 +26,7 @@ using namespace accelviz::test;
 
 namespace {
 
-constexpr size_t kRays = 50'000;
+constexpr size_t kRays = rays_for_this_build(50'000);
 
 Mesh scene(const std::string& source) {
     auto mesh = load_scene(source);

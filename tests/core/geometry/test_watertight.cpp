@@ -16,7 +16,7 @@ using namespace accelviz;
 
 namespace {
 
-constexpr size_t kRays = 100'000;
+constexpr size_t kRays = test::rays_for_this_build(100'000);
 
 enum class Aim { RandomDirection, Vertex, SharedEdge };
 
