@@ -19,6 +19,30 @@ inline double kd_area(const Aabb& b) {
     return 2.0 * (x * y + y * z + z * x);
 }
 
+/// The box's faces across `axis`: e_b·e_d and e_b + e_d (b, d the other two axes),
+/// the parts of a child's area that do not depend on where the plane lies.
+inline double kd_cross_section(const Aabb& box, int axis) {
+    const int b = (axis + 1) % 3, d = (axis + 2) % 3;
+    return (double(box.hi[b]) - box.lo[b]) * (double(box.hi[d]) - box.lo[d]);
+}
+inline double kd_perimeter_half(const Aabb& box, int axis) {
+    const int b = (axis + 1) % 3, d = (axis + 2) % 3;
+    return (double(box.hi[b]) - box.lo[b]) + (double(box.hi[d]) - box.lo[d]);
+}
+
+/// The SAH cost of splitting `box` at s on `axis` with `below` and `above` references:
+/// C_trav + C_isect · (A_below·N_below + A_above·N_above) / A, times (1 - empty_bonus)
+/// when one side is empty. The children's areas are linear in s:
+/// 2·(cross_section + (extent along the axis)·perimeter_half).
+inline double kd_split_cost(const KdConfig& c, const Aabb& box, int axis, float s, size_t below, size_t above,
+                            double cross_section, double perimeter_half, double node_area) {
+    const double area_lower = 2.0 * (cross_section + (double(s) - box.lo[axis]) * perimeter_half);
+    const double area_upper = 2.0 * (cross_section + (double(box.hi[axis]) - s) * perimeter_half);
+    double cost = c.cost_trav + c.cost_isect * (area_lower * double(below) + area_upper * double(above)) / node_area;
+    if (below == 0 || above == 0) cost *= 1.0 - c.empty_bonus;
+    return cost;
+}
+
 /// References going below / above plane s on `axis` (see SpatialRef: below iff
 /// box.lo < s, above iff box.hi > s; a box with neither — a point exactly on the
 /// plane — goes below).
@@ -36,9 +60,7 @@ void sweep_kd_sah(const std::vector<SpatialRef>& refs, const Aabb& box, const Kd
     const size_t n = refs.size();
     const double node_area = kd_area(box);
     for (int a = 0; a < 3; ++a) {
-        const int b = (a + 1) % 3, d = (a + 2) % 3;
-        const double e_b = double(box.hi[b]) - box.lo[b], e_d = double(box.hi[d]) - box.lo[d];
-        const double cross_section = e_b * e_d, perimeter_half = e_b + e_d;
+        const double cross_section = kd_cross_section(box, a), perimeter_half = kd_perimeter_half(box, a);
         los.resize(n);
         his.resize(n);
         for (size_t i = 0; i < n; ++i) {
@@ -57,15 +79,56 @@ void sweep_kd_sah(const std::vector<SpatialRef>& refs, const Aabb& box, const Kd
             while (i_hi < n && his[i_hi] == s) ++i_hi;
             const size_t above = n - i_hi;
             if (!(s > box.lo[a] && s < box.hi[a])) continue;  // a plane on the boundary cuts nothing off
-            // The children's areas, linear in s: 2·(e_b·e_c + (extent along a)·(e_b + e_c)).
-            const double area_lower = 2.0 * (cross_section + (double(s) - box.lo[a]) * perimeter_half);
-            const double area_upper = 2.0 * (cross_section + (double(box.hi[a]) - s) * perimeter_half);
-            double cost = c.cost_trav + c.cost_isect * (area_lower * double(below) + area_upper * double(above)) /
-                                            node_area;
-            if (below == 0 || above == 0) cost *= 1.0 - c.empty_bonus;
-            visit(a, s, below, above, cost);
+            visit(a, s, below, above, kd_split_cost(c, box, a, s, below, above, cross_section, perimeter_half, node_area));
         }
     }
+}
+
+/// The cheapest plane of a node.
+struct KdPlane {
+    int axis = -1;  ///< -1: no candidate lies strictly inside the node
+    float position = 0;
+    double cost = kInfinity;
+};
+
+/// How many references a node may have for kd_cheapest_plane_by_counting.
+inline constexpr size_t kKdCountingMax = 32;
+
+/// The cheapest plane of sweep_kd_sah without sorting, for a node of at most
+/// kKdCountingMax references: every candidate's counts are found by comparing it with
+/// every reference (O(n²) compares over fixed-size arrays the compiler vectorises,
+/// against two sorts per axis). Same candidates, same costs, and the same choice:
+/// the first cheapest in the sweep's order (axis, then position).
+template <size_t kLanes = kKdCountingMax>
+KdPlane kd_cheapest_plane_by_counting(const std::vector<SpatialRef>& refs, const Aabb& box, const KdConfig& c) {
+    const size_t n = refs.size();
+    if constexpr (kLanes > 8)  // fewer lanes for fewer references
+        if (n <= kLanes / 2) return kd_cheapest_plane_by_counting<kLanes / 2>(refs, box, c);
+    KdPlane best;
+    if (n > kLanes) return best;
+    const double node_area = kd_area(box);
+    // Unused lanes never count: their lo is +inf (never < s), their hi -inf (never > s).
+    alignas(32) float los[kLanes], his[kLanes];
+    for (int a = 0; a < 3; ++a) {
+        const double cross_section = kd_cross_section(box, a), perimeter_half = kd_perimeter_half(box, a);
+        for (size_t i = 0; i < kLanes; ++i) {
+            los[i] = i < n ? refs[i].box.lo[a] : kInfinity;
+            his[i] = i < n ? refs[i].box.hi[a] : -kInfinity;
+        }
+        const auto consider = [&](float s) {
+            if (!(s > box.lo[a] && s < box.hi[a])) return;
+            uint32_t below = 0, above = 0;
+            for (size_t j = 0; j < kLanes; ++j) {
+                below += los[j] < s;
+                above += his[j] > s;
+            }
+            const double cost = kd_split_cost(c, box, a, s, below, above, cross_section, perimeter_half, node_area);
+            if (cost < best.cost || (cost == best.cost && a == best.axis && s < best.position)) best = {a, s, cost};
+        };
+        for (size_t i = 0; i < n; ++i) consider(los[i]);
+        for (size_t i = 0; i < n; ++i) consider(his[i]);
+    }
+    return best;
 }
 
 }  // namespace accelviz

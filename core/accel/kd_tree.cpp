@@ -45,20 +45,12 @@ int kd_max_depth(const KdConfig& config, size_t triangles) {
 
 namespace {
 
-
-struct Plane {
-    int axis = -1;
-    float position = 0;
-    double cost = 0;
-};
-
-
-/// The cheapest plane of the SAH sweep (kd_sah.h); axis -1 when no plane lies
-/// strictly inside the node.
-Plane best_sah_plane(const std::vector<SpatialRef>& refs, const Aabb& box, const KdConfig& c,
-                     std::vector<float>& los, std::vector<float>& his, SortScratch& scratch) {
-    Plane best;
-    best.cost = kInfinity;
+/// The cheapest plane of the SAH sweep (kd_sah.h), found by counting in small nodes;
+/// axis -1 when no plane lies strictly inside the node.
+KdPlane best_sah_plane(const std::vector<SpatialRef>& refs, const Aabb& box, const KdConfig& c,
+                       std::vector<float>& los, std::vector<float>& his, SortScratch& scratch) {
+    if (refs.size() <= kKdCountingMax) return kd_cheapest_plane_by_counting(refs, box, c);
+    KdPlane best;
     sweep_kd_sah(refs, box, c, los, his, scratch, [&](int a, float s, size_t, size_t, double cost) {
         if (cost < best.cost) best = {a, s, cost};
     });
@@ -122,7 +114,7 @@ Subtree build_subtree(const BuildContext& ctx, WorkItem root, double budget, siz
         const double p = kd_area(item.box) / ctx.root_area;  // hit probability, for the tree's SAH cost
 
         // Choose a plane, or decide on a leaf.
-        Plane plane;
+        KdPlane plane;
         bool split = n > size_t(config.leaf_size) && int(item.depth) < ctx.depth_limit;
         if (split && config.builder == KdBuilder::Sah) {
             plane = best_sah_plane(item.refs, item.box, config, los, his, sort_scratch);

@@ -5,8 +5,10 @@
 #include <tbb/global_control.h>
 
 #include "accel/space_partition_support.h"
+#include "core/accel/kd_sah.h"
 #include "core/accel/kd_tree.h"
 #include "core/geometry/triangle_box.h"
+#include "core/util/random.h"
 
 using namespace accelviz;
 using namespace accelviz::test;
@@ -274,5 +276,40 @@ TEST(KdTree, OriginsOnSplitPlanes) {
             const SceneCase on_planes = rays_on_planes(scene.mesh, planes, 20000, 12);
             expect_exact(t, on_planes, "kd " + label + " origins on split planes");
         }
+    }
+}
+
+TEST(KdTree, SmallNodesChooseBySweepsPlaneWhenCounting) {
+    // Small nodes find their plane by counting instead of sorting: the same plane
+    // (axis, position, cost) as the sweep's first cheapest, on boxes with shared
+    // bounds (ties), bounds on the node's faces, and flat boxes.
+    Rng rng(20261205);
+    const Aabb node{{0, 0, 0}, {4, 2, 1}};
+    KdConfig config;
+    std::vector<float> los, his;
+    SortScratch scratch;
+    for (int trial = 0; trial < 3000; ++trial) {
+        const size_t n = 1 + rng.below(kKdCountingMax);
+        std::vector<SpatialRef> refs;
+        for (size_t i = 0; i < n; ++i) {
+            Aabb b;
+            for (int a = 0; a < 3; ++a) {
+                // Coarse positions make shared bounds likely; some stay on the faces.
+                const float x = node.lo[a] + (node.hi[a] - node.lo[a]) * float(rng.below(9)) / 8.0f;
+                const float y = node.lo[a] + (node.hi[a] - node.lo[a]) * float(rng.below(9)) / 8.0f;
+                b.lo[a] = std::min(x, y);
+                b.hi[a] = trial % 7 == 0 ? b.lo[a] : std::max(x, y);
+            }
+            refs.push_back({uint32_t(i), b});
+        }
+        config.empty_bonus = trial % 2 ? 0.2f : 0.0f;
+        KdPlane swept;
+        sweep_kd_sah(refs, node, config, los, his, scratch, [&](int a, float s, size_t, size_t, double cost) {
+            if (cost < swept.cost) swept = {a, s, cost};
+        });
+        const KdPlane counted = kd_cheapest_plane_by_counting(refs, node, config);
+        ASSERT_EQ(counted.axis, swept.axis) << "trial " << trial;
+        ASSERT_EQ(counted.position, swept.position) << "trial " << trial;
+        ASSERT_EQ(counted.cost, swept.cost) << "trial " << trial;
     }
 }
