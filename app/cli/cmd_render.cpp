@@ -27,7 +27,11 @@
 #include "app/gui/scene_loader.h"
 #include "core/geometry/scene.h"
 #include "app/gl/gpu_ray_caster.h"
+#include "app/gl/raster_timer.h"
+#include "app/gl/renderer.h"
 #include "app/platform/osmesa_context.h"
+#include "core/measure/scaling.h"
+#include "core/render/chart.h"
 #include "core/query/inside_slice.h"
 #include "core/render/ray_caster.h"
 #include "core/render/views.h"
@@ -61,14 +65,16 @@ struct RenderOptions {
     std::string slice_axis;        ///< --slice-axis x|y|z ("": the preset's, else z)
     std::optional<float> slice_at;  ///< --slice-at: 0..1 of the box along the axis
     bool gpu = false;               ///< --gpu: the ray cast by the compute shader
+    std::string scaling_accel = "bvh";  ///< --scaling-accel: the structures whose ray casts the chart plots
+    double scaling_max = 10.5e6;        ///< --scaling-max: the biggest scene's triangles
 };
 
 
 
 
 /// The views the CPU renderers of core/render compose (the window's own views are WindowView).
-enum class CpuView { RayCast, Raster, Split, DepthDiff, HeatNodes, HeatTris, Slice, HeatLoop, HeatStack };
-constexpr EnumNames<CpuView, 9> kCpuViewNames{{{{CpuView::RayCast, "raycast"},
+enum class CpuView { RayCast, Raster, Split, DepthDiff, HeatNodes, HeatTris, Slice, HeatLoop, HeatStack, Scaling };
+constexpr EnumNames<CpuView, 10> kCpuViewNames{{{{CpuView::RayCast, "raycast"},
                                                 {CpuView::Raster, "raster"},
                                                 {CpuView::Split, "split"},
                                                 {CpuView::DepthDiff, "depth-diff"},
@@ -76,7 +82,8 @@ constexpr EnumNames<CpuView, 9> kCpuViewNames{{{{CpuView::RayCast, "raycast"},
                                                 {CpuView::HeatTris, "heat-tris"},
                                                 {CpuView::Slice, "slice"},
                                                 {CpuView::HeatLoop, "heat-loop"},
-                                                {CpuView::HeatStack, "heat-stack"}}}};
+                                                {CpuView::HeatStack, "heat-stack"},
+                                                {CpuView::Scaling, "scaling"}}}};
 
 /// --view's names: the CPU views, then the window's.
 std::vector<std::string> all_views() {
@@ -165,6 +172,62 @@ int run_render_gpu(const RenderOptions& opt, const AppState& state, CpuView view
         image = heat_view(gpu.iterations, opt.width, opt.height, "GPU: loop iterations per invocation (bvh)", opt.heat_max);
     else
         image = heat_view(gpu.stack_depth, opt.width, opt.height, "GPU: deepest stack per invocation (bvh)", opt.heat_max);
+    if (auto err = write_png(image, opt.out)) return fail(err->message);
+    std::cout << opt.out << "\n";
+    return 0;
+}
+
+/// `--view scaling`: the mesh repeated 1, 2, 4, ... times up to --scaling-max
+/// triangles; per scene the frame time of OpenGL (OSMesa, the window's renderer) and
+/// the CPU z-buffer rasterizing it and of ray casting it through each structure of
+/// --scaling-accel, on a log-log chart (core/measure/scaling.h). The table goes to
+/// stderr.
+int run_render_scaling(const RenderOptions& opt, const AppState& state) {
+    if (opt.camera.any()) return fail("--view scaling frames each scene whole with its default camera: drop the camera flags");
+    ScalingOptions options;
+    options.structures.clear();
+    std::string names = opt.scaling_accel;
+    for (size_t start = 0; start <= names.size();) {
+        const size_t comma = std::min(names.find(',', start), names.size());
+        const std::string name = names.substr(start, comma - start);
+        const auto type = parse_accel_type(name);
+        if (!type) {
+            std::string known;
+            for (const std::string& n : kAccelTypeNames.names()) known += (known.empty() ? "" : ", ") + n;
+            return fail("--scaling-accel: '" + name + "' is not a structure (" + known + ")");
+        }
+        AccelConfig config = state.accel.type == *type ? state.accel : AccelConfig{};
+        config.type = *type;
+        options.structures.push_back(config);
+        start = comma + 1;
+    }
+    auto mesh = load_scene_noting(state.scene, "render");
+    if (!mesh) return fail(mesh.error());
+    options.max_triangles = uint64_t(opt.scaling_max);
+    options.width = opt.width;
+    options.height = opt.height;
+    options.threads = opt.threads;
+    auto context = OsMesaContext::create(opt.width, opt.height);
+    if (!context) return fail(context.error());
+    auto renderer = Renderer::create();
+    if (!renderer) return fail(renderer.error());
+    RasterTimer timer(**renderer);
+    options.gl_raster_ms = [&](const Mesh& m, const Camera& camera) -> Expected<double> {
+        return timer.frame_ms(m, camera);
+    };
+    std::optional<StepProgress> step_progress;
+    options.on_step = [&](const std::string& step) {
+        step_progress.reset();
+        step_progress.emplace("render", step);
+    };
+    auto result = measure_scaling(*mesh, options);
+    step_progress.reset();
+    if (!result) return fail(result.error());
+    result->gl_renderer = context->get()->description();
+    result->mesh_name = state.scene;
+    Image image(opt.width, opt.height);
+    draw_line_chart(image, 0, 0, opt.width, opt.height, scaling_chart(*result));
+    std::fprintf(stderr, "%s", scaling_table(*result).c_str());
     if (auto err = write_png(image, opt.out)) return fail(err->message);
     std::cout << opt.out << "\n";
     return 0;
@@ -357,6 +420,12 @@ int run_render(const RenderOptions& given) {
         if (!opt.depth_out.empty()) return fail("--depth-out: only the CPU views write a depth file, not --view " + opt.view);
         return run_window_view(opt, *window_view, std::move(state));
     }
+    if (cpu_view == CpuView::Scaling) {
+        if (!opt.depth_out.empty()) return fail("--depth-out: --view scaling is a chart, it has no depth to write");
+        return run_render_scaling(opt, state);
+    }
+    if ((opt.scaling_accel != "bvh" || opt.scaling_max != 10.5e6) && cpu_view != CpuView::Scaling)
+        return fail("--scaling-accel and --scaling-max are for --view scaling, not --view " + opt.view);
     if (cpu_view == CpuView::Slice) {
         if (!opt.depth_out.empty()) return fail("--depth-out: --view slice has no depth to write");
         return run_render_slice(opt, state);
@@ -472,7 +541,10 @@ Command register_render(CLI::App& app) {
     sub->add_option("--out,-o", opt->out, "Output PNG file")->required();
     sub->add_option("--view", opt->view,
                     "raycast | raster | split (raster left, ray cast right, each --width wide) | depth-diff | "
-                    "heat-nodes | heat-tris: the CPU renderers; heat-loop | heat-stack (with --gpu); slice (a plane across the scene coloured inside / outside by ray parity, --slice-axis, --slice-at; naive or bvh); structure (the window's 3D view with the "
+                    "heat-nodes | heat-tris: the CPU renderers; heat-loop | heat-stack (with --gpu); scaling (a log-log chart of "
+                    "frame time against triangles: the mesh repeated 1, 2, 4, ... times up to --scaling-max, each "
+                    "scene seen whole, rasterized by OpenGL (OSMesa) and the CPU z-buffer and ray cast through "
+                    "--scaling-accel's structures, measured now; the table on stderr); slice (a plane across the scene coloured inside / outside by ray parity, --slice-axis, --slice-at; naive or bvh); structure (the window's 3D view with the "
                     "structure overlay) | gui (the whole window frame, panels included) | build-step (the window "
                     "with the BVH construction stepper at --step; with --accel kd or --structure, the tree's node --step) | step (the window with the traversal stepper "
                     "at --step K on the ray of --pixel X,Y, the 3D view seeing the ray from the side: the camera "
@@ -508,6 +580,15 @@ Command register_render(CLI::App& app) {
     sub->add_option("--slice-at", opt->slice_at,
                     "slice: where along that axis, 0 to 1 of the mesh's box (default: the preset's, else 0.5)")
         ->check(number_between(0, 1));
+    sub->add_option("--scaling-accel", opt->scaling_accel,
+                    "scaling: the structures to ray cast through, comma-separated (e.g. bvh,kd,grid; each with the "
+                    "structure flags if it is --accel's, else its defaults)")
+        ->capture_default_str();
+    sub->add_option("--scaling-max", opt->scaling_max,
+                    "scaling: the biggest scene's triangles (copies double while they fit; 10.5M takes about a "
+                    "minute here)")
+        ->check(number_between(1, 4e9))
+        ->capture_default_str();
     sub->add_option("--rays", opt->rays,
                     "heat-nodes, heat-tris: whose work per pixel: primary (the camera's rays) | shadow (--shadows on) | "
                     "reflection (--reflections on)")

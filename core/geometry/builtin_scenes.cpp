@@ -613,8 +613,13 @@ Expected<Mesh> make_instances(const Params& params) {
         return Error{"mesh= cannot be or contain another builtin:instances"};
     auto loaded = load_scene(source, params.cache, params.progress);
     if (!loaded) return Error{loaded.error()};
-    const Mesh& one = *loaded;
-    const uint64_t nx = params.whole("nx"), nz = params.whole("nz"), copies = nx * nz;
+    return repeat_on_grid(*loaded, params.whole("nx"), params.whole("nz"), params.progress);
+}
+
+}  // namespace
+
+Expected<Mesh> repeat_on_grid(const Mesh& one, uint64_t nx, uint64_t nz, WorkProgress* progress) {
+    const uint64_t copies = nx * nz;
     if (copies * one.positions.size() > std::numeric_limits<uint32_t>::max() ||
         copies * one.indices.size() > std::numeric_limits<uint32_t>::max())
         return Error{std::to_string(copies) + " copies of " + std::to_string(one.indices.size()) +
@@ -626,7 +631,7 @@ Expected<Mesh> make_instances(const Params& params) {
     mesh.indices.reserve(copies * one.indices.size());
     for (uint64_t k = 0; k < nz; ++k)
         for (uint64_t i = 0; i < nx; ++i) {
-            if (cancelled(params.progress)) return WorkProgress::cancelled_error();
+            if (cancelled(progress)) return WorkProgress::cancelled_error();
             const Vec3 offset{float(i) * step_x, 0.0f, float(k) * step_z};
             const auto base = uint32_t(mesh.positions.size());
             for (const Vec3& p : one.positions) mesh.positions.push_back(p + offset);
@@ -634,6 +639,8 @@ Expected<Mesh> make_instances(const Params& params) {
         }
     return mesh;
 }
+
+namespace {
 
 // ---------------------------------------------------------------------------
 // [SECTION] Moving scenes (the same triangles at every time t: a tree built at one

@@ -62,6 +62,11 @@ Expected<std::string> scene_at_time(const std::string& source, double t);
 /// any other source, or a t= that is not a number.
 std::optional<double> scene_time(const std::string& source);
 
+/// `one` repeated nx x nz times on a grid in the x-z plane, copies 1.1 times the
+/// mesh's extent apart so that none overlap: builtin:instances, and the scaling
+/// chart's scenes. Errors: more copies than 32-bit indices hold; cancelled.
+Expected<Mesh> repeat_on_grid(const Mesh& one, uint64_t nx, uint64_t nz, WorkProgress* progress = nullptr);
+
 /// The names make_builtin accepts, each with a one-line description and its parameters.
 struct BuiltinInfo {
     std::string name;

@@ -23,6 +23,15 @@ double tick_step(double hi, int count) {
     return 10.0 * power;
 }
 
+/// A decade's label: 0.01, 0.1, 1, 10, 100, 1k, 10k, 100k, 1M, 10M, ...
+std::string decade_text(int power) {
+    static const char* const kBig[] = {"1", "10", "100", "1k", "10k", "100k", "1M", "10M", "100M", "1G"};
+    if (power >= 0 && power < 10) return kBig[power];
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", std::pow(10.0, power));
+    return text;
+}
+
 }  // namespace
 
 void draw_line_chart(Image& dst, int x0, int y0, int w, int h, const LineChart& chart) {
@@ -44,40 +53,77 @@ void draw_line_chart(Image& dst, int x0, int y0, int w, int h, const LineChart& 
     if (right - left < 20 || bottom - top < 20) return;
     draw_text(dst, x0 + 6 * s, y0 + 3 * s, chart.title, s + (h >= 300 ? 1 : 0), ink);
 
-    double x_lo = 0, x_hi = 0, y_hi = 0;
+    // Data coordinates: x and y as given, or their log10 (log_log).
+    const auto usable = [&](double x, double y) {
+        return std::isfinite(x) && std::isfinite(y) && (!chart.log_log || (x > 0 && y > 0));
+    };
+    const auto to_x = [&](double x) { return chart.log_log ? std::log10(x) : x; };
+    const auto to_y = [&](double y) { return chart.log_log ? std::log10(y) : y; };
+    double x_lo = 0, x_hi = 0, y_lo = 0, y_hi = 0;
     bool any = false;
     for (const ChartSeries& series : chart.series)
         for (size_t i = 0; i < series.x.size() && i < series.y.size(); ++i) {
-            if (!std::isfinite(series.x[i]) || !std::isfinite(series.y[i])) continue;
-            x_lo = any ? std::min(x_lo, series.x[i]) : series.x[i];
-            x_hi = any ? std::max(x_hi, series.x[i]) : series.x[i];
-            y_hi = std::max(y_hi, series.y[i]);
+            if (!usable(series.x[i], series.y[i])) continue;
+            const double x = to_x(series.x[i]), y = to_y(series.y[i]);
+            x_lo = any ? std::min(x_lo, x) : x;
+            x_hi = any ? std::max(x_hi, x) : x;
+            y_lo = any ? std::min(y_lo, y) : y;
+            y_hi = any ? std::max(y_hi, y) : y;
             any = true;
         }
     if (!any) return;
-    if (!(x_hi > x_lo)) x_hi = x_lo + 1;
-    if (!(y_hi > 0)) y_hi = 1;
-    const double y_step = tick_step(y_hi, 4);
-    y_hi = std::ceil(y_hi / y_step) * y_step;
+    if (chart.log_log) {  // whole decades, at least one each way
+        x_lo = std::floor(x_lo);
+        x_hi = std::max(std::ceil(x_hi), x_lo + 1);
+        y_lo = std::floor(y_lo);
+        y_hi = std::max(std::ceil(y_hi), y_lo + 1);
+    } else {
+        y_lo = 0;
+        if (!(x_hi > x_lo)) x_hi = x_lo + 1;
+        if (!(y_hi > 0)) y_hi = 1;
+    }
+    const double y_step = chart.log_log ? 1.0 : tick_step(y_hi, 4);
+    y_hi = chart.log_log ? y_hi : std::ceil(y_hi / y_step) * y_step;
     auto px = [&](double x) { return left + (x - x_lo) / (x_hi - x_lo) * (right - left); };
-    auto py = [&](double y) { return bottom - y / y_hi * (bottom - top); };
+    auto py = [&](double y) { return bottom - (y - y_lo) / (y_hi - y_lo) * (bottom - top); };
 
-    // Grid lines and ticks.
-    for (double y = 0; y <= y_hi * (1 + 1e-9) && y <= 50 * y_step; y += y_step) {
-        draw_line(dst, left, py(y), right, py(y), grid);
-        const std::string label = tick_text(y);
+    // Grid lines and ticks (log_log: a line per decade, fainter ones at 2 and 5 times it).
+    const auto label_y = [&](double y, const std::string& label) {
         int lw = 0, lh = 0;
         text_size(label, s, &lw, &lh);
         draw_text(dst, left - lw - 4 * s, int(py(y)) - lh / 2, label, s, ink);
-    }
-    const double x_step = tick_step(x_hi - x_lo, 8);
-    int ticks = 0;
-    for (double x = std::ceil(x_lo / x_step) * x_step; x <= x_hi * (1 + 1e-9) + 1e-12 && ticks < 50; x += x_step, ++ticks) {
-        draw_line(dst, px(x), top, px(x), bottom, grid);
-        const std::string label = tick_text(x);
+    };
+    const auto label_x = [&](double x, const std::string& label) {
         int lw = 0, lh = 0;
         text_size(label, s, &lw, &lh);
         draw_text(dst, int(px(x)) - lw / 2, bottom + 3 * s, label, s, ink);
+    };
+    if (chart.log_log) {
+        const Rgb faint{235, 235, 230};
+        for (int d = int(y_lo); d <= int(y_hi); ++d) {
+            for (double m : {2.0, 5.0})
+                if (d + std::log10(m) < y_hi) draw_line(dst, left, py(d + std::log10(m)), right, py(d + std::log10(m)), faint);
+            draw_line(dst, left, py(d), right, py(d), grid);
+            label_y(d, decade_text(d));
+        }
+        for (int d = int(x_lo); d <= int(x_hi); ++d) {
+            for (double m : {2.0, 5.0})
+                if (d + std::log10(m) < x_hi) draw_line(dst, px(d + std::log10(m)), top, px(d + std::log10(m)), bottom, faint);
+            draw_line(dst, px(d), top, px(d), bottom, grid);
+            label_x(d, decade_text(d));
+        }
+    } else {
+        for (double y = 0; y <= y_hi * (1 + 1e-9) && y <= 50 * y_step; y += y_step) {
+            draw_line(dst, left, py(y), right, py(y), grid);
+            label_y(y, tick_text(y));
+        }
+        const double x_step = tick_step(x_hi - x_lo, 8);
+        int ticks = 0;
+        for (double x = std::ceil(x_lo / x_step) * x_step; x <= x_hi * (1 + 1e-9) + 1e-12 && ticks < 50;
+             x += x_step, ++ticks) {
+            draw_line(dst, px(x), top, px(x), bottom, grid);
+            label_x(x, tick_text(x));
+        }
     }
     draw_line(dst, left, bottom, right, bottom, ink, s);
     draw_line(dst, left, top, left, bottom, ink, s);
@@ -86,22 +132,21 @@ void draw_line_chart(Image& dst, int x0, int y0, int w, int h, const LineChart& 
     draw_text(dst, (left + right - lw) / 2, bottom + 4 * s + text_h, chart.x_label, s, ink);
     draw_text(dst, left, top - text_h - 2 * s, chart.y_label, s, ink);
 
-    if (chart.mark_x && *chart.mark_x >= x_lo && *chart.mark_x <= x_hi) {
-        const double x = px(*chart.mark_x);
+    if (chart.mark_x && usable(*chart.mark_x, 1.0) && to_x(*chart.mark_x) >= x_lo && to_x(*chart.mark_x) <= x_hi) {
+        const double x = px(to_x(*chart.mark_x));
         for (int y = top; y < bottom; y += 6 * s) draw_line(dst, x, y, x, std::min(bottom, y + 3 * s), {200, 60, 60}, s);
         draw_text(dst, int(x) + 4 * s, top + 2 * s, chart.mark_label, s, {200, 60, 60});
     }
     // The series, then the legend.
     int legend_y = top;
     for (const ChartSeries& series : chart.series) {
-        auto finite = [&](size_t i) { return std::isfinite(series.x[i]) && std::isfinite(series.y[i]); };
+        auto finite = [&](size_t i) { return usable(series.x[i], series.y[i]); };
+        auto sx = [&](size_t i) { return px(to_x(series.x[i])); };
+        auto sy = [&](size_t i) { return py(to_y(series.y[i])); };
         for (size_t i = 0; i + 1 < series.x.size() && i + 1 < series.y.size(); ++i)
-            if (finite(i) && finite(i + 1))
-                draw_line(dst, px(series.x[i]), py(series.y[i]), px(series.x[i + 1]), py(series.y[i + 1]),
-                          series.colour, 2 * s);
+            if (finite(i) && finite(i + 1)) draw_line(dst, sx(i), sy(i), sx(i + 1), sy(i + 1), series.colour, 2 * s);
         for (size_t i = 0; i < series.x.size() && i < series.y.size(); ++i)
-            if (finite(i))
-                fill_rect(dst, int(px(series.x[i])) - 2 * s, int(py(series.y[i])) - 2 * s, 5 * s, 5 * s, series.colour);
+            if (finite(i)) fill_rect(dst, int(sx(i)) - 2 * s, int(sy(i)) - 2 * s, 5 * s, 5 * s, series.colour);
         fill_rect(dst, right + 8 * s, legend_y + text_h / 2 - s, 12 * s, 3 * s, series.colour);
         draw_text(dst, right + 22 * s, legend_y, series.name, s, ink);
         legend_y += text_h + 4 * s;

@@ -1,7 +1,8 @@
 #pragma once
 /// Line charts drawn into an Image (no GL), for figures the commands write as PNG:
 /// `bench-motion --chart` plots what a moving scene costs with the BVH refitted
-/// against rebuilt, time by time.
+/// against rebuilt, time by time; `render --view scaling` (log-log) the frame times
+/// of rasterizing and ray casting against the triangle count.
 
 #include <optional>
 #include <string>
@@ -23,10 +24,14 @@ struct LineChart {
     std::vector<ChartSeries> series;
     std::optional<double> mark_x;  ///< a vertical line at this x, with `mark_label`
     std::string mark_label;
+    /// Both axes logarithmic, whole decades (a power law is a straight line, its
+    /// exponent the slope); points with x or y <= 0 are left out.
+    bool log_log = false;
 };
 
 /// The chart in the rectangle (x0, y0, w, h) of `dst`: axes from the data's range (y
-/// from 0), a few ticks, the series as lines with dots, their names as a legend.
+/// from 0, or whole decades when log_log), a few ticks, the series as lines with
+/// dots, their names as a legend.
 void draw_line_chart(Image& dst, int x0, int y0, int w, int h, const LineChart& chart);
 
 }  // namespace accelviz

@@ -10,6 +10,7 @@
 #include "core/accel/factory.h"
 #include "core/geometry/scene.h"
 #include "core/measure/comparison.h"
+#include "core/measure/scaling.h"
 #include "core/render/chart.h"
 #include "core/render/ray_caster.h"
 #include "core/render/views.h"
@@ -316,6 +317,37 @@ TEST(GoldenImage, LineChartOfFixedSeriesWithItsMark) {
     EXPECT_LT(highest_row({220, 110, 40}), highest_row({40, 110, 200}));
     EXPECT_LT(highest_row({200, 60, 60}), image.height) << "the mark";
     EXPECT_TRUE(testing::matches_golden(image, "line_chart"));
+}
+
+TEST(GoldenImage, ScalingChartOnLogLogAxes) {
+    // render --view scaling's drawing, on figures measured once (the bunny repeated 1
+    // to 128 times, 1280x720, 2 threads): rasterizing grows with the triangles, the
+    // BVH's ray cast hardly.
+    ScalingResult r;
+    r.mesh_name = "../shared/assets/bunny.obj";
+    r.structures = {AccelConfig{.type = AccelType::Bvh}};
+    r.width = 1280;
+    r.height = 720;
+    r.threads = 2;
+    const double gl[] = {23.0, 30.4, 58.4, 83.5, 145.4, 200.0, 485.1, 747.2};
+    const double cpu[] = {29.4, 33.1, 57.4, 76.3, 134.8, 221.1, 623.4, 994.9};
+    const double cast[] = {40.9, 41.1, 52.5, 47.2, 57.9, 50.9, 71.6, 62.8};
+    for (int i = 0; i < 8; ++i) {
+        ScalingPoint p;
+        p.copies = uint64_t(1) << i;
+        p.triangles = p.copies * 69451;
+        p.gl_raster_ms = gl[i];
+        p.cpu_raster_ms = cpu[i];
+        p.build_ms = {0};
+        p.cast_ms = {cast[i]};
+        r.points.push_back(p);
+    }
+    const LineChart chart = scaling_chart(r);
+    ASSERT_EQ(chart.series.size(), 3u);
+    EXPECT_TRUE(chart.log_log);
+    Image image(640, 360);
+    draw_line_chart(image, 0, 0, 640, 360, chart);
+    EXPECT_TRUE(testing::matches_golden(image, "scaling_chart"));
 }
 
 TEST(GoldenImage, SplitCpuRasterImageNextToRayCastDepthOnOneScale) {
