@@ -281,6 +281,11 @@ nlohmann::json to_json(const AppState& s) {
     j["comparison"] = {{"open", s.comparison.open}};
     j["two_bvhs"] = {{"open", s.two_bvhs.open},
                      {"builders", {to_string(s.two_bvhs.builders[0]), to_string(s.two_bvhs.builders[1])}}};
+    nlohmann::json scaling_structures = nlohmann::json::array();
+    for (AccelType type : s.scaling.structures) scaling_structures.push_back(std::string(to_string(type)));
+    j["scaling"] = {{"open", s.scaling.open},
+                    {"max_triangles", s.scaling.max_triangles},
+                    {"structures", scaling_structures}};
     return j;
 }
 
@@ -417,6 +422,27 @@ Expected<AppState> app_state_from_json(const nlohmann::json& j) {
                 if (!b.is_array() || b.size() != 2) throw std::runtime_error("two_bvhs.builders: expected two builder names");
                 for (size_t i = 0; i < 2; ++i)
                     s.two_bvhs.builders[i] = read_enum(b[i], "two_bvhs.builders", parse_bvh_builder);
+            }
+        }
+        if (j.contains("scaling")) {
+            const auto& c = j["scaling"];
+            s.scaling.open = read(c, "open", s.scaling.open, "scaling");
+            s.scaling.max_triangles = read(c, "max_triangles", s.scaling.max_triangles, "scaling");
+            if (!(s.scaling.max_triangles >= 1e4 && s.scaling.max_triangles <= 2e7))
+                return Error{"scaling.max_triangles: must be between 10000 and 20000000"};
+            if (c.contains("structures")) {
+                const auto& list = c["structures"];
+                if (!list.is_array() || list.empty())
+                    throw std::runtime_error("scaling.structures: expected a list of structure names");
+                s.scaling.structures.clear();
+                for (const auto& name : list) {
+                    const AccelType type = read_enum(name, "scaling.structures", parse_accel_type);
+                    if (type == AccelType::Naive)
+                        return Error{"scaling.structures: naive would test every triangle for every ray"};
+                    if (std::find(s.scaling.structures.begin(), s.scaling.structures.end(), type) ==
+                        s.scaling.structures.end())
+                        s.scaling.structures.push_back(type);
+                }
             }
         }
     } catch (const std::exception& e) {  // ours name the field; nlohmann's do not

@@ -197,6 +197,16 @@ struct TwoBvhsSettings {
     bool operator==(const TwoBvhsSettings&) const = default;
 };
 
+/// The scaling chart (core/measure/scaling.h): the scene's mesh repeated 1, 2, 4, ...
+/// times up to max_triangles, each scene rasterized (OpenGL and the CPU z-buffer) and
+/// ray cast through each of `structures`, frame times on log-log axes.
+struct ScalingSettings {
+    bool open = false;
+    double max_triangles = 4e6;                         ///< the biggest scene (1e4 .. 2e7)
+    std::vector<AccelType> structures{AccelType::Bvh};  ///< the ray casts plotted (not naive)
+    bool operator==(const ScalingSettings&) const = default;
+};
+
 /// The ray caster's light (core/render/lighting.h): the headlight (a light at the
 /// eye) unless a point light is asked for, by a position or by shadows or reflections.
 struct LightSettings {
@@ -235,6 +245,7 @@ struct AppState {
     NearestSettings nearest;
     ComparisonSettings comparison;
     TwoBvhsSettings two_bvhs;
+    ScalingSettings scaling;
 };
 
 /// The structure part of the JSON form (what AppState's "structure" holds).

@@ -38,7 +38,7 @@ struct Layout {
 
 /// Which panel sits right of the view (one at a time): a stepper's, the comparison, or
 /// the two BVHs.
-enum class RightPanel { None, Build, Stepper, Nearest, Comparison, TwoBvhs };
+enum class RightPanel { None, Build, Stepper, Nearest, Comparison, TwoBvhs, Scaling };
 
 /// `ui`: the sidebar and the status bar; `bottom_bar`: the height of lecture mode's
 /// caption bar (instead of them). `right_panel`: a stepper's panel or the comparison, with or
@@ -56,6 +56,8 @@ Layout compute_layout(int width, int height, bool ui, bool split, RightPanel rig
             std::floor(std::min(30.0f * font, 0.6f * std::max(0.0f, float(width) - layout.sidebar_width)));
     else if (right_panel == RightPanel::Stepper || right_panel == RightPanel::Nearest)
         layout.right_panel_width = std::floor(std::min(26.0f * font, 0.4f * float(width)));
+    else if (right_panel == RightPanel::Scaling)
+        layout.right_panel_width = std::floor(std::min(32.0f * font, 0.5f * std::max(0.0f, float(width) - layout.sidebar_width)));
     else if (right_panel == RightPanel::Comparison || right_panel == RightPanel::TwoBvhs)
         // a table of 8 columns and a chart, or two pictures side by side: most of the width
         layout.right_panel_width =
@@ -281,18 +283,19 @@ void draw_opengl_depth_as_grey(Session& session, Renderer& renderer, const View3
 /// What a frame settles before it draws: the layout and the modes that shape it.
 /// One right panel at a time: of the panels switched on, the one switched on in this
 /// frame wins (the others are switched off); of several switched on at once (a preset),
-/// the first in this order: the two BVHs, the comparison, the ray stepper, the
-/// nearest-point stepper, the construction stepper.
+/// the first in this order: the two BVHs, the comparison, the scaling chart, the ray
+/// stepper, the nearest-point stepper, the construction stepper.
 void keep_one_right_panel(AppState& state, Session& session) {
-    const std::array<bool*, 5> open = {&state.two_bvhs.open, &state.comparison.open, &state.stepper.open,
-                                       &state.nearest.open, &state.build_step.active};
-    std::array<bool, 5>& was_open = session.right_panel_was_open;
+    const std::array<bool*, 6> open = {&state.two_bvhs.open, &state.comparison.open, &state.scaling.open,
+                                       &state.stepper.open,  &state.nearest.open,    &state.build_step.active};
+    std::array<bool, 6>& was_open = session.right_panel_was_open;
+    const int panels = int(open.size());
     int keep = -1;
-    for (int i = 0; i < 5 && keep < 0; ++i)
+    for (int i = 0; i < panels && keep < 0; ++i)
         if (*open[i] && !was_open[i]) keep = i;
-    for (int i = 0; i < 5 && keep < 0; ++i)
+    for (int i = 0; i < panels && keep < 0; ++i)
         if (*open[i]) keep = i;
-    for (int i = 0; i < 5; ++i) {
+    for (int i = 0; i < panels; ++i) {
         if (i != keep) *open[i] = false;
         was_open[i] = *open[i];
     }
@@ -378,6 +381,7 @@ FramePlan plan_frame(AppState& state, Session& session, const FrameInput& input)
                        : state.nearest.open     ? RightPanel::Nearest
                        : state.comparison.open  ? RightPanel::Comparison
                        : state.two_bvhs.open    ? RightPanel::TwoBvhs
+                       : state.scaling.open     ? RightPanel::Scaling
                                                 : RightPanel::None;
     const float caption_bar =
         plan.lecture && session.lecture.caption && !session.lecture.blank ? lecture_caption_height(session, input.width) : 0.0f;
@@ -507,6 +511,11 @@ void draw_sidebar(AppState& state, Session& session, const Layout& layout, int h
                 ImGui::SetTooltip("Builds naive, grid, KD tree, octree and BVH on one thread and traces the same\n"
                                   "rays of this view through each: the lecture's comparison table, and when each\n"
                                   "build pays off.");
+            ImGui::Checkbox("Frame time against triangles", &state.scaling.open);
+            if (ImGui::IsItemHovered())
+                ImGui::SetTooltip("The scene's mesh repeated 1, 2, 4, ... times up to millions of triangles, each\n"
+                                  "scene rasterized (OpenGL and the CPU z-buffer) and ray cast through a structure:\n"
+                                  "the lecture's last slide, measured on this machine, on log-log axes.");
             ImGui::Checkbox("Two BVHs side by side", &state.two_bvhs.open);
             if (ImGui::IsItemHovered())
                 ImGui::SetTooltip("The scene's BVH made by two builders (median and SAH to start with), drawn side\n"
@@ -530,7 +539,8 @@ void draw_right_panel(AppState& state, Session& session, const FrameInput& input
                                          layout.gl_view.height > 0 ? double(layout.gl_view.width) / layout.gl_view.height
                                                                    : 1.0);
     if (plan.right_panel == RightPanel::Stepper || plan.right_panel == RightPanel::Nearest ||
-        plan.right_panel == RightPanel::Comparison || plan.right_panel == RightPanel::TwoBvhs) {
+        plan.right_panel == RightPanel::Comparison || plan.right_panel == RightPanel::TwoBvhs ||
+        plan.right_panel == RightPanel::Scaling) {
         ImGui::SetNextWindowPos(ImVec2(float(input.width) - layout.right_panel_width, 0), ImGuiCond_Always);
         ImGui::SetNextWindowSize(ImVec2(layout.right_panel_width, float(input.height) - layout.status_height),
                                  ImGuiCond_Always);
@@ -541,6 +551,9 @@ void draw_right_panel(AppState& state, Session& session, const FrameInput& input
         } else if (plan.right_panel == RightPanel::Comparison) {
             if (ImGui::Begin("##comparison", nullptr, kFixedPanel))
                 session.comparison.draw(ImGui::GetContentRegionAvail().x, plan.lecture);
+        } else if (plan.right_panel == RightPanel::Scaling) {
+            if (ImGui::Begin("##scaling", nullptr, kFixedPanel))
+                session.scaling.draw(state, ImGui::GetContentRegionAvail().x, plan.lecture);
         } else if (ImGui::Begin("##two_bvhs", nullptr, kFixedPanel)) {
             session.two_bvhs.draw(state, ImGui::GetContentRegionAvail().x, plan.lecture);
         }
@@ -568,7 +581,8 @@ void draw_panels(AppState& state, Session& session, const FrameInput& input, con
     ImGui::PopStyleVar();
 
     if (plan.right_panel == RightPanel::Stepper || plan.right_panel == RightPanel::Nearest ||
-        plan.right_panel == RightPanel::Comparison || plan.right_panel == RightPanel::TwoBvhs)
+        plan.right_panel == RightPanel::Comparison || plan.right_panel == RightPanel::TwoBvhs ||
+        plan.right_panel == RightPanel::Scaling)
         draw_right_panel(state, session, input, plan);
     // The overlay's legend: not over the CPU rasterizer's picture in the left half (it draws no overlay).
     const bool structure_legend =
@@ -746,6 +760,10 @@ FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, co
 
     // 3. Layout, input, work started; 4. the panels; 5. GL: the picture, panels on top; 6. a screenshot.
     const FramePlan plan = plan_frame(state, session, input);
+    // The scaling chart's worker may be waiting for an OpenGL frame: drawn here, before
+    // this frame's own drawing begins (which clears it away).
+    session.scaling.update(state, session.scene, renderer, plan.layout.gl_view.width, plan.layout.gl_view.height,
+                           (plan.ui || plan.lecture) && plan.right_panel == RightPanel::Scaling, input.deterministic);
     if (plan.ui) draw_panels(state, session, input, plan);
     if (plan.lecture) draw_lecture_labels(state, session, input, plan);
     if (state.stepper.open && session.scene && state.camera && !plan.layout.gl_view.empty() &&

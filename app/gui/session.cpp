@@ -116,6 +116,7 @@ std::vector<const char*> Session::pending_work() const {
     if (stepper.has_pending_work()) names.push_back("stepper");
     if (comparison.busy() || comparison.has_result()) names.push_back("comparison");
     if (two_bvhs.busy() || two_bvhs.has_result()) names.push_back("two_bvhs");
+    if (scaling.busy() || scaling.has_result()) names.push_back("scaling");
     if (slice.busy()) names.push_back("slice");
     if (view_panel.fill_playing) names.push_back("fill_order");
     if (scene_panel.playing) names.push_back("time");  // a moving scene playing: the next time follows

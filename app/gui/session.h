@@ -16,6 +16,7 @@
 #include "app/gui/app_state.h"
 #include "app/gui/build_stepper.h"
 #include "app/gui/comparison_panel.h"
+#include "app/gui/scaling_panel.h"
 #include "app/gui/two_bvhs_panel.h"
 #include "app/gui/panels.h"
 #include "app/gui/presets.h"
@@ -104,9 +105,12 @@ struct Session {
     ComparisonPanel comparison;
     /// The two-BVHs panel: the scene's BVH by two builders, side by side (on a worker).
     TwoBvhsPanel two_bvhs;
-    /// Which right panels were open in the previous frame (two BVHs, comparison, ray
-    /// stepper, nearest-point stepper, construction stepper): draw_frame keeps the one switched on last.
-    std::array<bool, 5> right_panel_was_open{};
+    /// The scaling panel: frame time against triangles, the mesh repeated (on a worker).
+    ScalingPanel scaling;
+    /// Which right panels were open in the previous frame (two BVHs, comparison, scaling,
+    /// ray stepper, nearest-point stepper, construction stepper): draw_frame keeps the one
+    /// switched on last.
+    std::array<bool, 6> right_panel_was_open{};
 
     UiStyle style;
     bool dragging_view = false;  ///< a mouse drag that started in the 3D view

@@ -194,6 +194,15 @@ public:
                                  {"nodes_per_ray", tree.nodes_per_ray}});
             j["two_bvhs"] = {{"width", t->width}, {"height", t->height}, {"trees", trees}};
         }
+        if (const ScalingResult* r = session.scaling.measured()) {
+            nlohmann::json points = nlohmann::json::array();
+            for (const ScalingPoint& p : r->points)
+                points.push_back({{"triangles", p.triangles},
+                                  {"gl_raster_ms", p.gl_raster_ms ? nlohmann::json(*p.gl_raster_ms) : nlohmann::json(nullptr)},
+                                  {"cpu_raster_ms", p.cpu_raster_ms},
+                                  {"cast_ms", p.cast_ms}});
+            j["scaling"] = {{"width", r->width}, {"height", r->height}, {"points", points}};
+        }
         j["status"] = session.stats_bar.last_line;
         // Draw with: what drew the mesh, the ray-cast picture's pixel divisor (1: every
         // pixel, 2: a quarter; 0: none shown), and how many quarter pictures were shown.
@@ -297,6 +306,7 @@ int run_window(AppState state, const std::string& preset_path, bool lecture, boo
             session.build_stepper.set_on_finished([] { GlfwWindow::wake_up(); });
             session.comparison.set_on_finished([] { GlfwWindow::wake_up(); });
             session.two_bvhs.set_on_finished([] { GlfwWindow::wake_up(); });
+            session.scaling.set_on_finished([] { GlfwWindow::wake_up(); });
             if (first_preset && !session.presets.entries().empty()) {
                 session.presets.load(0, state, session);
             } else {

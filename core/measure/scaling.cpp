@@ -123,12 +123,15 @@ Expected<ScalingResult> measure_scaling(const Mesh& one, const ScalingOptions& o
         });
         if (options.gl_raster_ms) {
             step(scene_name + ": rasterizing (OpenGL)");
+            const auto gl_error = [&](const std::string& error) {
+                return cancelled(options.progress) ? WorkProgress::cancelled_error() : Error{"OpenGL: " + error};
+            };
             auto warm = options.gl_raster_ms(*mesh, camera);
-            if (!warm) return Error{"OpenGL: " + warm.error()};
+            if (!warm) return gl_error(warm.error());
             std::vector<double> runs;
             for (int i = 0; i < std::max(1, options.repeat); ++i) {
                 auto ms = options.gl_raster_ms(*mesh, camera);
-                if (!ms) return Error{"OpenGL: " + ms.error()};
+                if (!ms) return gl_error(ms.error());
                 runs.push_back(*ms);
             }
             std::sort(runs.begin(), runs.end());

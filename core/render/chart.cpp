@@ -37,21 +37,23 @@ std::string decade_text(int power) {
 void draw_line_chart(Image& dst, int x0, int y0, int w, int h, const LineChart& chart) {
     const Rgb background{250, 250, 247}, ink{40, 40, 40}, grid{215, 215, 210};
     fill_rect(dst, x0, y0, w, h, background);
-    const int s = std::max(1, h / 240);
+    const int s = chart.text_scale > 0 ? chart.text_scale : std::max(1, h / 240);
     int text_w = 0, text_h = 0;
     text_size("0", s, &text_w, &text_h);
     // The plot area: room for the title above, tick labels left and below, the legend right.
     int legend_w = 0;
     for (const ChartSeries& series : chart.series) {
+        if (!chart.legend) break;
         int sw = 0, sh = 0;
         text_size(series.name, s, &sw, &sh);
         legend_w = std::max(legend_w, sw);
     }
-    legend_w += 24 * s;
-    const int left = x0 + 8 * s + 6 * text_w, right = x0 + w - legend_w - 8 * s;
-    const int top = y0 + 3 * text_h + 4 * s, bottom = y0 + h - 3 * text_h - 4 * s;
+    if (chart.legend) legend_w += 24 * s;
+    // (Without a legend, room for half the last tick label; without a title, for the y label only.)
+    const int left = x0 + 8 * s + 6 * text_w, right = x0 + w - legend_w - 8 * s - (chart.legend ? 0 : 2 * text_w);
+    const int top = y0 + (chart.title.empty() ? 2 * text_h : 3 * text_h) + 4 * s, bottom = y0 + h - 3 * text_h - 4 * s;
     if (right - left < 20 || bottom - top < 20) return;
-    draw_text(dst, x0 + 6 * s, y0 + 3 * s, chart.title, s + (h >= 300 ? 1 : 0), ink);
+    if (!chart.title.empty()) draw_text(dst, x0 + 6 * s, y0 + 3 * s, chart.title, s + (h >= 300 ? 1 : 0), ink);
 
     // Data coordinates: x and y as given, or their log10 (log_log).
     const auto usable = [&](double x, double y) {
@@ -147,6 +149,7 @@ void draw_line_chart(Image& dst, int x0, int y0, int w, int h, const LineChart& 
             if (finite(i) && finite(i + 1)) draw_line(dst, sx(i), sy(i), sx(i + 1), sy(i + 1), series.colour, 2 * s);
         for (size_t i = 0; i < series.x.size() && i < series.y.size(); ++i)
             if (finite(i)) fill_rect(dst, int(sx(i)) - 2 * s, int(sy(i)) - 2 * s, 5 * s, 5 * s, series.colour);
+        if (!chart.legend) continue;
         fill_rect(dst, right + 8 * s, legend_y + text_h / 2 - s, 12 * s, 3 * s, series.colour);
         draw_text(dst, right + 22 * s, legend_y, series.name, s, ink);
         legend_y += text_h + 4 * s;

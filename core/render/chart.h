@@ -27,6 +27,8 @@ struct LineChart {
     /// Both axes logarithmic, whole decades (a power law is a straight line, its
     /// exponent the slope); points with x or y <= 0 are left out.
     bool log_log = false;
+    bool legend = true;  ///< the series' names right of the plot (false: the caller lists them)
+    int text_scale = 0;  ///< the text's pixel scale (0: from the height, 1 per 240 rows)
 };
 
 /// The chart in the rectangle (x0, y0, w, h) of `dst`: axes from the data's range (y

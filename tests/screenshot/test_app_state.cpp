@@ -28,12 +28,30 @@ TEST(AppStateJson, RoundTripKeepsEveryField) {
     s.light.position = Vec3d{1.5, -2.25, 1e-7};
     s.view.heat_rays = HeatRays::Reflection;
     s.stepper.any_hit = true;
+    s.scaling.open = true;
+    s.scaling.max_triangles = 2.5e6;
+    s.scaling.structures = {AccelType::Kd, AccelType::Bvh};
     auto back = app_state_from_json(to_json(s));
     ASSERT_TRUE(back) << back.error();
     EXPECT_EQ(to_json(*back), to_json(s));
     EXPECT_TRUE(back->light == s.light);
     EXPECT_EQ(back->view.heat_rays, HeatRays::Reflection);
     EXPECT_TRUE(back->stepper.any_hit);
+    EXPECT_TRUE(back->scaling == s.scaling);
+}
+
+TEST(AppStateJson, TheScalingChartsSettingsAreChecked) {
+    const auto error_of = [](const char* text) {
+        auto s = app_state_from_json(nlohmann::json::parse(text));
+        return s ? std::string() : s.error();
+    };
+    EXPECT_NE(error_of(R"({"scaling": {"max_triangles": 5}})").find("scaling.max_triangles"), std::string::npos);
+    EXPECT_NE(error_of(R"({"scaling": {"structures": ["naive"]}})").find("scaling.structures"), std::string::npos);
+    EXPECT_NE(error_of(R"({"scaling": {"structures": ["bhv"]}})").find("scaling.structures"), std::string::npos);
+    EXPECT_NE(error_of(R"({"scaling": {"structures": []}})").find("scaling.structures"), std::string::npos);
+    auto twice = app_state_from_json(nlohmann::json::parse(R"({"scaling": {"structures": ["grid", "grid", "bvh"]}})"));
+    ASSERT_TRUE(twice) << twice.error();
+    EXPECT_EQ(twice->scaling.structures, (std::vector<AccelType>{AccelType::Grid, AccelType::Bvh}));
 }
 
 TEST(AppStateJson, ALightPositionMustBeFinite) {

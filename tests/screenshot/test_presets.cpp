@@ -16,7 +16,10 @@
 
 #include "app/gui/headless.h"
 #include "app/gui/comparison_panel.h"
+#include "app/gui/scaling_panel.h"
 #include "app/gui/two_bvhs_panel.h"
+#include "app/gl/renderer.h"
+#include "app/platform/osmesa_context.h"
 #include "app/gui/presets.h"
 #include "app/gui/scene_loader.h"
 #include "app/gui/session.h"
@@ -306,6 +309,34 @@ TEST(ComparisonPanel, ClosedWhileMeasuringItMeasuresAgainWhenShownAgain) {
     ASSERT_NE(panel.measured(), nullptr);
     EXPECT_EQ(panel.measured()->rows.size(), 5u);
     EXPECT_EQ(panel.measured()->width, 320);
+}
+
+TEST(ScalingPanel, AHeadlessWaitDrawsOpenGLsFramesAndMeasuresEveryScene) {
+    auto context = OsMesaContext::create(64, 64);
+    ASSERT_TRUE(context) << context.error();
+    auto renderer = Renderer::create();
+    ASSERT_TRUE(renderer) << renderer.error();
+    auto loaded = load_and_build("builtin:teapot?n=4", AccelConfig{});
+    ASSERT_TRUE(loaded) << loaded.error();
+    AppState state;
+    state.scaling.open = true;
+    state.scaling.max_triangles = 4.0 * double((*loaded)->mesh->triangle_count());
+    state.scaling.structures = {AccelType::Bvh, AccelType::Grid};
+    ScalingPanel panel;
+    panel.repeat = 1;
+    // Shown, then closed at once: cancelled (no error to show), measured again when shown.
+    panel.update(state, *loaded, **renderer, 96, 54, /*shown=*/true, /*wait=*/false);
+    panel.update(state, *loaded, **renderer, 96, 54, /*shown=*/false, /*wait=*/false);
+    panel.update(state, *loaded, **renderer, 96, 54, /*shown=*/true, /*wait=*/true);
+    const ScalingResult* r = panel.measured();
+    ASSERT_NE(r, nullptr);
+    ASSERT_EQ(r->points.size(), 3u);  // 1, 2 and 4 copies
+    EXPECT_EQ(r->width, 96);
+    for (const ScalingPoint& p : r->points) {
+        ASSERT_TRUE(p.gl_raster_ms.has_value()) << "OpenGL's frames are drawn while the panel waits";
+        EXPECT_GT(*p.gl_raster_ms, 0);
+        EXPECT_EQ(p.cast_ms.size(), 2u);
+    }
 }
 
 /// The ray a preset steps, recorded through its structure as the window's stepper

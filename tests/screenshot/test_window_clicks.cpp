@@ -297,6 +297,35 @@ public:
         wait_for("the text field '" + label + "' to let go", [&](const json& s) { return !typing_into(s); });
     }
 
+    /// Ctrl+clicks the slider `label` (in `window`), which ImGui turns into a text field,
+    /// types `text` and presses Return: how a user enters an exact value.
+    void ctrl_click_type(const std::string& label, const std::string& text, const std::string& window) {
+        auto typing_into = [&](const json& s) { return s.value("typing_into", std::string()) == label; };
+        for (int attempt = 0;; ++attempt) {
+            const Widget w = visible(label, window);
+            move_to(w.cx(), w.cy());
+            run("xdotool keydown ctrl");
+            press_and_release();
+            run("xdotool keyup ctrl");
+            const auto start = Clock::now();
+            bool active = false;
+            while (!active && Clock::now() - start < std::chrono::seconds(3)) {
+                const json s = snapshot();
+                active = !s.is_null() && typing_into(s);
+                if (!active) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+            }
+            if (active) break;
+            if (attempt == 3) {
+                ADD_FAILURE() << "the slider '" << label << "' did not turn into a text field";
+                return;
+            }
+        }
+        run("xdotool key ctrl+a BackSpace");
+        run("xdotool type --delay 5 '" + text + "'");
+        key("Return");
+        wait_for("the slider '" + label + "' to let go", [&](const json& s) { return !typing_into(s); });
+    }
+
     /// What a window manager sends when the user clicks the window's close button:
     /// a WM_PROTOCOLS client message carrying WM_DELETE_WINDOW.
     void request_close() { ASSERT_TRUE(send_close_request(std::stoul(window_id_))); }
@@ -434,6 +463,39 @@ TEST(WindowClicks, TheComparisonPanelMeasuresOnAClickAndGivesWayToTheStepper) {
     w.toggle("Step one ray", "/stepper/open");
     s = w.wait_for("the comparison closed", [](const json& snap) {
         return snap["state"]["comparison"]["open"] == false && snap["state"]["stepper"]["open"] == true;
+    });
+    EXPECT_TRUE(w.snapshot()["duplicate_ids"].empty()) << w.snapshot()["duplicate_ids"].dump();
+}
+
+TEST(WindowClicks, TheScalingChartMeasuresTheMeshRepeatedAndGivesWayToTheComparison) {
+    Window w;
+    w.start("builtin:teapot?n=4");
+    w.click("Measure structures");
+    w.toggle("Frame time against triangles", "/scaling/open");
+    // The default goes to millions of triangles: the first measurement is cancelled by
+    // a smaller limit picked on the slider and "Measure with these settings".
+    json s = w.wait_for("a measurement under way", [](const json& snap) { return snap["busy"].get<bool>(); });
+    w.click("Cancel", "##scaling");
+    w.wait_for("cancelled", [](const json& snap) { return !snap["busy"].get<bool>(); });
+    w.ctrl_click_type("up to (million triangles)", "0.02", "##scaling");
+    w.click("Measure again", "##scaling");
+    s = w.wait_for("measured, OpenGL's frames drawn by the window", [](const json& snap) {
+        return !snap["busy"].get<bool>() && snap.contains("scaling");
+    });
+    EXPECT_EQ(s["state"]["scaling"]["max_triangles"].get<double>(), 2e4);
+    const json& points = s["scaling"]["points"];
+    ASSERT_GE(points.size(), 2u);
+    for (const json& p : points) {
+        EXPECT_LE(p["triangles"].get<double>(), 2e4);
+        EXPECT_GT(p["gl_raster_ms"].get<double>(), 0) << p.dump();
+        EXPECT_GT(p["cpu_raster_ms"].get<double>(), 0);
+        EXPECT_EQ(p["cast_ms"].size(), 1u);
+    }
+    EXPECT_EQ(s["scaling"]["width"], s["view"][2]);  // frames of the 3D view's size
+    // One right panel at a time: the comparison switched on closes it.
+    w.toggle("Measure every structure", "/comparison/open");
+    w.wait_for("the scaling chart closed", [](const json& snap) {
+        return snap["state"]["scaling"]["open"] == false && snap["state"]["comparison"]["open"] == true;
     });
     EXPECT_TRUE(w.snapshot()["duplicate_ids"].empty()) << w.snapshot()["duplicate_ids"].dump();
 }
