@@ -217,7 +217,9 @@ bool SceneLoader::busy() const {
 
 std::string SceneLoader::activity() const {
     std::lock_guard lock(mutex_);
-    return activity_;
+    // A stage inside the step says what it is ("Loading bunny.obj: writing the cache copy").
+    const char* label = running_progress_ ? running_progress_->stage_label() : nullptr;
+    return label ? activity_ + ": " + label : activity_;
 }
 
 double SceneLoader::stage_fraction() const {

@@ -185,10 +185,15 @@ std::optional<Mesh> read_mesh_cache(const std::filesystem::path& file, const Obj
     return mesh;
 }
 
-bool write_mesh_cache(const std::filesystem::path& file, const ObjKey& key, const Mesh& mesh) {
+bool write_mesh_cache(const std::filesystem::path& file, const ObjKey& key, const Mesh& mesh,
+                      WorkProgress* progress) {
     std::error_code ec;
     std::filesystem::create_directories(file.parent_path(), ec);
     if (ec) return false;
+    const size_t position_bytes = mesh.positions.size() * sizeof(Vec3);
+    const size_t index_bytes = mesh.indices.size() * kTriangleBytes;
+    // The stage: hashing the payload (counted as one pass over it), then writing it.
+    start_stage(progress, 2 * uint64_t(position_bytes + index_bytes), "writing the cache copy");
     Header h;
     std::memcpy(h.magic, kMagic, sizeof kMagic);
     h.version = kVersion;
@@ -199,6 +204,7 @@ bool write_mesh_cache(const std::filesystem::path& file, const ObjKey& key, cons
     h.vertex_count = mesh.positions.size();
     h.triangle_count = mesh.indices.size();
     h.payload_hash = payload_hash(key.path, mesh);
+    advance(progress, position_bytes + index_bytes);
     // A temporary name of this process, renamed into place when complete.
     const std::filesystem::path temp = file.string() + ".tmp." + std::to_string(::getpid());
     {
@@ -207,11 +213,21 @@ bool write_mesh_cache(const std::filesystem::path& file, const ObjKey& key, cons
         out.write(key.path.data(), std::streamsize(key.path.size()));
         const char zeros[8] = {};
         out.write(zeros, std::streamsize(padded(key.path.size()) - key.path.size()));
-        out.write(reinterpret_cast<const char*>(mesh.positions.data()),
-                  std::streamsize(mesh.positions.size() * sizeof(Vec3)));
-        out.write(reinterpret_cast<const char*>(mesh.indices.data()), std::streamsize(mesh.indices.size() * kTriangleBytes));
+        // The payload in pieces, so that a 10M-triangle copy (240 MB) shows progress
+        // and can be cancelled.
+        constexpr size_t kPiece = size_t(8) << 20;
+        const auto write_pieces = [&](const void* data, size_t bytes) {
+            const char* p = static_cast<const char*>(data);
+            for (size_t done = 0; done < bytes && out && !cancelled(progress); done += kPiece) {
+                const size_t n = std::min(kPiece, bytes - done);
+                out.write(p + done, std::streamsize(n));
+                advance(progress, n);
+            }
+        };
+        write_pieces(mesh.positions.data(), position_bytes);
+        write_pieces(mesh.indices.data(), index_bytes);
         out.close();
-        if (!out) {
+        if (!out || cancelled(progress)) {
             std::filesystem::remove(temp, ec);
             return false;
         }

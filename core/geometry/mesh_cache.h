@@ -17,6 +17,7 @@
 #include <string>
 
 #include "core/geometry/mesh.h"
+#include "core/util/work_progress.h"
 
 namespace accelviz {
 
@@ -45,7 +46,10 @@ std::filesystem::path mesh_cache_file(const std::filesystem::path& cache_dir, co
 std::optional<Mesh> read_mesh_cache(const std::filesystem::path& file, const ObjKey& key, const std::string& name);
 
 /// Writes the copy of `mesh` for `key` to `file` (creating its directory); false if
-/// it could not (a read-only disk is no error: the OBJ is simply parsed next time).
-bool write_mesh_cache(const std::filesystem::path& file, const ObjKey& key, const Mesh& mesh);
+/// it could not (a read-only disk is no error: the OBJ is simply parsed next time)
+/// or was cancelled. `progress` counts a stage "writing the cache copy" (its hash, then
+/// its bytes, in pieces of 8 MiB) and may cancel it: nothing is left behind then.
+bool write_mesh_cache(const std::filesystem::path& file, const ObjKey& key, const Mesh& mesh,
+                      WorkProgress* progress = nullptr);
 
 }  // namespace accelviz

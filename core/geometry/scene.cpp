@@ -64,7 +64,8 @@ Expected<Mesh> load_obj_cached(const std::string& path, const std::filesystem::p
         return std::move(*cached);
     }
     Expected<Mesh> mesh = load_obj(path, progress);
-    if (mesh) write_mesh_cache(file, *key, *mesh);
+    if (mesh) write_mesh_cache(file, *key, *mesh, progress);
+    if (cancelled(progress)) return WorkProgress::cancelled_error();  // (the copy not written)
     return mesh;
 }
 

@@ -18,11 +18,16 @@ namespace accelviz {
 
 class WorkProgress {
 public:
-    /// Starts counting a new stage of `total` units (loading, then building).
-    void start_stage(uint64_t total) {
+    /// Starts counting a new stage of `total` units (loading, then building). `label`
+    /// (a string literal, or null): what the stage does when its caller's own name for
+    /// the work does not say it, e.g. "writing the cache copy" inside a load.
+    void start_stage(uint64_t total, const char* label = nullptr) {
         done_.store(0, std::memory_order_relaxed);
         total_.store(total, std::memory_order_relaxed);
+        label_.store(label, std::memory_order_relaxed);
     }
+    /// The current stage's label (null when it has none).
+    const char* stage_label() const { return label_.load(std::memory_order_relaxed); }
     void advance(uint64_t units) { done_.fetch_add(units, std::memory_order_relaxed); }
     /// Done / total of the current stage, in [0, 1]; 0 before a stage has a total.
     double fraction() const {
@@ -39,6 +44,7 @@ public:
 private:
     std::atomic<uint64_t> done_{0};
     std::atomic<uint64_t> total_{0};
+    std::atomic<const char*> label_{nullptr};
     std::atomic<bool> cancelled_{false};
 };
 
@@ -47,8 +53,8 @@ inline bool cancelled(const WorkProgress* progress) { return progress && progres
 inline void advance(WorkProgress* progress, uint64_t units) {
     if (progress) progress->advance(units);
 }
-inline void start_stage(WorkProgress* progress, uint64_t total) {
-    if (progress) progress->start_stage(total);
+inline void start_stage(WorkProgress* progress, uint64_t total, const char* label = nullptr) {
+    if (progress) progress->start_stage(total, label);
 }
 
 }  // namespace accelviz

@@ -70,6 +70,31 @@ TEST_F(MeshCacheTest, TheSecondLoadReadsTheCopyAndGetsTheSameMesh) {
     EXPECT_EQ(second->triangle_count(), 2u);
 }
 
+TEST_F(MeshCacheTest, WritingTheCopyShowsProgressAndCanBeCancelled) {
+    write_text(obj, kQuad);
+    auto mesh = load_obj(obj.string());
+    ASSERT_TRUE(mesh) << mesh.error();
+    const ObjKey key = *obj_key(obj.string());
+    // Counted to the end, under its own label.
+    WorkProgress progress;
+    ASSERT_TRUE(write_mesh_cache(copy_file(), key, *mesh, &progress));
+    EXPECT_EQ(progress.fraction(), 1.0);
+    ASSERT_NE(progress.stage_label(), nullptr);
+    EXPECT_EQ(std::string(progress.stage_label()), "writing the cache copy");
+    fs::remove(copy_file());
+    // Cancelled: no copy and no temporary file left; a load cancelled then is cancelled.
+    WorkProgress cancelled_progress;
+    cancelled_progress.cancel();
+    EXPECT_FALSE(write_mesh_cache(copy_file(), key, *mesh, &cancelled_progress));
+    EXPECT_TRUE(fs::is_empty(cache)) << "nothing left behind";
+    bool from_cache = true;
+    WorkProgress cancelled_load;
+    cancelled_load.cancel();
+    const auto loaded = load_obj_cached(obj.string(), cache, &from_cache, &cancelled_load);
+    EXPECT_FALSE(loaded);
+    EXPECT_FALSE(fs::exists(copy_file()));
+}
+
 TEST_F(MeshCacheTest, AChangedFileIsParsedAgain) {
     write_text(obj, kQuad);
     bool from_cache = false;
