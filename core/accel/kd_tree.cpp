@@ -134,6 +134,8 @@ Subtree build_subtree(const BuildContext& ctx, WorkItem root, double budget, siz
                 upper.lo[a] = s;
                 below.clear();
                 above.clear();
+                below.reserve(n);
+                above.reserve(n);
                 for (const SpatialRef& r : item.refs) {
                     if (goes_below(r, a, s))
                         if (auto c = clip_reference(r, ctx.mesh, lower, ctx.pad, config.clip)) below.push_back(*c);
