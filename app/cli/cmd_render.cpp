@@ -184,22 +184,30 @@ int run_render_gpu(const RenderOptions& opt, const AppState& state, CpuView view
 /// stderr.
 int run_render_scaling(const RenderOptions& opt, const AppState& state) {
     if (opt.camera.any()) return fail("--view scaling frames each scene whole with its default camera: drop the camera flags");
+    if (state.light.point_light() || opt.light.mirror)
+        return fail("--view scaling times the headlight's picture: drop --shadows, --reflections, --light, --mirror");
+    if (!state.accel.structure_file.empty())
+        return fail("--view scaling builds each structure over every repeated scene: drop --structure");
     ScalingOptions options;
     options.structures.clear();
-    std::string names = opt.scaling_accel;
+    const std::string& names = opt.scaling_accel;
     for (size_t start = 0; start <= names.size();) {
         const size_t comma = std::min(names.find(',', start), names.size());
         const std::string name = names.substr(start, comma - start);
+        start = comma + 1;
         const auto type = parse_accel_type(name);
-        if (!type) {
+        if (name.empty()) return fail("--scaling-accel: an empty name in '" + names + "' (e.g. bvh,kd,grid)");
+        if (!type || *type == AccelType::Naive) {
             std::string known;
-            for (const std::string& n : kAccelTypeNames.names()) known += (known.empty() ? "" : ", ") + n;
-            return fail("--scaling-accel: '" + name + "' is not a structure (" + known + ")");
+            for (const std::string& n : kAccelTypeNames.names())
+                if (n != "naive") known += (known.empty() ? "" : ", ") + n;
+            return fail("--scaling-accel: '" + name + "' is not a structure to ray cast through (" + known + ")");
         }
+        for (const AccelConfig& earlier : options.structures)
+            if (earlier.type == *type) return fail("--scaling-accel: " + name + " is named twice");
         AccelConfig config = state.accel.type == *type ? state.accel : AccelConfig{};
         config.type = *type;
         options.structures.push_back(config);
-        start = comma + 1;
     }
     auto mesh = load_scene_noting(state.scene, "render");
     if (!mesh) return fail(mesh.error());
@@ -385,6 +393,8 @@ int run_render(const RenderOptions& given) {
         return fail("--view " + opt.view + " is the GPU traversal's: add --gpu");
     if ((!opt.slice_axis.empty() || opt.slice_at) && (window_view || cpu_view != CpuView::Slice))
         return fail("--slice-axis and --slice-at are for --view slice, not --view " + opt.view);
+    if ((opt.scaling_accel != "bvh" || opt.scaling_max != 10.5e6) && (window_view || cpu_view != CpuView::Scaling))
+        return fail("--scaling-accel and --scaling-max are for --view scaling, not --view " + opt.view);
     if (window_view == WindowView::Step) return run_render_step(opt);
     if ((opt.step >= 0 && window_view != WindowView::BuildStep && window_view != WindowView::FillOrder) ||
         !opt.pixel.empty())
@@ -424,8 +434,6 @@ int run_render(const RenderOptions& given) {
         if (!opt.depth_out.empty()) return fail("--depth-out: --view scaling is a chart, it has no depth to write");
         return run_render_scaling(opt, state);
     }
-    if ((opt.scaling_accel != "bvh" || opt.scaling_max != 10.5e6) && cpu_view != CpuView::Scaling)
-        return fail("--scaling-accel and --scaling-max are for --view scaling, not --view " + opt.view);
     if (cpu_view == CpuView::Slice) {
         if (!opt.depth_out.empty()) return fail("--depth-out: --view slice has no depth to write");
         return run_render_slice(opt, state);
@@ -582,12 +590,13 @@ Command register_render(CLI::App& app) {
         ->check(number_between(0, 1));
     sub->add_option("--scaling-accel", opt->scaling_accel,
                     "scaling: the structures to ray cast through, comma-separated (e.g. bvh,kd,grid; each with the "
-                    "structure flags if it is --accel's, else its defaults)")
+                    "structure flags if it is --accel's, else its defaults; not naive). Ray casts use --threads, "
+                    "builds every core")
         ->capture_default_str();
     sub->add_option("--scaling-max", opt->scaling_max,
                     "scaling: the biggest scene's triangles (copies double while they fit; 10.5M takes about a "
-                    "minute here)")
-        ->check(number_between(1, 4e9))
+                    "minute here; scenes over the memory budget are left out)")
+        ->check(number_between(1, 1e9))
         ->capture_default_str();
     sub->add_option("--rays", opt->rays,
                     "heat-nodes, heat-tris: whose work per pixel: primary (the camera's rays) | shadow (--shadows on) | "

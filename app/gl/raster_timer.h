@@ -16,10 +16,13 @@ class RasterTimer {
 public:
     explicit RasterTimer(Renderer& renderer) : renderer_(renderer) {}
 
-    /// One frame of `mesh` seen by `camera` (its width x height, at the frame's top
-    /// left), cleared, drawn and finished; milliseconds. A mesh other than the last
-    /// one is uploaded first, outside the time.
+    /// One frame of `mesh` seen by `camera` (its width x height, at the framebuffer's
+    /// origin; the framebuffer must be at least that big), cleared, drawn and finished;
+    /// milliseconds, from after the GL work queued before it. A mesh other than the
+    /// last one is uploaded first, outside the time; forget() before a mesh at the same
+    /// address with the same count may be another.
     double frame_ms(const Mesh& mesh, const Camera& camera);
+    void forget() { uploaded_ = nullptr; }
 
 private:
     Renderer& renderer_;

@@ -437,8 +437,10 @@ Expected<AppState> app_state_from_json(const nlohmann::json& j) {
                 s.scaling.structures.clear();
                 for (const auto& name : list) {
                     const AccelType type = read_enum(name, "scaling.structures", parse_accel_type);
-                    if (type == AccelType::Naive)
-                        return Error{"scaling.structures: naive would test every triangle for every ray"};
+                    if (std::find(kScalingStructures.begin(), kScalingStructures.end(), type) ==
+                        kScalingStructures.end())
+                        return Error{"scaling.structures: " + std::string(to_string(type)) +
+                                     " is not offered (bvh, kd, grid, octree)"};
                     if (std::find(s.scaling.structures.begin(), s.scaling.structures.end(), type) ==
                         s.scaling.structures.end())
                         s.scaling.structures.push_back(type);

@@ -197,13 +197,17 @@ struct TwoBvhsSettings {
     bool operator==(const TwoBvhsSettings&) const = default;
 };
 
+/// The structures the scaling chart offers (naive would test every triangle for every ray).
+inline constexpr std::array<AccelType, 4> kScalingStructures{AccelType::Bvh, AccelType::Kd, AccelType::Grid,
+                                                             AccelType::Octree};
+
 /// The scaling chart (core/measure/scaling.h): the scene's mesh repeated 1, 2, 4, ...
 /// times up to max_triangles, each scene rasterized (OpenGL and the CPU z-buffer) and
 /// ray cast through each of `structures`, frame times on log-log axes.
 struct ScalingSettings {
     bool open = false;
     double max_triangles = 4e6;                         ///< the biggest scene (1e4 .. 2e7)
-    std::vector<AccelType> structures{AccelType::Bvh};  ///< the ray casts plotted (not naive)
+    std::vector<AccelType> structures{AccelType::Bvh};  ///< the ray casts plotted: of kScalingStructures
     bool operator==(const ScalingSettings&) const = default;
 };
 

@@ -16,7 +16,7 @@ namespace accelviz {
 namespace {
 
 /// The structures the panel offers (naive would test every triangle for every ray).
-constexpr AccelType kOffered[] = {AccelType::Bvh, AccelType::Kd, AccelType::Grid, AccelType::Octree};
+constexpr auto kOffered = kScalingStructures;
 
 const char* offered_label(AccelType type) {
     switch (type) {
@@ -47,9 +47,10 @@ void ScalingPanel::start(const ScalingSettings& settings, std::shared_ptr<const 
     error_.clear();
     progress_ = std::make_shared<WorkProgress>();
     gl_ = std::make_shared<GlFrameRequest>();
+    if (timer_) timer_->forget();  // the new job's meshes may sit where the old job's did
     job_.submit([settings, scene = std::move(scene), progress = progress_, gl = gl_, repeat = repeat, width, height,
-                 gl_name] {
-        Result result{settings, scene, std::nullopt, ""};
+                 gl_name, wake = on_frame_wanted] {
+        Result result{settings, std::nullopt, ""};
         ScalingOptions options;
         options.structures.clear();
         for (AccelType type : settings.structures) {
@@ -71,11 +72,12 @@ void ScalingPanel::start(const ScalingSettings& settings, std::shared_ptr<const 
         };
         // OpenGL's frames are drawn by the UI thread: ask, then wait for the answer
         // (or for Cancel).
-        options.gl_raster_ms = [&gl, &progress](const Mesh& mesh, const Camera& camera) -> Expected<double> {
+        options.gl_raster_ms = [&gl, &progress, &wake](const Mesh& mesh, const Camera& camera) -> Expected<double> {
             std::unique_lock lock(gl->mutex);
             gl->mesh = &mesh;
             gl->camera = camera;
             gl->ms.reset();
+            if (wake) wake();
             while (!gl->ms) {
                 if (progress->cancelled()) {
                     gl->mesh = nullptr;
@@ -85,7 +87,12 @@ void ScalingPanel::start(const ScalingSettings& settings, std::shared_ptr<const 
             }
             return *gl->ms;
         };
-        auto measured = measure_scaling(*scene->mesh, options);
+        Expected<ScalingResult> measured = Error{"not measured"};
+        try {
+            measured = measure_scaling(*scene->mesh, options);
+        } catch (const std::bad_alloc&) {  // a scene the memory budget's estimate let through
+            measured = Error{"out of memory; choose fewer triangles"};
+        }
         if (measured) {
             measured->mesh_name = scene->source;
             measured->gl_renderer = gl_name;
@@ -200,8 +207,8 @@ void ScalingPanel::draw(AppState& state, float width, bool lecture) {
         }
         if (!r->stopped_early.empty()) ImGui::TextDisabled("%s", r->stopped_early.c_str());
         if (!lecture)
-            ImGui::TextDisabled("Frames of %d x %d pixels; ray casts and builds on %d threads, the CPU rasterizer on "
-                                "one; OpenGL: %s.",
+            ImGui::TextDisabled("Frames of %d x %d pixels; ray casts on %d threads, the CPU rasterizer on one; "
+                                "OpenGL: %s.",
                                 r->width, r->height, r->threads, r->gl_renderer.c_str());
     }
     ImGui::PopTextWrapPos();

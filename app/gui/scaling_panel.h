@@ -48,6 +48,9 @@ public:
     bool busy() const { return job_.busy(); }
     bool has_result() const { return job_.has_result(); }
     void set_on_finished(const std::function<void()>& callback) { job_.on_finished = callback; }
+    /// Called on the worker when it asks for an OpenGL frame (e.g. to wake up a window
+    /// waiting for events, so that update() draws it soon). Set before the first update.
+    std::function<void()> on_frame_wanted;
     /// The last measurement (null before the first finishes).
     const ScalingResult* measured() const { return result_ && result_->scaling ? &*result_->scaling : nullptr; }
 
@@ -57,7 +60,6 @@ public:
 private:
     struct Result {
         ScalingSettings settings;
-        std::shared_ptr<const LoadedScene> scene;  ///< keeps the mesh alive
         std::optional<ScalingResult> scaling;
         std::string error;
     };

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <thread>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -307,6 +308,7 @@ int run_window(AppState state, const std::string& preset_path, bool lecture, boo
             session.comparison.set_on_finished([] { GlfwWindow::wake_up(); });
             session.two_bvhs.set_on_finished([] { GlfwWindow::wake_up(); });
             session.scaling.set_on_finished([] { GlfwWindow::wake_up(); });
+            session.scaling.on_frame_wanted = [] { GlfwWindow::wake_up(); };
             if (first_preset && !session.presets.entries().empty()) {
                 session.presets.load(0, state, session);
             } else {
@@ -366,10 +368,18 @@ int run_window(AppState state, const std::string& preset_path, bool lecture, boo
             // where they could stop, and waiting for them (the workers are joined below)
             // would keep a closed window's process alive. Nothing is left to save, so the
             // process ends here.
+            // A load writing the mesh cache's copy is cancelled first (a second at most), so
+            // that its temporary file is removed.
+            if (session.loader.busy()) {
+                session.loader.cancel();
+                const auto asked = clock::now();
+                while (session.loader.busy() && clock::now() - asked < std::chrono::seconds(1))
+                    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+            }
             if (session.loader.busy() || session.build_stepper.busy() || session.ray_cast.busy() ||
                 session.surface_cast.busy() ||
                 session.stepper.has_pending_work() || session.comparison.busy() ||
-                session.two_bvhs.busy() || session.slice.busy()) {
+                session.two_bvhs.busy() || session.slice.busy() || session.scaling.busy()) {
                 std::cout.flush();
                 std::cerr.flush();
                 std::_Exit(exit_code);

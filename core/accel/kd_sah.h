@@ -72,11 +72,12 @@ void sweep_kd_sah(const std::vector<SpatialRef>& refs, const Aabb& box, const Kd
         // Sweep the candidates (the merged, sorted lo and hi values) upwards.
         size_t i_lo = 0, i_hi = 0;
         while (i_lo < n || i_hi < n) {
-            const float s = i_hi >= n || (i_lo < n && los[i_lo] < his[i_hi]) ? los[i_lo] : his[i_hi];
+            const float value = i_hi >= n || (i_lo < n && los[i_lo] < his[i_hi]) ? los[i_lo] : his[i_hi];
             // Counts for this s: all lo < s were passed already; then consume values == s.
             const size_t below = i_lo;
-            while (i_lo < n && los[i_lo] == s) ++i_lo;
-            while (i_hi < n && his[i_hi] == s) ++i_hi;
+            while (i_lo < n && los[i_lo] == value) ++i_lo;
+            while (i_hi < n && his[i_hi] == value) ++i_hi;
+            const float s = value + 0.0f;  // -0 and +0 are one plane: +0, whichever the sort put first
             const size_t above = n - i_hi;
             if (!(s > box.lo[a] && s < box.hi[a])) continue;  // a plane on the boundary cuts nothing off
             visit(a, s, below, above, kd_split_cost(c, box, a, s, below, above, cross_section, perimeter_half, node_area));
@@ -115,7 +116,8 @@ KdPlane kd_cheapest_plane_by_counting(const std::vector<SpatialRef>& refs, const
             los[i] = i < n ? refs[i].box.lo[a] : kInfinity;
             his[i] = i < n ? refs[i].box.hi[a] : -kInfinity;
         }
-        const auto consider = [&](float s) {
+        const auto consider = [&](float value) {
+            const float s = value + 0.0f;  // as the sweep: +0 for -0
             if (!(s > box.lo[a] && s < box.hi[a])) return;
             uint32_t below = 0, above = 0;
             for (size_t j = 0; j < kLanes; ++j) {

@@ -228,10 +228,12 @@ bool write_mesh_cache(const std::filesystem::path& file, const ObjKey& key, cons
         write_pieces(mesh.indices.data(), index_bytes);
         out.close();
         if (!out || cancelled(progress)) {
+            if (progress) progress->clear_stage_label();
             std::filesystem::remove(temp, ec);
             return false;
         }
     }
+    if (progress) progress->clear_stage_label();
     std::filesystem::rename(temp, file, ec);
     if (!ec) return true;
     std::filesystem::remove(temp, ec);

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "core/accel/memory_budget.h"
 #include "core/geometry/scene.h"
 #include "core/render/rasterizer.h"
 #include "core/render/ray_caster.h"
@@ -18,11 +19,12 @@ double ms_between(std::chrono::steady_clock::time_point a, std::chrono::steady_c
     return std::chrono::duration<double, std::milli>(b - a).count();
 }
 
-/// The median of `repeat` runs of f (each returning its milliseconds).
+/// The median of `repeat` runs of f (each returning its milliseconds; for an even
+/// count the upper of the middle two). Stops early once `progress` is cancelled.
 template <class F>
-double median_ms(int repeat, F&& f) {
+double median_ms(int repeat, const WorkProgress* progress, F&& f) {
     std::vector<double> runs;
-    for (int i = 0; i < std::max(1, repeat); ++i) runs.push_back(f());
+    for (int i = 0; i < std::max(1, repeat) && (i == 0 || !cancelled(progress)); ++i) runs.push_back(f());
     std::sort(runs.begin(), runs.end());
     return runs[runs.size() / 2];
 }
@@ -46,7 +48,7 @@ std::string structure_name(const AccelConfig& c) {
 
 std::vector<uint64_t> scaling_copies(uint64_t triangles, uint64_t max_triangles) {
     std::vector<uint64_t> copies = {1};
-    while (triangles > 0 && copies.size() < 20 && 2 * copies.back() * triangles <= max_triangles)
+    while (triangles > 0 && copies.size() < kScalingMaxScenes && 2 * copies.back() * triangles <= max_triangles)
         copies.push_back(2 * copies.back());
     return copies;
 }
@@ -61,8 +63,10 @@ Expected<ScalingResult> measure_scaling(const Mesh& one, const ScalingOptions& o
     if (one.triangle_count() == 0) return Error{"the scaling chart needs a mesh with triangles"};
     if (options.structures.empty()) return Error{"the scaling chart needs at least one structure"};
     if (options.width < 1 || options.height < 1) return Error{"the scaling chart's frames need a size"};
-    for (const AccelConfig& c : options.structures)
+    for (const AccelConfig& c : options.structures) {
+        if (c.type == AccelType::Naive) return Error{"the scaling chart does not ray cast through naive: every triangle for every ray"};
         if (auto err = validate(c)) return *err;
+    }
     ScalingResult result;
     result.mesh_name = one.name;
     result.mesh_triangles = one.triangle_count();
@@ -80,43 +84,56 @@ Expected<ScalingResult> measure_scaling(const Mesh& one, const ScalingOptions& o
         const std::string scene_name =
             std::to_string(copies) + (copies == 1 ? " copy, " : " copies, ") +
             short_count(copies * one.triangle_count()) + " triangles";
+        // The scene, its triangle array and OpenGL's copy: refused beyond the memory budget.
+        const double scene_bytes = 3.0 * double(copies) * double(one.positions.size() * sizeof(Vec3) +
+                                                                 one.indices.size() * sizeof(one.indices[0]));
+        if (copies > 1 && scene_bytes > double(default_memory_budget())) {
+            result.stopped_early = "stopped before " + scene_name + ": it would need about " +
+                                   std::to_string(uint64_t(scene_bytes / 1e6)) + " MB, over the memory budget";
+            return result;
+        }
         step(scene_name + ": making the scene");
         auto mesh = repeat_on_grid(one, nx, nz, options.progress);
-        if (!mesh) return Error{mesh.error()};
+        if (!mesh) {
+            if (cancelled(options.progress) || result.points.empty()) return Error{mesh.error()};
+            result.stopped_early = "stopped before " + scene_name + ": " + mesh.error();
+            return result;
+        }
         const Camera camera(default_camera(mesh->bounds()), options.width, options.height);
         ScalingPoint point;
         point.copies = copies;
         point.triangles = mesh->triangle_count();
 
-        // The structures first: one that does not fit ends the series here.
-        std::vector<std::shared_ptr<const Accelerator>> built;
-        for (const AccelConfig& config : options.structures) {
-            step(scene_name + ": building " + structure_name(config));
-            const auto start = clock::now();
-            auto accel = build_accelerator(*mesh, config, options.progress);
-            if (!accel) {
-                if (cancelled(options.progress)) return WorkProgress::cancelled_error();
-                if (result.points.empty()) return Error{accel.error()};
-                result.stopped_early = "stopped before " + scene_name + ": " + accel.error();
-                return result;
-            }
-            point.build_ms.push_back(ms_between(start, clock::now()));
-            built.push_back(*accel);
-        }
-        const TriangleArray triangles = make_triangles(*mesh);
-        for (size_t k = 0; k < built.size(); ++k) {
-            step(scene_name + ": ray casting through " + structure_name(options.structures[k]));
-            ray_cast(*built[k], triangles, camera, {.threads = options.threads, .cancel = options.progress});  // warm
-            point.cast_ms.push_back(median_ms(options.repeat, [&] {
+        // One structure at a time: built, its frames cast, and freed before the next is
+        // built (a few structures over 20M triangles would not fit together). One that
+        // does not fit the memory budget ends the series here.
+        {
+            const TriangleArray triangles = make_triangles(*mesh);
+            for (const AccelConfig& config : options.structures) {
+                step(scene_name + ": building " + structure_name(config));
                 const auto start = clock::now();
-                ray_cast(*built[k], triangles, camera, {.threads = options.threads, .cancel = options.progress});
-                return ms_between(start, clock::now());
-            }));
-            if (cancelled(options.progress)) return WorkProgress::cancelled_error();
+                auto accel = build_accelerator(*mesh, config, options.progress);
+                if (!accel) {
+                    if (cancelled(options.progress)) return WorkProgress::cancelled_error();
+                    if (result.points.empty()) return Error{accel.error()};
+                    result.stopped_early = "stopped before " + scene_name + ": " + accel.error();
+                    return result;
+                }
+                point.build_ms.push_back(ms_between(start, clock::now()));
+                step(scene_name + ": ray casting through " + structure_name(config));
+                const RayCastOptions cast_options{.threads = options.threads, .cancel = options.progress};
+                ray_cast(**accel, triangles, camera, cast_options);  // not timed: caches and pages warm
+                point.cast_ms.push_back(median_ms(options.repeat, options.progress, [&] {
+                    const auto start_cast = clock::now();
+                    ray_cast(**accel, triangles, camera, cast_options);
+                    return ms_between(start_cast, clock::now());
+                }));
+                if (cancelled(options.progress)) return WorkProgress::cancelled_error();
+            }
         }
-        built.clear();
+        if (cancelled(options.progress)) return WorkProgress::cancelled_error();
         step(scene_name + ": rasterizing (CPU z-buffer)");
-        point.cpu_raster_ms = median_ms(options.repeat, [&] {
+        point.cpu_raster_ms = median_ms(options.repeat, options.progress, [&] {
             const auto start = clock::now();
             rasterize(*mesh, camera);
             return ms_between(start, clock::now());
@@ -177,7 +194,7 @@ std::string scaling_table(const ScalingResult& r) {
     char cell[64];
     const bool gl = std::any_of(r.points.begin(), r.points.end(), [](const ScalingPoint& p) { return p.gl_raster_ms; });
     out << r.mesh_name << " (" << r.mesh_triangles << " triangles) repeated; frames " << r.width << "x" << r.height
-        << ", builds and ray casts on " << r.threads << (r.threads == 1 ? " thread" : " threads")
+        << ", ray casts on " << r.threads << (r.threads == 1 ? " thread" : " threads")
         << ", the CPU rasterizer on one" << (r.gl_renderer.empty() ? "" : ", OpenGL: " + r.gl_renderer) << "\n\n";
     out << "| copies | triangles | raster CPU ms |" << (gl ? " raster OpenGL ms |" : "");
     for (const AccelConfig& c : r.structures)

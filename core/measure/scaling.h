@@ -29,8 +29,8 @@ struct ScalingOptions {
     std::vector<AccelConfig> structures = {AccelConfig{.type = AccelType::Bvh}};  ///< each built with these parameters
     uint64_t max_triangles = 10'500'000;  ///< the biggest scene's count is at most this (one copy at least)
     int width = 640, height = 360;        ///< every frame's size
-    int threads = 0;                      ///< the builds' and ray casts' threads (0: all cores)
-    int repeat = 3;                       ///< frames per figure; their median is kept
+    int threads = 0;                      ///< the ray casts' threads (0: all cores; builds use oneTBB's limit)
+    int repeat = 3;                       ///< frames per figure; their median (the upper middle one) is kept
     /// One rasterized frame of `mesh` by OpenGL, in milliseconds to glFinish, when the
     /// caller has a context (OSMesa for `render`, the window's own); empty: the CPU
     /// z-buffer only. Called `repeat` times per scene after one frame not timed.
@@ -63,15 +63,20 @@ struct ScalingResult {
     std::string stopped_early;
 };
 
+/// At most this many scenes (2^19 copies of a mesh).
+inline constexpr size_t kScalingMaxScenes = 20;
+
 /// The copies of each scene: 1, 2, 4, ... while copies x triangles <= max_triangles
-/// (always 1 first).
+/// (always 1 first), at most kScalingMaxScenes of them.
 std::vector<uint64_t> scaling_copies(uint64_t triangles, uint64_t max_triangles);
 /// The grid of `copies` (a power of two): nx = nz, or nx = 2·nz.
 std::pair<uint64_t, uint64_t> scaling_grid(uint64_t copies);
 
-/// Measures every scene of scaling_copies(one's triangles, max_triangles). A scene
-/// whose structure cannot be built (the memory budget) ends the series with
-/// stopped_early set; an empty mesh, or bad parameters, is an error.
+/// Measures every scene of scaling_copies(one's triangles, max_triangles), one
+/// structure at a time (built, cast, freed). A scene that cannot be made or whose
+/// structure cannot be built (the memory budget) ends the series with stopped_early
+/// set; an empty mesh, naive (every triangle for every ray) or bad parameters is an
+/// error.
 Expected<ScalingResult> measure_scaling(const Mesh& one, const ScalingOptions& options);
 
 /// The log-log chart: frame milliseconds against triangles, one line per raster and

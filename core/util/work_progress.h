@@ -28,6 +28,8 @@ public:
     }
     /// The current stage's label (null when it has none).
     const char* stage_label() const { return label_.load(std::memory_order_relaxed); }
+    /// The labelled part of a stage is over (what follows is the caller's own work).
+    void clear_stage_label() { label_.store(nullptr, std::memory_order_relaxed); }
     void advance(uint64_t units) { done_.fetch_add(units, std::memory_order_relaxed); }
     /// Done / total of the current stage, in [0, 1]; 0 before a stage has a total.
     double fraction() const {

@@ -312,7 +312,7 @@ TEST(ComparisonPanel, ClosedWhileMeasuringItMeasuresAgainWhenShownAgain) {
 }
 
 TEST(ScalingPanel, AHeadlessWaitDrawsOpenGLsFramesAndMeasuresEveryScene) {
-    auto context = OsMesaContext::create(64, 64);
+    auto context = OsMesaContext::create(96, 54);  // the frames' size
     ASSERT_TRUE(context) << context.error();
     auto renderer = Renderer::create();
     ASSERT_TRUE(renderer) << renderer.error();

@@ -2,6 +2,8 @@
 // pitfall made visible by --kd-strict-cell off, and the tree's invariants.
 #include <gtest/gtest.h>
 
+#include <bit>
+
 #include <tbb/global_control.h>
 
 #include "accel/space_partition_support.h"
@@ -284,7 +286,8 @@ TEST(KdTree, SmallNodesChooseBySweepsPlaneWhenCounting) {
     // (axis, position, cost) as the sweep's first cheapest, on boxes with shared
     // bounds (ties), bounds on the node's faces, and flat boxes.
     Rng rng(20261205);
-    const Aabb node{{0, 0, 0}, {4, 2, 1}};
+    // The node straddles 0 on every axis: candidates at -0 and +0 lie inside it.
+    const Aabb node{{-2, -1, -0.5f}, {2, 1, 0.5f}};
     KdConfig config;
     std::vector<float> los, his;
     SortScratch scratch;
@@ -295,8 +298,11 @@ TEST(KdTree, SmallNodesChooseBySweepsPlaneWhenCounting) {
             Aabb b;
             for (int a = 0; a < 3; ++a) {
                 // Coarse positions make shared bounds likely; some stay on the faces.
-                const float x = node.lo[a] + (node.hi[a] - node.lo[a]) * float(rng.below(9)) / 8.0f;
-                const float y = node.lo[a] + (node.hi[a] - node.lo[a]) * float(rng.below(9)) / 8.0f;
+                auto coarse = [&] {
+                    const float v = node.lo[a] + (node.hi[a] - node.lo[a]) * float(rng.below(9)) / 8.0f;
+                    return v == 0.0f && rng.below(2) ? -0.0f : v;  // both zeros
+                };
+                const float x = coarse(), y = coarse();
                 b.lo[a] = std::min(x, y);
                 b.hi[a] = trial % 7 == 0 ? b.lo[a] : std::max(x, y);
             }
@@ -309,7 +315,8 @@ TEST(KdTree, SmallNodesChooseBySweepsPlaneWhenCounting) {
         });
         const KdPlane counted = kd_cheapest_plane_by_counting(refs, node, config);
         ASSERT_EQ(counted.axis, swept.axis) << "trial " << trial;
-        ASSERT_EQ(counted.position, swept.position) << "trial " << trial;
+        ASSERT_EQ(std::bit_cast<uint32_t>(counted.position), std::bit_cast<uint32_t>(swept.position))
+            << "trial " << trial << ": the same bits, +0 for a plane at zero";
         ASSERT_EQ(counted.cost, swept.cost) << "trial " << trial;
     }
 }
