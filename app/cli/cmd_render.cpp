@@ -183,7 +183,8 @@ int run_render_gpu(const RenderOptions& opt, const AppState& state, CpuView view
 /// --scaling-accel, on a log-log chart (core/measure/scaling.h). The table goes to
 /// stderr.
 int run_render_scaling(const RenderOptions& opt, const AppState& state) {
-    if (opt.camera.any()) return fail("--view scaling frames each scene whole with its default camera: drop the camera flags");
+    if (opt.camera.any())
+        return fail("--view scaling frames each scene whole with its default camera: drop the camera flags");
     if (state.light.point_light() || opt.light.mirror)
         return fail("--view scaling times the headlight's picture: drop --shadows, --reflections, --light, --mirror");
     if (!state.accel.structure_file.empty())

@@ -57,7 +57,8 @@ Layout compute_layout(int width, int height, bool ui, bool split, RightPanel rig
     else if (right_panel == RightPanel::Stepper || right_panel == RightPanel::Nearest)
         layout.right_panel_width = std::floor(std::min(26.0f * font, 0.4f * float(width)));
     else if (right_panel == RightPanel::Scaling)
-        layout.right_panel_width = std::floor(std::min(32.0f * font, 0.5f * std::max(0.0f, float(width) - layout.sidebar_width)));
+        layout.right_panel_width =
+            std::floor(std::min(32.0f * font, 0.5f * std::max(0.0f, float(width) - layout.sidebar_width)));
     else if (right_panel == RightPanel::Comparison || right_panel == RightPanel::TwoBvhs)
         // a table of 8 columns and a chart, or two pictures side by side: most of the width
         layout.right_panel_width =

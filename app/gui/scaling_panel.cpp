@@ -129,8 +129,7 @@ void ScalingPanel::take_finished() {
     if (done->scaling) {
         result_ = std::move(*done);
         ++result_generation_;
-    }
-    else if (done->error != WorkProgress::cancelled_error().message) error_ = done->error;
+    } else if (done->error != WorkProgress::cancelled_error().message) error_ = done->error;
 }
 
 void ScalingPanel::update(const AppState& state, const std::shared_ptr<const LoadedScene>& scene, Renderer& renderer,

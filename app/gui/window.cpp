@@ -198,8 +198,9 @@ public:
         if (const ScalingResult* r = session.scaling.measured()) {
             nlohmann::json points = nlohmann::json::array();
             for (const ScalingPoint& p : r->points)
+                const nlohmann::json gl = p.gl_raster_ms ? nlohmann::json(*p.gl_raster_ms) : nlohmann::json(nullptr);
                 points.push_back({{"triangles", p.triangles},
-                                  {"gl_raster_ms", p.gl_raster_ms ? nlohmann::json(*p.gl_raster_ms) : nlohmann::json(nullptr)},
+                                  {"gl_raster_ms", gl},
                                   {"cpu_raster_ms", p.cpu_raster_ms},
                                   {"cast_ms", p.cast_ms}});
             j["scaling"] = {{"width", r->width}, {"height", r->height}, {"points", points}};

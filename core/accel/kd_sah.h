@@ -80,7 +80,8 @@ void sweep_kd_sah(const std::vector<SpatialRef>& refs, const Aabb& box, const Kd
             const float s = value + 0.0f;  // -0 and +0 are one plane: +0, whichever the sort put first
             const size_t above = n - i_hi;
             if (!(s > box.lo[a] && s < box.hi[a])) continue;  // a plane on the boundary cuts nothing off
-            visit(a, s, below, above, kd_split_cost(c, box, a, s, below, above, cross_section, perimeter_half, node_area));
+            visit(a, s, below, above,
+                  kd_split_cost(c, box, a, s, below, above, cross_section, perimeter_half, node_area));
         }
     }
 }

@@ -64,7 +64,8 @@ Expected<ScalingResult> measure_scaling(const Mesh& one, const ScalingOptions& o
     if (options.structures.empty()) return Error{"the scaling chart needs at least one structure"};
     if (options.width < 1 || options.height < 1) return Error{"the scaling chart's frames need a size"};
     for (const AccelConfig& c : options.structures) {
-        if (c.type == AccelType::Naive) return Error{"the scaling chart does not ray cast through naive: every triangle for every ray"};
+        if (c.type == AccelType::Naive)
+            return Error{"the scaling chart does not ray cast through naive: every triangle for every ray"};
         if (auto err = validate(c)) return *err;
     }
     ScalingResult result;

@@ -104,13 +104,13 @@ void draw_line_chart(Image& dst, int x0, int y0, int w, int h, const LineChart& 
         const Rgb faint{235, 235, 230};
         for (int d = int(y_lo); d <= int(y_hi); ++d) {
             for (double m : {2.0, 5.0})
-                if (d + std::log10(m) < y_hi) draw_line(dst, left, py(d + std::log10(m)), right, py(d + std::log10(m)), faint);
+                if (const double y = d + std::log10(m); y < y_hi) draw_line(dst, left, py(y), right, py(y), faint);
             draw_line(dst, left, py(d), right, py(d), grid);
             label_y(d, decade_text(d));
         }
         for (int d = int(x_lo); d <= int(x_hi); ++d) {
             for (double m : {2.0, 5.0})
-                if (d + std::log10(m) < x_hi) draw_line(dst, px(d + std::log10(m)), top, px(d + std::log10(m)), bottom, faint);
+                if (const double x = d + std::log10(m); x < x_hi) draw_line(dst, px(x), top, px(x), bottom, faint);
             draw_line(dst, px(d), top, px(d), bottom, grid);
             label_x(d, decade_text(d));
         }
