@@ -180,8 +180,11 @@ void ScalingPanel::draw(AppState& state, float width, bool lecture) {
             step = gl_->step;
         }
         ImGui::Text("Measuring: %s ...", step.c_str());
-        if (step.find("OpenGL") != std::string::npos && !lecture)
-            ImGui::TextDisabled("(the window pauses while OpenGL draws each of these frames)");
+        // Always a line here, so that the Cancel button below stays where it is.
+        if (!lecture)
+            ImGui::TextDisabled("%s", step.find("OpenGL") != std::string::npos
+                                          ? "(the window pauses while OpenGL draws each of these frames)"
+                                          : " ");
         progress_with_cancel(progress_.get(), width);
     } else {
         const bool changed = result_ && !(result_->settings.max_triangles == s.max_triangles &&

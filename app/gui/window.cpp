@@ -195,14 +195,16 @@ public:
                                  {"nodes_per_ray", tree.nodes_per_ray}});
             j["two_bvhs"] = {{"width", t->width}, {"height", t->height}, {"trees", trees}};
         }
+        j["scaling_measuring"] = session.scaling.busy();
         if (const ScalingResult* r = session.scaling.measured()) {
             nlohmann::json points = nlohmann::json::array();
-            for (const ScalingPoint& p : r->points)
+            for (const ScalingPoint& p : r->points) {
                 const nlohmann::json gl = p.gl_raster_ms ? nlohmann::json(*p.gl_raster_ms) : nlohmann::json(nullptr);
                 points.push_back({{"triangles", p.triangles},
                                   {"gl_raster_ms", gl},
                                   {"cpu_raster_ms", p.cpu_raster_ms},
                                   {"cast_ms", p.cast_ms}});
+            }
             j["scaling"] = {{"width", r->width}, {"height", r->height}, {"points", points}};
         }
         j["status"] = session.stats_bar.last_line;

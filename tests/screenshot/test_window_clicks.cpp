@@ -474,9 +474,11 @@ TEST(WindowClicks, TheScalingChartMeasuresTheMeshRepeatedAndGivesWayToTheCompari
     w.toggle("Frame time against triangles", "/scaling/open");
     // The default goes to millions of triangles: the first measurement is cancelled by
     // a smaller limit picked on the slider and "Measure with these settings".
-    json s = w.wait_for("a measurement under way", [](const json& snap) { return snap["busy"].get<bool>(); });
+    json s = w.wait_for("a measurement under way", [](const json& snap) { return snap["scaling_measuring"].get<bool>(); });
     w.click("Cancel", "##scaling");
-    w.wait_for("cancelled", [](const json& snap) { return !snap["busy"].get<bool>(); });
+    w.wait_for("cancelled", [](const json& snap) {
+        return !snap["scaling_measuring"].get<bool>() && !snap.contains("scaling");  // no result: it stopped
+    });
     w.ctrl_click_type("up to (million triangles)", "0.02", "##scaling");
     w.click("Measure again", "##scaling");
     s = w.wait_for("measured, OpenGL's frames drawn by the window", [](const json& snap) {
