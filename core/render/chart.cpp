@@ -102,17 +102,25 @@ void draw_line_chart(Image& dst, int x0, int y0, int w, int h, const LineChart& 
     };
     if (chart.log_log) {
         const Rgb faint{235, 235, 230};
+        // Every k-th decade labelled when the labels would crowd (wide ranges, small charts).
+        int label_w = 0, label_h = 0;
+        text_size("100M", s, &label_w, &label_h);
+        const auto label_step = [](double decades, int label, int length) {
+            return std::max(1, int(std::ceil(decades * label / std::max(1, length))));
+        };
+        const int y_every = label_step(y_hi - y_lo, label_h + 2 * s, bottom - top);
+        const int x_every = label_step(x_hi - x_lo, label_w + 4 * s, right - left);
         for (int d = int(y_lo); d <= int(y_hi); ++d) {
             for (double m : {2.0, 5.0})
                 if (const double y = d + std::log10(m); y < y_hi) draw_line(dst, left, py(y), right, py(y), faint);
             draw_line(dst, left, py(d), right, py(d), grid);
-            label_y(d, decade_text(d));
+            if ((d - int(y_lo)) % y_every == 0) label_y(d, decade_text(d));
         }
         for (int d = int(x_lo); d <= int(x_hi); ++d) {
             for (double m : {2.0, 5.0})
                 if (const double x = d + std::log10(m); x < x_hi) draw_line(dst, px(x), top, px(x), bottom, faint);
             draw_line(dst, px(d), top, px(d), bottom, grid);
-            label_x(d, decade_text(d));
+            if ((d - int(x_lo)) % x_every == 0) label_x(d, decade_text(d));
         }
     } else {
         for (double y = 0; y <= y_hi * (1 + 1e-9) && y <= 50 * y_step; y += y_step) {
