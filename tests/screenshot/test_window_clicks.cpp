@@ -275,38 +275,29 @@ public:
     /// sidebar still moving after a slow frame can miss it; then it is clicked
     /// again), and Return is waited for (the field lets go of the keyboard).
     void type_into(const std::string& label, const std::string& text) {
-        auto typing_into = [&](const json& s) { return s.value("typing_into", std::string()) == label; };
-        for (int attempt = 0;; ++attempt) {
-            click(label);
-            const auto start = Clock::now();
-            bool active = false;
-            while (!active && Clock::now() - start < std::chrono::seconds(3)) {
-                const json s = snapshot();
-                active = !s.is_null() && typing_into(s);
-                if (!active) std::this_thread::sleep_for(std::chrono::milliseconds(20));
-            }
-            if (active) break;
-            if (attempt == 3) {
-                ADD_FAILURE() << "the text field '" << label << "' did not take the keyboard";
-                return;
-            }
-        }
-        run("xdotool key ctrl+a BackSpace");
-        run("xdotool type --delay 5 '" + text + "'");
-        key("Return");
-        wait_for("the text field '" + label + "' to let go", [&](const json& s) { return !typing_into(s); });
+        replace_text(label, text, "the text field '" + label + "'", [&] { click(label); });
     }
 
     /// Ctrl+clicks the slider `label` (in `window`), which ImGui turns into a text field,
     /// types `text` and presses Return: how a user enters an exact value.
     void ctrl_click_type(const std::string& label, const std::string& text, const std::string& window) {
-        auto typing_into = [&](const json& s) { return s.value("typing_into", std::string()) == label; };
-        for (int attempt = 0;; ++attempt) {
+        replace_text(label, text, "the slider '" + label + "'", [&] {
             const Widget w = visible(label, window);
             move_to(w.cx(), w.cy());
             run("xdotool keydown ctrl");
             press_and_release();
             run("xdotool keyup ctrl");
+        });
+    }
+
+    /// Focuses the field `label` by `focus` (tried again, up to four times, until the
+    /// field has the keyboard), then replaces its text by `text`, presses Return and
+    /// waits for the field to let go. `what` names it in failures.
+    void replace_text(const std::string& label, const std::string& text, const std::string& what,
+                      const std::function<void()>& focus) {
+        auto typing_into = [&](const json& s) { return s.value("typing_into", std::string()) == label; };
+        for (int attempt = 0;; ++attempt) {
+            focus();
             const auto start = Clock::now();
             bool active = false;
             while (!active && Clock::now() - start < std::chrono::seconds(3)) {
@@ -316,14 +307,14 @@ public:
             }
             if (active) break;
             if (attempt == 3) {
-                ADD_FAILURE() << "the slider '" << label << "' did not turn into a text field";
+                ADD_FAILURE() << what << " did not take the keyboard";
                 return;
             }
         }
         run("xdotool key ctrl+a BackSpace");
         run("xdotool type --delay 5 '" + text + "'");
         key("Return");
-        wait_for("the slider '" + label + "' to let go", [&](const json& s) { return !typing_into(s); });
+        wait_for(what + " to let go", [&](const json& s) { return !typing_into(s); });
     }
 
     /// What a window manager sends when the user clicks the window's close button:
