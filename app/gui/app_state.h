@@ -148,13 +148,6 @@ struct BuildStepSettings {
 /// The font size in pixels for a UI scale (16 px at scale 1, 8 to 64 px).
 int font_pixels(float ui_scale);
 
-/// AccelConfig's defaults with type "bvh".
-inline AccelConfig bvh_config_default() {
-    AccelConfig config;
-    config.type = AccelType::Bvh;
-    return config;
-}
-
 /// The traversal stepper: one ray, recorded once through the current
 /// structure, stepped event by event. The ray and the step are state (presets
 /// and `render --view step` reproduce them); playing is not (no animation in a

@@ -45,6 +45,13 @@ struct AccelConfig {
     std::string structure_file;
 };
 
+/// AccelConfig's defaults with type "bvh".
+inline AccelConfig bvh_config_default() {
+    AccelConfig config;
+    config.type = AccelType::Bvh;
+    return config;
+}
+
 /// Whether the structure `config.type` can be built with these parameters (the
 /// shared flags applied over its own); the first bad one as a one-line message naming
 /// its command-line flag. build_accelerator() checks the same.

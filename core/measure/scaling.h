@@ -26,7 +26,7 @@
 namespace accelviz {
 
 struct ScalingOptions {
-    std::vector<AccelConfig> structures = {AccelConfig{.type = AccelType::Bvh}};  ///< each built with these parameters
+    std::vector<AccelConfig> structures = {bvh_config_default()};  ///< each built with these parameters
     uint64_t max_triangles = 10'500'000;  ///< the biggest scene's count is at most this (one copy at least)
     int width = 640, height = 360;        ///< every frame's size
     int threads = 0;                      ///< the ray casts' threads (0: all cores; builds use oneTBB's limit)

@@ -325,7 +325,7 @@ TEST(GoldenImage, ScalingChartOnLogLogAxes) {
     // BVH's ray cast hardly.
     ScalingResult r;
     r.mesh_name = "../shared/assets/bunny.obj";
-    r.structures = {AccelConfig{.type = AccelType::Bvh}};
+    r.structures = {bvh_config_default()};
     r.width = 1280;
     r.height = 720;
     r.threads = 2;

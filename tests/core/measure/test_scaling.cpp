@@ -24,7 +24,7 @@ TEST(Scaling, EveryScenesFramesAreMeasuredThroughEveryStructure) {
     ScalingOptions options;
     AccelConfig grid;
     grid.type = AccelType::Grid;
-    options.structures = {AccelConfig{.type = AccelType::Bvh}, grid};
+    options.structures = {bvh_config_default(), grid};
     options.max_triangles = 4 * n;
     options.width = 64;
     options.height = 36;
