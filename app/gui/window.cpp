@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <thread>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -371,14 +370,6 @@ int run_window(AppState state, const std::string& preset_path, bool lecture, boo
             // where they could stop, and waiting for them (the workers are joined below)
             // would keep a closed window's process alive. Nothing is left to save, so the
             // process ends here.
-            // A load writing the mesh cache's copy is cancelled first (a second at most), so
-            // that its temporary file is removed.
-            if (session.loader.busy()) {
-                session.loader.cancel();
-                const auto asked = clock::now();
-                while (session.loader.busy() && clock::now() - asked < std::chrono::seconds(1))
-                    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-            }
             if (session.loader.busy() || session.build_stepper.busy() || session.ray_cast.busy() ||
                 session.surface_cast.busy() ||
                 session.stepper.has_pending_work() || session.comparison.busy() ||
