@@ -462,20 +462,22 @@ Expected<Bvh> build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecor
             tree = build_subtree(*splitter, root, config, *store, progress);
         }
         if (cancelled(progress)) return WorkProgress::cancelled_error();
-        bvh.nodes.resize(node_count(*tree));
-        std::vector<Placement> parts;
-        place(*tree, 0, 1, bvh.nodes, parts, stats.decisions);
-        tbb::parallel_for(size_t(0), parts.size(), [&](size_t k) { copy_part(parts[k], bvh.nodes); });
-        store.reset();
-
+        // Each big array is made only after the one before it is freed: the peak is
+        // lower, and the new array gets the pages just given back (a fresh page costs
+        // the kernel a zeroing, and on a virtual machine often the host a fault: at
+        // 10M triangles making the node array while the build records were still held
+        // took 0.7-0.8 s of a 3.5 s build; see docs/performance.md).
         // Leaf order: the triangles of each leaf next to each other, as the traversal reads them.
         bvh.prim_ids.resize(n);
         tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n, kParallelChunk), [&](const tbb::blocked_range<uint32_t>& r) {
             for (uint32_t k = r.begin(); k < r.end(); ++k) bvh.prim_ids[k] = splitter->prim_id(k);
         });
-        // The build records go before the leaf-order copy is made, so the two are never in
-        // memory together (a lower peak).
-        splitter.reset();
+        splitter.reset();  // the build records
+        bvh.nodes.resize(node_count(*tree));
+        std::vector<Placement> parts;
+        place(*tree, 0, 1, bvh.nodes, parts, stats.decisions);
+        tbb::parallel_for(size_t(0), parts.size(), [&](size_t k) { copy_part(parts[k], bvh.nodes); });
+        store.reset();
         copy_triangles_in_leaf_order(mesh, bvh);
     }
 
