@@ -166,6 +166,22 @@ public:
         for (uint32_t i = 0; i < n; ++i) bins[i] = map(refs[i]);
         SplitChoice best;
         const float area = bounds.area();
+        if (n == 2) {
+            // Two triangles (most of a big tree's splits): every plane between their
+            // bins puts one on each side, in the same two boxes, so all such planes
+            // cost the same and the first one found wins (is_better_split): the plane
+            // just after the lower bin on the first axis where their bins differ.
+            for (int axis = 0; axis < 3; ++axis) {
+                const int a = bins[0].index[axis], b = bins[1].index[axis];
+                if (!usable[axis] || a == b) continue;
+                const Box4& lower = refs[a < b ? 0 : 1].box;
+                const Box4& upper = refs[a < b ? 1 : 0].box;
+                keep_if_better(best, model_.split_cost(area, lower.area(), 1, upper.area(), 1), axis,
+                               std::min(a, b) + 1, 1, n);
+                return best;
+            }
+            return best;
+        }
         for (int axis = 0; axis < 3; ++axis) {
             if (!usable[axis]) continue;
             // Positions sorted by bin, ties by position: keys bin · 4 + position (missing
