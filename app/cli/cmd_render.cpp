@@ -156,9 +156,8 @@ int run_render_gpu(const RenderOptions& opt, const AppState& state, CpuView view
     if (!caster) return fail("--gpu: " + caster.error());
     if (auto err = (*caster)->upload(*bvh)) return fail("--gpu: " + err->message);
     const GpuCast gpu = (*caster)->cast(camera);
-    const TriangleArray triangles = make_triangles(*mesh);
     const auto start = std::chrono::steady_clock::now();
-    const Frame cpu = ray_cast(**accel, triangles, camera, {.threads = opt.threads});
+    const Frame cpu = ray_cast(**accel, *mesh, camera, {.threads = opt.threads});
     const double cpu_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     const GpuAgreement agree = compare_with_cpu(gpu, cpu.tri, cpu.depth);
     std::fprintf(stderr,
@@ -467,16 +466,15 @@ int run_render(const RenderOptions& given) {
         if (!accel) return fail(accel.error());
         const double build_ms = ms_since(start);
         print_memory_budget_note(**accel, "render");
-        const TriangleArray triangles = make_triangles(*mesh);
         const std::optional<Lighting> lighting = lighting_for(state.light, *mesh, mesh->bounds());
         start = clock::now();
-        ray_frame = ray_cast(**accel, triangles, camera,
+        ray_frame = ray_cast(**accel, *mesh, camera,
                              {.threads = opt.threads, .count_work = count_work, .lighting = lighting ? &*lighting : nullptr});
         std::fprintf(stderr, "ray cast (%s): build %.1f ms, frame %.1f ms\n", accel_name(state).c_str(), build_ms,
                      ms_since(start));
         work.ray_work = ray_frame.work;
         work.ray_work_counted = count_work;
-        if (lighting && lighting->shadows) print_shadow_lesson(measure_shadow_queries(**accel, triangles, camera, *lighting, opt.threads));
+        if (lighting && lighting->shadows) print_shadow_lesson(measure_shadow_queries(**accel, *mesh, camera, *lighting, opt.threads));
         if (lighting && lighting->reflections && mesh->mirror.empty())
             std::fprintf(stderr, "render: note: %s has no mirror triangles (builtin:cornell-mirror has): no reflections\n",
                          state.scene.c_str());

@@ -33,7 +33,7 @@ void RayCastView::request(const std::shared_ptr<const LoadedScene>& scene, const
         Result r;
         r.key = key;
         r.scene = scene;
-        r.frame = ray_cast(*scene->accel, make_triangles(*scene->mesh), Camera(key.camera, key.width, key.height),
+        r.frame = ray_cast(*scene->accel, *scene->mesh, Camera(key.camera, key.width, key.height),
                            options);
         r.milliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
         r.cancelled = cancel->cancelled();

@@ -16,14 +16,7 @@ struct SurfaceCast::Result {
     bool cancelled = false;
 };
 
-/// The triangles the shading reads (made once per mesh: 48 bytes a triangle, so
-/// not per frame at ten million). Used by the worker alone.
-struct SurfaceCast::TriangleCache {
-    std::shared_ptr<const Mesh> mesh;
-    TriangleArray triangles;
-};
-
-SurfaceCast::SurfaceCast() : triangles_(std::make_shared<TriangleCache>()) { job_.keep_superseded = true; }
+SurfaceCast::SurfaceCast() { job_.keep_superseded = true; }
 
 void SurfaceCast::request(const std::shared_ptr<const LoadedScene>& scene, uint64_t scene_generation,
                           const CameraParams& camera, int width, int height, bool wait, bool full,
@@ -38,23 +31,18 @@ void SurfaceCast::request(const std::shared_ptr<const LoadedScene>& scene, uint6
     // (it is quick, and shown until a newer one is).
     if (cancel_ && requested_.divisor == 1) cancel_->cancel();
     requested_ = key;
-    cache_filled_ = true;
     cancel_ = std::make_shared<WorkProgress>();
-    job_.submit([key, scene, cancel = cancel_, cache = triangles_] {
+    job_.submit([key, scene, cancel = cancel_] {
         auto r = std::make_shared<Result>();
         r->key = key;
         r->scene = scene;
-        if (cache->mesh != scene->mesh) {
-            cache->triangles = make_triangles(*scene->mesh);
-            cache->mesh = scene->mesh;
-        }
         const int w = (key.width + key.divisor - 1) / key.divisor, h = (key.height + key.divisor - 1) / key.divisor;
         RayCastOptions options;
         options.cancel = cancel.get();
         const std::optional<Lighting> lighting = lighting_for(key.light, *scene->mesh, scene->bounds);
         options.lighting = lighting ? &*lighting : nullptr;
         const auto start = std::chrono::steady_clock::now();  // the cast alone (auto compares it with the raster)
-        Frame frame = ray_cast(*scene->accel, cache->triangles, Camera(key.camera, w, h), options);
+        Frame frame = ray_cast(*scene->accel, *scene->mesh, Camera(key.camera, w, h), options);
         r->milliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
         r->cancelled = cancel->cancelled();
         if (r->cancelled) return r;
@@ -91,15 +79,6 @@ void SurfaceCast::cancel() {
 void SurfaceCast::release() {
     cancel();
     shown_.reset();
-    if (!cache_filled_) return;
-    cache_filled_ = false;
-    job_.submit([cache = triangles_] {  // the cache is the worker's: emptied there, after any cast
-        cache->mesh.reset();
-        cache->triangles = TriangleArray{};
-        auto r = std::make_shared<Result>();
-        r->cancelled = true;  // no picture
-        return r;
-    });
 }
 
 }  // namespace accelviz

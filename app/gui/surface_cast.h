@@ -65,8 +65,7 @@ public:
 
     /// Stops a cast under way (the ray caster is no longer drawing the mesh).
     void cancel();
-    /// cancel(), and lets go of the shading's triangle array (48 bytes a triangle:
-    /// about 0.5 GB at ten million) once nothing is cast any more.
+    /// cancel(), and forgets the picture shown (the ray caster no longer draws the mesh).
     void release();
     bool busy() const { return job_.busy(); }
     bool has_result() const { return job_.has_result(); }
@@ -77,8 +76,6 @@ public:
 
 private:
     struct Result;
-    struct TriangleCache;
-    std::shared_ptr<TriangleCache> triangles_;  ///< the shading's triangles, made on the worker once per mesh
     std::shared_ptr<WorkProgress> cancel_;      ///< the newest cast's
     LatestJob<std::shared_ptr<Result>> job_;
     Key requested_;
@@ -88,7 +85,6 @@ private:
     std::unique_ptr<Texture> colour_, depth_;  ///< made at the first picture (a Session may have no GL)
     uint64_t measured_scene_ = 0;
     double full_ms_ = 0;
-    bool cache_filled_ = false;  ///< a cast was asked for since the last release
 };
 
 }  // namespace accelviz

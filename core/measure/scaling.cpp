@@ -109,7 +109,6 @@ Expected<ScalingResult> measure_scaling(const Mesh& one, const ScalingOptions& o
         // built (a few structures over 20M triangles would not fit together). One that
         // does not fit the memory budget ends the series here.
         {
-            const TriangleArray triangles = make_triangles(*mesh);
             for (const AccelConfig& config : options.structures) {
                 step(scene_name + ": building " + structure_name(config));
                 const auto start = clock::now();
@@ -123,10 +122,10 @@ Expected<ScalingResult> measure_scaling(const Mesh& one, const ScalingOptions& o
                 point.build_ms.push_back(ms_between(start, clock::now()));
                 step(scene_name + ": ray casting through " + structure_name(config));
                 const RayCastOptions cast_options{.threads = options.threads, .cancel = options.progress};
-                ray_cast(**accel, triangles, camera, cast_options);  // not timed: caches and pages warm
+                ray_cast(**accel, *mesh, camera, cast_options);  // not timed: caches and pages warm
                 point.cast_ms.push_back(median_ms(options.repeat, options.progress, [&] {
                     const auto start_cast = clock::now();
-                    ray_cast(**accel, triangles, camera, cast_options);
+                    ray_cast(**accel, *mesh, camera, cast_options);
                     return ms_between(start_cast, clock::now());
                 }));
                 if (cancelled(options.progress)) return WorkProgress::cancelled_error();

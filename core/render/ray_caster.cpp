@@ -18,7 +18,7 @@ namespace {
 /// Traces one pixel's rays, counting each kind's work when asked.
 struct PixelTracer {
     const Accelerator& accel;
-    const TriangleArray& triangles;
+    const Mesh& mesh;
     const Lighting* lighting;
     bool count;
     Counters shadow, reflection;  ///< this pixel's secondary rays' work
@@ -43,7 +43,7 @@ struct PixelTracer {
 
     /// The colour of `hit`, seen along `ray`; `bounce` 0 for a camera ray.
     Rgb shade(const Hit& hit, const Ray& ray, int bounce) {
-        const Triangle& tri = triangles[hit.tri];
+        const Triangle tri = mesh.triangle(hit.tri);
         if (!lighting) return headlight_shade(tri, ray.dir);
         if (lighting->reflections && bounce == 0 && lighting->is_mirror(hit.tri)) {
             const Ray mirrored = reflection_ray(tri, hit.u, hit.v, ray.dir);
@@ -74,7 +74,7 @@ int effective_threads(int requested) {
     return requested <= 0 ? cores : std::min(requested, cores);
 }
 
-Frame ray_cast(const Accelerator& accel, const TriangleArray& triangles,
+Frame ray_cast(const Accelerator& accel, const Mesh& mesh,
                const Camera& camera, const RayCastOptions& options) {
     Frame frame(camera.width(), camera.height());
     if (options.count_work) {
@@ -113,7 +113,7 @@ Frame ray_cast(const Accelerator& accel, const TriangleArray& triangles,
                     frame.colour.pixels[i] = kBackground;
                     continue;
                 }
-                PixelTracer tracer{accel, triangles, options.lighting, options.count_work, {}, {}};
+                PixelTracer tracer{accel, mesh, options.lighting, options.count_work, {}, {}};
                 frame.colour.pixels[i] = tracer.shade(hit, ray, 0);
                 if (options.count_work) {
                     add_secondary(frame.shadow, i, tracer.shadow, tracer.shadow_rays, shadow_work);
@@ -144,7 +144,7 @@ Frame ray_cast(const Accelerator& accel, const TriangleArray& triangles,
     return frame;
 }
 
-ShadowQueryWork measure_shadow_queries(const Accelerator& accel, const TriangleArray& triangles, const Camera& camera,
+ShadowQueryWork measure_shadow_queries(const Accelerator& accel, const Mesh& mesh, const Camera& camera,
                                        const Lighting& lighting, int threads) {
     tbb::combinable<ShadowQueryWork> sums;
     auto trace_rows = [&](const tbb::blocked_range<int>& rows) {
@@ -154,7 +154,7 @@ ShadowQueryWork measure_shadow_queries(const Accelerator& accel, const TriangleA
                 const Ray ray = camera.ray(x, y);
                 const Hit hit = accel.intersect_closest(ray);
                 if (!hit.found() || lighting.is_mirror(hit.tri)) continue;
-                const std::optional<Ray> segment = shadow_ray(triangles[hit.tri], hit.u, hit.v, ray.dir, lighting.light);
+                const std::optional<Ray> segment = shadow_ray(mesh.triangle(hit.tri), hit.u, hit.v, ray.dir, lighting.light);
                 if (!segment) continue;
                 CountingObserver any, closest;
                 const bool blocked = accel.intersect_any(*segment, any);

@@ -3,6 +3,7 @@
 /// 16x16 tiles with oneTBB.
 
 #include "core/accel/accelerator.h"
+#include "core/geometry/mesh.h"
 #include "core/render/camera.h"
 #include "core/util/work_progress.h"
 #include "core/render/frame.h"
@@ -25,11 +26,12 @@ struct RayCastOptions {
     const Lighting* lighting = nullptr;
 };
 
-/// Casts every pixel's primary ray through `accel`. `triangles` (by id) are used for
-/// shading. With a lighting: a shadow ray from each hit to the light (any-hit), and
+/// Casts every pixel's primary ray through `accel`. The hit triangle is read from
+/// `mesh` (by id) for shading: one triangle per hit pixel, so no copy of the mesh's
+/// triangles is made (at 10M triangles such a copy is 500 MB). With a lighting: a shadow ray from each hit to the light (any-hit), and
 /// from a mirror one reflection ray (closest-hit), whose hit is shaded with its own
 /// shadow ray; one bounce, so a mirror seen in a mirror is shaded as a wall.
-Frame ray_cast(const Accelerator& accel, const TriangleArray& triangles,
+Frame ray_cast(const Accelerator& accel, const Mesh& mesh,
                const Camera& camera, const RayCastOptions& options = {});
 
 /// The lesson of the any-hit query: every shadow ray of a picture (one per pixel that
@@ -42,7 +44,7 @@ struct ShadowQueryWork {
     Counters any_hit, closest_hit;                  ///< over all the shadow rays
     Counters any_hit_blocked, closest_hit_blocked;  ///< over the blocked ones (where they differ)
 };
-ShadowQueryWork measure_shadow_queries(const Accelerator& accel, const TriangleArray& triangles, const Camera& camera,
+ShadowQueryWork measure_shadow_queries(const Accelerator& accel, const Mesh& mesh, const Camera& camera,
                                        const Lighting& lighting, int threads = 0);
 
 }  // namespace accelviz

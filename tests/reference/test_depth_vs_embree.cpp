@@ -40,7 +40,7 @@ Agreement compare_with_embree(const Mesh& mesh, int width, int height) {
     config.type = AccelType::Bvh;  // the default BVH: SAH binned, ordered (exact against brute force: tests/core/accel)
     auto accel = build_accelerator(mesh, config);
     EXPECT_TRUE(bool(accel));
-    const Frame ours = ray_cast(**accel, make_triangles(mesh), camera, {.threads = 0});
+    const Frame ours = ray_cast(**accel, mesh, camera, {.threads = 0});
 
     std::vector<Ray> rays;
     for (int y = 0; y < height; ++y)

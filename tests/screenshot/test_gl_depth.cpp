@@ -48,7 +48,7 @@ DepthAgreement gl_against_ray_caster(const DepthCase& c, int width, int height) 
     auto accel = build_accelerator(*mesh, naive);
     EXPECT_TRUE(accel) << accel.error();
     if (!accel) return {};
-    const Frame ray = ray_cast(**accel, make_triangles(*mesh), Camera(view.camera, width, height));
+    const Frame ray = ray_cast(**accel, *mesh, Camera(view.camera, width, height));
 
     const DepthAgreement agreement = compare_depths(gl_frame, ray, 1e-4);
     EXPECT_GT(agreement.covered_by_both, size_t(width * height / 10)) << c.name << ": the scene should fill the view";

@@ -186,7 +186,7 @@ CpuFrames cpu_frames(int width, int height) {
     auto accel = build_accelerator(*mesh, config);
     EXPECT_TRUE(accel) << accel.error();
     const Camera camera(CameraParams{{2.2, 1.6, 3.4}, {0, 0.45, 0}, {0, 1, 0}, 45}, width, height);
-    out.ray = ray_cast(**accel, make_triangles(*mesh), camera, {.threads = 0, .count_work = true});
+    out.ray = ray_cast(**accel, *mesh, camera, {.threads = 0, .count_work = true});
     out.raster = rasterize(*mesh, camera, &out.work.raster_work);
     out.work.accel_name = "grid";
     out.work.ray_work = out.ray.work;

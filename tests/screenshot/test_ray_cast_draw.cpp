@@ -60,7 +60,7 @@ TEST(RayCastDraw, DepthReadBackIsTheRayCastersT) {
     naive.type = AccelType::Naive;
     auto accel = build_accelerator(*mesh, naive);
     ASSERT_TRUE(accel) << accel.error();
-    const Frame ray = ray_cast(**accel, make_triangles(*mesh), Camera(render->view.camera, width, height));
+    const Frame ray = ray_cast(**accel, *mesh, Camera(render->view.camera, width, height));
     const DepthAgreement agreement = compare_depths(gl_frame, ray, 1e-4);
     EXPECT_GT(agreement.covered_by_both, size_t(width * height / 10));
     // The same rays, the same structure's answer: only the depth buffer's 24 bits round t.

@@ -86,7 +86,7 @@ TEST(ObjObjects, BuiltinMirrorFlagsExactlyThatObjectAndTheRayCasterReflectsOffIt
     lighting.light = {2, 2.5, 1};
     lighting.reflections = true;
     lighting.mirror = mesh->mirror;
-    const Frame frame = ray_cast(**accel, make_triangles(*mesh), camera, {.threads = 1, .count_work = true, .lighting = &lighting});
+    const Frame frame = ray_cast(**accel, *mesh, camera, {.threads = 1, .count_work = true, .lighting = &lighting});
     size_t on_mirror = 0;
     for (uint32_t tri : frame.tri) on_mirror += tri != Hit::kNoHit && mesh->mirror[tri] ? 1 : 0;
     EXPECT_GT(on_mirror, 100u) << "the camera sees the floor";

@@ -65,7 +65,7 @@ TEST(FillOrder, TheRayCastAfterPPixelsIsItsFirstPPixelsInRowOrder) {
     config.type = AccelType::Bvh;
     auto accel = build_accelerator(mesh, config);
     ASSERT_TRUE(accel) << accel.error();
-    const Frame frame = ray_cast(**accel, make_triangles(mesh), camera, {.count_work = true});
+    const Frame frame = ray_cast(**accel, mesh, camera, {.count_work = true});
     const uint64_t p = 48 * 10 + 7;
     RayFillCounts counts;
     const Image image = ray_cast_fill_image(frame, p, &counts);

@@ -147,7 +147,7 @@ TEST(ShadowRays, NoAcneOnATiltedFloorAtAnyScaleOrDistanceFromTheOrigin) {
             config.type = type;
             auto accel = build_accelerator(mesh, config);
             ASSERT_TRUE(accel) << accel.error();
-            const Frame frame = ray_cast(**accel, triangles, camera, {.threads = 1, .count_work = true, .lighting = &lighting});
+            const Frame frame = ray_cast(**accel, mesh, camera, {.threads = 1, .count_work = true, .lighting = &lighting});
             size_t floor = 0, dark = 0;
             for (int y = 0; y < camera.height(); ++y)
                 for (int x = 0; x < camera.width(); ++x) {
@@ -226,10 +226,9 @@ TEST(LitPicture, TheSameThroughEveryStructureWithShadowsAndReflections) {
     for (const std::string source : {"builtin:cornell-mirror", "builtin:teapot?n=6"}) {
         auto mesh = load_scene(source);
         ASSERT_TRUE(mesh) << mesh.error();
-        const TriangleArray triangles = make_triangles(*mesh);
         auto lighting = Lighting{default_light(mesh->bounds()), true, true, mesh->mirror};
         const Camera camera(default_camera(mesh->bounds()), 200, 150);
-        const Frame want = ray_cast(AcceleratorFor<BruteForce>(BruteForce(*mesh)), triangles, camera,
+        const Frame want = ray_cast(AcceleratorFor<BruteForce>(BruteForce(*mesh)), *mesh, camera,
                                     {.threads = 1, .count_work = true, .lighting = &lighting});
         EXPECT_GT(want.shadow.rays, 1000u) << source;
         if (source == "builtin:cornell-mirror") {
@@ -239,22 +238,22 @@ TEST(LitPicture, TheSameThroughEveryStructureWithShadowsAndReflections) {
             EXPECT_EQ(want.reflection.rays, 0u) << "the teapot has no mirrors";
         }
         // The light changes the picture (shadows, the mirror).
-        const Frame headlight = ray_cast(AcceleratorFor<BruteForce>(BruteForce(*mesh)), triangles, camera, {.threads = 1});
+        const Frame headlight = ray_cast(AcceleratorFor<BruteForce>(BruteForce(*mesh)), *mesh, camera, {.threads = 1});
         EXPECT_NE(headlight.colour.pixels, want.colour.pixels);
         // The watertight test's answers are brute force's running the same test.
         const Frame want_watertight =
-            ray_cast(AcceleratorFor<BruteForce>(BruteForce(*mesh, TriangleTestKind::Watertight)), triangles, camera,
+            ray_cast(AcceleratorFor<BruteForce>(BruteForce(*mesh, TriangleTestKind::Watertight)), *mesh, camera,
                      {.threads = 1, .lighting = &lighting});
         for (const auto& [label, config] : test::all_configurations()) {
             SCOPED_TRACE(label + " on " + source);
             auto accel = build_accelerator(*mesh, config);
             ASSERT_TRUE(accel) << accel.error();
             const Frame& oracle = config.triangle_test == TriangleTestKind::Watertight ? want_watertight : want;
-            const Frame got = ray_cast(**accel, triangles, camera, {.threads = 2, .lighting = &lighting});
+            const Frame got = ray_cast(**accel, *mesh, camera, {.threads = 2, .lighting = &lighting});
             EXPECT_EQ(got.colour.pixels, oracle.colour.pixels);
             EXPECT_EQ(got.tri, oracle.tri);
             if (&oracle != &want) continue;
-            const Frame counted = ray_cast(**accel, triangles, camera, {.threads = 2, .count_work = true, .lighting = &lighting});
+            const Frame counted = ray_cast(**accel, *mesh, camera, {.threads = 2, .count_work = true, .lighting = &lighting});
             EXPECT_EQ(counted.colour.pixels, want.colour.pixels) << "counting changes nothing";
             EXPECT_EQ(counted.shadow.rays, want.shadow.rays);
             EXPECT_EQ(counted.reflection.rays, want.reflection.rays);
@@ -265,7 +264,6 @@ TEST(LitPicture, TheSameThroughEveryStructureWithShadowsAndReflections) {
 TEST(LitPicture, AnyHitShadowRaysDoNoMoreWorkThanClosestHitOnTheSameSegments) {
     auto mesh = load_scene("builtin:teapot?n=8");
     ASSERT_TRUE(mesh) << mesh.error();
-    const TriangleArray triangles = make_triangles(*mesh);
     const Lighting lighting{default_light(mesh->bounds()), true, false, {}};
     const Camera camera(default_camera(mesh->bounds()), 160, 120);
     for (AccelType type : {AccelType::Naive, AccelType::Bvh, AccelType::Grid, AccelType::Kd, AccelType::Octree,
@@ -274,7 +272,7 @@ TEST(LitPicture, AnyHitShadowRaysDoNoMoreWorkThanClosestHitOnTheSameSegments) {
         config.type = type;
         auto accel = build_accelerator(*mesh, config);
         ASSERT_TRUE(accel) << accel.error();
-        const ShadowQueryWork w = measure_shadow_queries(**accel, triangles, camera, lighting, 1);
+        const ShadowQueryWork w = measure_shadow_queries(**accel, *mesh, camera, lighting, 1);
         SCOPED_TRACE(to_string(type));
         EXPECT_GT(w.rays, 1000u);
         EXPECT_GT(w.blocked, 50u) << "the spout and handle shadow the body";

@@ -26,7 +26,7 @@ namespace {
 CameraParams looking_down_minus_z(double fov_deg = 90) { return {{0, 0, 1}, {0, 0, 0}, {0, 1, 0}, fov_deg}; }
 
 Frame brute_force_ray_cast(const Mesh& mesh, const Camera& camera) {
-    return ray_cast(AcceleratorFor<BruteForce>(BruteForce(mesh)), make_triangles(mesh), camera);
+    return ray_cast(AcceleratorFor<BruteForce>(BruteForce(mesh)), mesh, camera);
 }
 
 /// The floor y = -1 seen from the origin: t = 1 / |dir.y| below the horizon.
@@ -373,7 +373,7 @@ Agreement raster_vs_ray_cast(const Mesh& mesh, int width, int height, double clo
     auto accel = build_accelerator(mesh, config);
     EXPECT_TRUE(accel.ok()) << accel.error();
     if (!accel.ok()) return {};
-    const Frame ray = ray_cast(**accel, make_triangles(mesh), cam);
+    const Frame ray = ray_cast(**accel, mesh, cam);
     Agreement a;
     const auto start = std::chrono::steady_clock::now();
     const Frame raster = rasterize(mesh, cam);
