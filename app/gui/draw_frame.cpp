@@ -264,7 +264,7 @@ void handle_view_input(AppState& state, Session& session, const Layout& layout) 
 /// into the ray distance t of that pixel's contract ray, and shown grey on the ray
 /// cast's scale (its own range until the ray cast is there).
 void draw_opengl_depth_as_grey(Session& session, Renderer& renderer, const View3D& view, const ViewRect& rect) {
-    renderer.draw_mesh(*session.mesh_buffer, MeshStyle{});
+    renderer.draw_mesh(session.mesh_for_raster(), MeshStyle{});
     Frame depth;
     depth.width = rect.width;
     depth.height = rect.height;
@@ -675,7 +675,7 @@ FrameLayout draw_scene(AppState& state, Renderer& renderer, Session& session, co
         } else if (build_step_3d) {
             // The construction stepper's picture replaces the structure overlay
             // (and the scene's bounds: the root's box is the first step's).
-            session.build_stepper.draw_3d(renderer, *session.mesh_buffer, state.build_step.step,
+            session.build_stepper.draw_3d(renderer, session.mesh_for_raster(), state.build_step.step,
                                           state.view.background);
         } else {
             // The mesh: its triangles rasterized, or the ray caster's picture with its depth.
@@ -690,7 +690,7 @@ FrameLayout draw_scene(AppState& state, Renderer& renderer, Session& session, co
                 const bool measure = state.view.draw_with == DrawWith::Auto && !input.deterministic;
                 if (measure) renderer.finish();
                 const auto start = std::chrono::steady_clock::now();
-                renderer.draw_mesh(*session.mesh_buffer, mesh_style);
+                renderer.draw_mesh(session.mesh_for_raster(), mesh_style);
                 if (!measure) return;
                 renderer.finish();
                 session.raster_mesh_ms =

@@ -142,13 +142,22 @@ void Session::upload_to_gpu(const OverlaySettings& settings) {
         overlay_settings = settings;
     }
     if (uploaded_generation == scene_generation) return;
-    if (!mesh_buffer) mesh_buffer = std::make_unique<MeshBuffer>();
+    // An earlier scene's mesh copy goes; this scene's is made if a frame rasterizes it.
+    if (mesh_generation_ != scene_generation) mesh_buffer_.reset();
     if (!bounds_buffer) bounds_buffer = std::make_unique<BoxBuffer>();
-    mesh_buffer->upload(*scene->mesh);
     std::vector<BoxInstance> bounds;
     if (!scene->bounds.empty()) bounds.push_back({scene->bounds.lo, scene->bounds.hi, Rgba8{110, 160, 240, 255}});
     bounds_buffer->upload(bounds);
     uploaded_generation = scene_generation;
+}
+
+MeshBuffer& Session::mesh_for_raster() {
+    if (!mesh_buffer_ || mesh_generation_ != scene_generation) {
+        if (!mesh_buffer_) mesh_buffer_ = std::make_unique<MeshBuffer>();
+        mesh_buffer_->upload(*scene->mesh);
+        mesh_generation_ = scene_generation;
+    }
+    return *mesh_buffer_;
 }
 
 }  // namespace accelviz

@@ -57,10 +57,14 @@ struct Session {
     std::string screenshot_path;
 
     // GPU copies of `scene` (made on the UI thread, which owns the context).
-    std::unique_ptr<MeshBuffer> mesh_buffer;
     std::unique_ptr<BoxBuffer> bounds_buffer;
     uint64_t scene_generation = 0;     ///< counts set_scene() calls
-    uint64_t uploaded_generation = 0;  ///< the generation the buffers hold
+    uint64_t uploaded_generation = 0;  ///< the generation bounds_buffer holds
+    /// The mesh's GPU copy, uploaded the first time a frame rasterizes it (call on
+    /// the GL thread, with a scene). A scene only ever ray cast (Draw with: auto picks
+    /// the ray caster for big meshes) never needs one: at 10M triangles the upload
+    /// takes about a second on llvmpipe, and the driver keeps its own copy.
+    MeshBuffer& mesh_for_raster();
 
     // The structure overlay of `scene` (and its GPU copy), remade when the scene
     // or the overlay settings change.
@@ -177,6 +181,10 @@ struct Session {
     /// Makes the GPU copies match `scene` and the overlay match `settings`
     /// (call on the GL thread).
     void upload_to_gpu(const OverlaySettings& settings);
+
+private:
+    std::unique_ptr<MeshBuffer> mesh_buffer_;
+    uint64_t mesh_generation_ = 0;  ///< the generation mesh_buffer_ holds
 };
 
 }  // namespace accelviz
