@@ -42,7 +42,7 @@ struct BenchViewOptions {
     std::string view = "gui";
     std::string overlay;  ///< "on" | "off" | "" (the preset's or the window's default)
     int max_boxes = -1;   ///< -1: the preset's or the window's default
-    std::string draw;     ///< "raster" | "raycast" | "auto" | "" (the preset's, else raster)
+    std::string draw;     ///< "raster" | "raycast" | "auto" | "" (the preset's, else auto)
     bool json = false;
     CameraFlags camera;
     AccelConfig accel;

@@ -59,7 +59,7 @@ struct RenderOptions {
     std::string pixel;          ///< step: the pixel whose ray is stepped
     bool accel_given = false;   ///< --accel was on the command line
     std::optional<double> time;  ///< --time: the moving scene's t (scene_at_time)
-    std::string draw;            ///< --draw: how the window's views draw the mesh ("": the preset's, else raster)
+    std::string draw;            ///< --draw: how the window's views draw the mesh ("": the preset's, else auto)
     LightFlags light;            ///< --shadows, --reflections, --light
     std::string rays = "primary";  ///< --rays: which rays' work the heat maps show
     std::string slice_axis;        ///< --slice-axis x|y|z ("": the preset's, else z)

@@ -12,7 +12,7 @@ void add_draw_flag(CLI::App& app, std::string& draw, const std::string& auto_her
     app.add_option("--draw", draw,
                    applies_to + "How the 3D view draws the mesh: raster (OpenGL, every triangle) | raycast (the CPU ray caster "
                    "through the structure, its depth under the overlay; a quarter of the pixels while the camera "
-                   "moves) | auto (" + auto_here + "). Default: the preset's, else raster")
+                   "moves) | auto (" + auto_here + "). Default: the preset's, else auto")
         ->check(CLI::IsMember(kDrawWithNames.names()));
 }
 

@@ -23,7 +23,7 @@ struct WindowOptions {
     AccelConfig accel = AppState{}.accel;  ///< the preset's structure with the flags given over it
     CameraFlags camera;
     bool lecture = false;            ///< --lecture
-    std::string draw;                ///< --draw ("": the preset's, else raster)
+    std::string draw;                ///< --draw ("": the preset's, else auto)
     LightFlags light;                ///< --shadows, --reflections, --light
     std::string pixel;               ///< --pixel X,Y: open the stepper on that pixel's ray
     int width = 1280, height = 720;  ///< --width, --height: the image --pixel is in
@@ -37,7 +37,7 @@ void open_stepper_on(AppState& state, const PixelRay& picked, size_t step);
 /// window's frame; `auto_here` says how auto chooses in it, `applies_to` (if not
 /// empty) which of its views it is for. Sets `draw` as given.
 void add_draw_flag(CLI::App& app, std::string& draw, const std::string& auto_here, const std::string& applies_to = "");
-/// --draw as given over the state (nothing when not given: the preset's, else raster).
+/// --draw as given over the state (nothing when not given: the preset's, else auto).
 void apply_draw_flag(const std::string& draw, AppState& state);
 
 /// Adds SCENE, --preset, the structure flags and the camera flags to the top-level

@@ -92,7 +92,10 @@ struct ViewSettings {
     bool show_bounds = true;        ///< the scene's bounding box as a wireframe
     float line_width = 1.0f;        ///< pixels, 1 to 6: box edges and segments (wider for projectors)
     ViewMode mode = ViewMode::View3D;
-    DrawWith draw_with = DrawWith::Raster;      ///< the 3D view's mesh (not the split view's halves)
+    /// The 3D view's mesh (not the split view's halves). Auto: a small mesh is
+    /// rasterized, a big one (estimated over 30 ms to rasterize) ray cast from its
+    /// first frame, so a 10M-triangle scene is never drawn at seconds a frame.
+    DrawWith draw_with = DrawWith::Auto;
     RightView right_view = RightView::RayCast;  ///< in the split view
     LeftView left_view = LeftView::OpenGl;      ///< in the split view
     /// Heat maps keep the largest count seen since the scene was loaded as the top

@@ -728,9 +728,10 @@ void ViewPanel::draw_files(AppState& state, Session& session) {
 
 namespace {
 
-/// What drew the mesh of the last frame, for the status line ("Draw with" other than raster).
+/// What drew the mesh of the last frame, for the status line.
 std::string drawn_by(const AppState& state, const Session& session, bool deterministic) {
-    std::string text = state.view.draw_with == DrawWith::Auto ? "auto: " : "";
+    // "auto:" when auto chose (a point light needs rays whatever Draw with says).
+    std::string text = state.view.draw_with == DrawWith::Auto && !state.light.point_light() ? "auto: " : "";
     if (!session.mesh_ray_cast) {
         text += "raster (OpenGL)";
         if (session.naive_cast_refused) text += ", a naive ray cast of this view would take minutes";
@@ -780,8 +781,10 @@ void StatsBar::draw(const AppState& state, const Session& session, double frame_
     } else {
         line = "no scene";
     }
+    // How the mesh was drawn, unless rasterized as by default (auto on a small mesh).
     if (session.scene && state.view.mode == ViewMode::View3D &&
-        (state.view.draw_with != DrawWith::Raster || state.light.point_light()))
+        (state.view.draw_with == DrawWith::RayCast || state.light.point_light() || session.mesh_ray_cast ||
+         session.naive_cast_refused))
         line += "  |  " + drawn_by(state, session, deterministic);
     if (!deterministic && frame_ms > 0) {
         char text[64];
