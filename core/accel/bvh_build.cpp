@@ -353,8 +353,9 @@ public:
 
     void gather(const Bvh& bvh, BvhBuildStats& stats) {
         stats.nodes = uint32_t(bvh.nodes.size());
+        // One leaf-order triangle per id (the build gathers this while they are copied).
         stats.memory_bytes = bvh.nodes.size() * sizeof(BvhNode) + bvh.prim_ids.size() * sizeof(uint32_t) +
-                             bvh.triangles.size() * sizeof(Triangle);
+                             bvh.prim_ids.size() * sizeof(Triangle);
         if (bvh.nodes.empty()) return;
         root_area_ = bvh.nodes[0].bounds.area();
         struct Visit {
@@ -438,6 +439,9 @@ Expected<Bvh> build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecor
     const auto n = uint32_t(mesh.triangle_count());
     stats.triangles = n;
     start_stage(progress, n);
+    auto gather_stats = [&] {
+        TreeStats(SahCostModel{config.cost_trav, config.cost_isect}, uint32_t(config.max_leaf_size)).gather(bvh, stats);
+    };
 
     if (n > 0) {
         PrimRefs refs(n);
@@ -478,10 +482,12 @@ Expected<Bvh> build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecor
         place(*tree, 0, 1, bvh.nodes, parts, stats.decisions);
         tbb::parallel_for(size_t(0), parts.size(), [&](size_t k) { copy_part(parts[k], bvh.nodes); });
         store.reset();
-        copy_triangles_in_leaf_order(mesh, bvh);
+        // The statistics read the nodes and the ids alone: gathered (one serial walk)
+        // while the triangles are copied.
+        tbb::parallel_invoke([&] { copy_triangles_in_leaf_order(mesh, bvh); }, gather_stats);
+    } else {
+        gather_stats();
     }
-
-    TreeStats(SahCostModel{config.cost_trav, config.cost_isect}, uint32_t(config.max_leaf_size)).gather(bvh, stats);
     write_notes(config, stats);
     stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return bvh;
