@@ -325,6 +325,10 @@ constexpr double kAutoTryRayCastMs = 30.0;
 /// Before any measurement: a software rasterizer's rate (llvmpipe, two cores:
 /// about 12 million triangles a second, measured).
 constexpr double kRasterTrianglesPerMs = 12e3;
+/// A rate per triangle is learned only from meshes this big: a small mesh's time is
+/// mostly the draw call's and glFinish's own, and scaled up to another scene it would
+/// send a few thousand triangles to the ray caster.
+constexpr size_t kRateFromTriangles = 100'000;
 
 /// The estimated time of rasterizing the scene's mesh: as measured on it, else at
 /// the rate measured on the last scene rasterized, else at a software renderer's.
@@ -351,18 +355,21 @@ bool mesh_by_ray_cast(const AppState& state, Session& session, const FramePlan& 
     if ((state.view.draw_with == DrawWith::Raster && !needs_rays) || plan.split || !session.scene || !session.scene->accel ||
         session.build_stepper.shows_3d(state) || state.overlay.mesh_opacity <= 0.0f)
         return false;
+    bool cast = true;
+    if (state.view.draw_with == DrawWith::Auto && !needs_rays) {
+        // Whichever draws this view faster, as last measured.
+        const double cast_ms = measured ? session.surface_cast.full_cast_milliseconds(session.scene_generation) : 0;
+        const double raster_ms = raster_estimate_ms(session);
+        if (cast_ms <= 0) cast = raster_ms > kAutoTryRayCastMs;
+        else cast = session.mesh_ray_cast ? !(raster_ms < kAutoSwitchFactor * cast_ms) : cast_ms < kAutoSwitchFactor * raster_ms;
+    }
     const LoadedScene& scene = *session.scene;
-    if (scene.accel_config.type == AccelType::Naive &&
+    if (cast && scene.accel_config.type == AccelType::Naive &&
         double(scene.mesh->triangle_count()) * double(pixels) > kNaiveCastBudget) {
         session.naive_cast_refused = true;
         return false;
     }
-    if (state.view.draw_with == DrawWith::RayCast || needs_rays) return true;
-    // Auto: whichever draws this view faster, as last measured.
-    const double cast_ms = measured ? session.surface_cast.full_cast_milliseconds(session.scene_generation) : 0;
-    const double raster_ms = raster_estimate_ms(session);
-    if (cast_ms <= 0) return raster_ms > kAutoTryRayCastMs;
-    return session.mesh_ray_cast ? !(raster_ms < kAutoSwitchFactor * cast_ms) : cast_ms < kAutoSwitchFactor * raster_ms;
+    return cast;
 }
 
 /// One right panel at a time, the layout, the 3D view's input (ImGui's capture flags are
@@ -686,18 +693,21 @@ FrameLayout draw_scene(AppState& state, Renderer& renderer, Session& session, co
                                                        mesh_style.opacity);
                     return;
                 }
-                // Auto measures the rasterized mesh (to glFinish) to choose between the two.
+                // Auto measures the rasterized mesh (to glFinish) to choose between the two;
+                // the mesh's upload (a new scene's first raster frame) is not part of it.
                 const bool measure = state.view.draw_with == DrawWith::Auto && !input.deterministic;
+                const MeshBuffer& mesh = session.mesh_for_raster();
                 if (measure) renderer.finish();
                 const auto start = std::chrono::steady_clock::now();
-                renderer.draw_mesh(session.mesh_for_raster(), mesh_style);
+                renderer.draw_mesh(mesh, mesh_style);
                 if (!measure) return;
                 renderer.finish();
                 session.raster_mesh_ms =
                     std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
                 session.raster_measured_scene = session.scene_generation;
-                session.raster_ms_per_triangle =
-                    session.raster_mesh_ms / double(std::max<size_t>(1, session.scene->mesh->triangle_count()));
+                const size_t triangles = session.scene->mesh->triangle_count();
+                if (triangles >= kRateFromTriangles)
+                    session.raster_ms_per_triangle = session.raster_mesh_ms / double(triangles);
             };
             // The inside/outside slice before a rasterized mesh (depth-tested with it, seen
             // through it when it is translucent), after a ray-cast picture (which covers the view).
