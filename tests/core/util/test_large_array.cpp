@@ -42,3 +42,21 @@ TEST(LargeArray, VectorsGrowCopyAndKeepTheirValues) {
     ids.shrink_to_fit();
     EXPECT_EQ(ids.back(), 9u);
 }
+
+TEST(LargeArray, PrefaultedVectorsHoldTheirValuesAtEverySize) {
+    // Below and above the huge-page size, and sizes that end inside a 4 KiB page: the
+    // pages are written before the elements are made, never beyond the block.
+    for (size_t count : {size_t(1), size_t(1000), size_t(524'288), size_t(524'289), size_t(3'000'001)}) {
+        std::vector<uint32_t, PrefaultedArrayAllocator<uint32_t>> ids(count, 7u);
+        EXPECT_EQ(ids.front(), 7u);
+        EXPECT_EQ(ids.back(), 7u);
+        if (count * sizeof(uint32_t) >= LargeArrayAllocator<uint32_t>::kHugePage) {
+            EXPECT_EQ(address(ids.data()) % LargeArrayAllocator<uint32_t>::kHugePage, 0u);
+        }
+        std::iota(ids.begin(), ids.end(), 0u);
+        const auto moved = std::move(ids);
+        EXPECT_EQ(moved.back(), uint32_t(count - 1));
+        const auto copy = moved;
+        EXPECT_EQ(std::accumulate(copy.begin(), copy.end(), uint64_t(0)), uint64_t(count - 1) * count / 2);
+    }
+}
