@@ -3,7 +3,8 @@
 // OSMesa, as `render --view gui|structure` uses it) draws N frames while the camera
 // orbits the scene once around its target, as a lecturer turning it would; each
 // frame is timed to glFinish. Prints the median, 90th percentile and worst frame,
-// the first frame (mesh and overlay uploads) apart, and the process's peak memory.
+// the first frame (the overlay's upload, and the mesh's when rasterized) apart, and
+// the process's peak memory.
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -106,7 +107,8 @@ int run_bench_view(const BenchViewOptions& opt) {
     input.draw_ui = view != WindowView::Structure;
     input.wait_for_ray_cast = true;  // a ray-cast mesh is part of its frame (a quarter of the pixels while orbiting)
 
-    // The first frame uploads the mesh and the overlay; later ones only draw. The
+    // The first frame uploads the overlay (and the mesh, when it is rasterized); later
+    // ones only draw. The
     // orbit: one turn about the target in `frames` steps (yaw only: the camera never rolls).
     auto timed_frame = [&] {
         const auto frame_start = std::chrono::steady_clock::now();
@@ -166,7 +168,7 @@ int run_bench_view(const BenchViewOptions& opt) {
     std::printf("draw with  %s: the mesh ray cast by the CPU in %d of %d frames\n",
                 std::string(to_string(state.view.draw_with)).c_str(), ray_cast_frames, opt.frames);
     std::printf("still      %.1f ms (the camera stopped: a ray-cast mesh gets every pixel)\n", still_ms);
-    std::printf("first      %.1f ms (uploads the mesh and overlay)\n", first_ms);
+    std::printf("first      %.1f ms (uploads the overlay, and the mesh when rasterized)\n", first_ms);
     std::printf("peak mem   %s\n", format_bytes(peak).c_str());
     std::printf("gl         %s\n", (*app)->gl_description().c_str());
     return 0;

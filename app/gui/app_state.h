@@ -94,7 +94,7 @@ struct ViewSettings {
     ViewMode mode = ViewMode::View3D;
     /// The 3D view's mesh (not the split view's halves). Auto: a small mesh is
     /// rasterized, a big one (estimated over 30 ms to rasterize) ray cast from its
-    /// first frame, so a 10M-triangle scene is never drawn at seconds a frame.
+    /// first frame, so a 10M-triangle scene does not start at seconds a frame.
     DrawWith draw_with = DrawWith::Auto;
     RightView right_view = RightView::RayCast;  ///< in the split view
     LeftView left_view = LeftView::OpenGl;      ///< in the split view

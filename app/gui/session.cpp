@@ -143,7 +143,7 @@ void Session::upload_to_gpu(const OverlaySettings& settings) {
     }
     if (uploaded_generation == scene_generation) return;
     // An earlier scene's mesh copy goes; this scene's is made if a frame rasterizes it.
-    if (mesh_generation_ != scene_generation) mesh_buffer_.reset();
+    if (mesh_generation != scene_generation) mesh_buffer.reset();
     if (!bounds_buffer) bounds_buffer = std::make_unique<BoxBuffer>();
     std::vector<BoxInstance> bounds;
     if (!scene->bounds.empty()) bounds.push_back({scene->bounds.lo, scene->bounds.hi, Rgba8{110, 160, 240, 255}});
@@ -152,12 +152,12 @@ void Session::upload_to_gpu(const OverlaySettings& settings) {
 }
 
 MeshBuffer& Session::mesh_for_raster() {
-    if (!mesh_buffer_ || mesh_generation_ != scene_generation) {
-        if (!mesh_buffer_) mesh_buffer_ = std::make_unique<MeshBuffer>();
-        mesh_buffer_->upload(*scene->mesh);
-        mesh_generation_ = scene_generation;
+    if (!mesh_buffer || mesh_generation != scene_generation) {
+        if (!mesh_buffer) mesh_buffer = std::make_unique<MeshBuffer>();
+        mesh_buffer->upload(*scene->mesh);
+        mesh_generation = scene_generation;
     }
-    return *mesh_buffer_;
+    return *mesh_buffer;
 }
 
 }  // namespace accelviz

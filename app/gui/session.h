@@ -65,6 +65,8 @@ struct Session {
     /// the ray caster for big meshes) never needs one: at 10M triangles the upload
     /// takes about a second on llvmpipe, and the driver keeps its own copy.
     MeshBuffer& mesh_for_raster();
+    std::unique_ptr<MeshBuffer> mesh_buffer;  ///< made by mesh_for_raster(): draw through that
+    uint64_t mesh_generation = 0;             ///< the generation mesh_buffer holds
 
     // The structure overlay of `scene` (and its GPU copy), remade when the scene
     // or the overlay settings change.
@@ -181,10 +183,6 @@ struct Session {
     /// Makes the GPU copies match `scene` and the overlay match `settings`
     /// (call on the GL thread).
     void upload_to_gpu(const OverlaySettings& settings);
-
-private:
-    std::unique_ptr<MeshBuffer> mesh_buffer_;
-    uint64_t mesh_generation_ = 0;  ///< the generation mesh_buffer_ holds
 };
 
 }  // namespace accelviz

@@ -470,7 +470,7 @@ Expected<Bvh> build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecor
         // lower, and the new array gets the pages just given back (a fresh page costs
         // the kernel a zeroing, and on a virtual machine often the host a fault: at
         // 10M triangles making the node array while the build records were still held
-        // took 0.7-0.8 s of a 3.5 s build; see docs/performance.md).
+        // took 0.7-0.8 s of a 3.2 s build; see docs/performance.md).
         // Leaf order: the triangles of each leaf next to each other, as the traversal reads them.
         bvh.prim_ids.resize(n);
         tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n, kParallelChunk), [&](const tbb::blocked_range<uint32_t>& r) {

@@ -167,7 +167,7 @@ public:
         SplitChoice best;
         const float area = bounds.area();
         if (n == 2) {
-            // Two triangles (most of a big tree's splits): every plane between their
+            // Two triangles (over a third of a big tree's nodes): every plane between their
             // bins puts one on each side, in the same two boxes, so all such planes
             // cost the same and the first one found wins (is_better_split): the plane
             // just after the lower bin on the first axis where their bins differ.

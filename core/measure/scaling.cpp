@@ -108,28 +108,26 @@ Expected<ScalingResult> measure_scaling(const Mesh& one, const ScalingOptions& o
         // One structure at a time: built, its frames cast, and freed before the next is
         // built (a few structures over 20M triangles would not fit together). One that
         // does not fit the memory budget ends the series here.
-        {
-            for (const AccelConfig& config : options.structures) {
-                step(scene_name + ": building " + structure_name(config));
-                const auto start = clock::now();
-                auto accel = build_accelerator(*mesh, config, options.progress);
-                if (!accel) {
-                    if (cancelled(options.progress)) return WorkProgress::cancelled_error();
-                    if (result.points.empty()) return Error{accel.error()};
-                    result.stopped_early = "stopped before " + scene_name + ": " + accel.error();
-                    return result;
-                }
-                point.build_ms.push_back(ms_between(start, clock::now()));
-                step(scene_name + ": ray casting through " + structure_name(config));
-                const RayCastOptions cast_options{.threads = options.threads, .cancel = options.progress};
-                ray_cast(**accel, *mesh, camera, cast_options);  // not timed: caches and pages warm
-                point.cast_ms.push_back(median_ms(options.repeat, options.progress, [&] {
-                    const auto start_cast = clock::now();
-                    ray_cast(**accel, *mesh, camera, cast_options);
-                    return ms_between(start_cast, clock::now());
-                }));
+        for (const AccelConfig& config : options.structures) {
+            step(scene_name + ": building " + structure_name(config));
+            const auto start = clock::now();
+            auto accel = build_accelerator(*mesh, config, options.progress);
+            if (!accel) {
                 if (cancelled(options.progress)) return WorkProgress::cancelled_error();
+                if (result.points.empty()) return Error{accel.error()};
+                result.stopped_early = "stopped before " + scene_name + ": " + accel.error();
+                return result;
             }
+            point.build_ms.push_back(ms_between(start, clock::now()));
+            step(scene_name + ": ray casting through " + structure_name(config));
+            const RayCastOptions cast_options{.threads = options.threads, .cancel = options.progress};
+            ray_cast(**accel, *mesh, camera, cast_options);  // not timed: caches and pages warm
+            point.cast_ms.push_back(median_ms(options.repeat, options.progress, [&] {
+                const auto start_cast = clock::now();
+                ray_cast(**accel, *mesh, camera, cast_options);
+                return ms_between(start_cast, clock::now());
+            }));
+            if (cancelled(options.progress)) return WorkProgress::cancelled_error();
         }
         if (cancelled(options.progress)) return WorkProgress::cancelled_error();
         step(scene_name + ": rasterizing (CPU z-buffer)");
