@@ -108,8 +108,8 @@ int run_bench_view(const BenchViewOptions& opt) {
     input.wait_for_ray_cast = true;  // a ray-cast mesh is part of its frame (a quarter of the pixels while orbiting)
 
     // The first frame uploads the overlay (and the mesh, when it is rasterized); later
-    // ones only draw. The
-    // orbit: one turn about the target in `frames` steps (yaw only: the camera never rolls).
+    // ones only draw. The orbit: one turn about the target in `frames` steps (yaw only:
+    // the camera never rolls).
     auto timed_frame = [&] {
         const auto frame_start = std::chrono::steady_clock::now();
         (*app)->draw(state, input);

@@ -28,9 +28,10 @@ struct RayCastOptions {
 
 /// Casts every pixel's primary ray through `accel`. The hit triangle is read from
 /// `mesh` (by id) for shading: one triangle per hit pixel, so no copy of the mesh's
-/// triangles is made (at 10M triangles such a copy is 500 MB). With a lighting: a shadow ray from each hit to the light (any-hit), and
-/// from a mirror one reflection ray (closest-hit), whose hit is shaded with its own
-/// shadow ray; one bounce, so a mirror seen in a mirror is shaded as a wall.
+/// triangles is made (at 10M triangles such a copy is 500 MB). With a lighting: a
+/// shadow ray from each hit to the light (any-hit), and from a mirror one reflection
+/// ray (closest-hit), whose hit is shaded with its own shadow ray; one bounce, so a
+/// mirror seen in a mirror is shaded as a wall.
 Frame ray_cast(const Accelerator& accel, const Mesh& mesh,
                const Camera& camera, const RayCastOptions& options = {});
 
