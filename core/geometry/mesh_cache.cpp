@@ -10,7 +10,10 @@
 #include <system_error>
 #include <vector>
 
+#include <cerrno>
+
 #include <fcntl.h>
+#include <signal.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -113,6 +116,28 @@ uint64_t payload_hash(const std::string& path, const Mesh& mesh) {
     return h.value();
 }
 
+/// Removes the temporary copies (`NAME.tmp.PID`) that processes no longer running left
+/// in `dir`: a window closed while it wrote a copy does not wait to remove its file
+/// (up to ~240 MB at 10M triangles), and nothing else would. A file whose process is
+/// alive, or cannot be asked about, stays.
+void remove_stale_temporaries(const std::filesystem::path& dir) {
+    std::error_code ec;
+    for (std::filesystem::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        const size_t at = name.rfind(".tmp.");
+        if (at == std::string::npos) continue;
+        const std::string pid_text = name.substr(at + 5);
+        if (pid_text.empty() || pid_text.size() > 9 ||
+            !std::all_of(pid_text.begin(), pid_text.end(), [](char c) { return c >= '0' && c <= '9'; }))
+            continue;
+        const long pid = std::stol(pid_text);
+        if (pid <= 0 || pid == long(::getpid())) continue;
+        if (::kill(pid_t(pid), 0) == 0 || errno != ESRCH) continue;
+        std::error_code removed;
+        std::filesystem::remove(it->path(), removed);
+    }
+}
+
 }  // namespace
 
 std::optional<std::filesystem::path> default_mesh_cache_dir() {
@@ -190,6 +215,7 @@ bool write_mesh_cache(const std::filesystem::path& file, const ObjKey& key, cons
     std::error_code ec;
     std::filesystem::create_directories(file.parent_path(), ec);
     if (ec) return false;
+    remove_stale_temporaries(file.parent_path());
     const size_t position_bytes = mesh.positions.size() * sizeof(Vec3);
     const size_t index_bytes = mesh.indices.size() * kTriangleBytes;
     // The stage: hashing the payload (counted as one pass over it), then writing it.

@@ -49,6 +49,8 @@ std::optional<Mesh> read_mesh_cache(const std::filesystem::path& file, const Obj
 /// it could not (a read-only disk is no error: the OBJ is simply parsed next time)
 /// or was cancelled. `progress` counts a stage "writing the cache copy" (its hash, then
 /// its bytes, in pieces of 8 MiB) and may cancel it: nothing is left behind then.
+/// Temporary copies that processes no longer running left in the directory (a window
+/// closed mid-write) are removed first.
 bool write_mesh_cache(const std::filesystem::path& file, const ObjKey& key, const Mesh& mesh,
                       WorkProgress* progress = nullptr);
 

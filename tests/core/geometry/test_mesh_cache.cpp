@@ -7,6 +7,9 @@
 #include <fstream>
 #include <random>
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include "core/geometry/mesh_cache.h"
 #include "core/geometry/scene.h"
 
@@ -92,6 +95,29 @@ TEST_F(MeshCacheTest, WritingTheCopyShowsProgressAndCanBeCancelled) {
     const auto loaded = load_obj_cached(obj.string(), cache, &from_cache, &cancelled_load);
     EXPECT_FALSE(loaded);
     EXPECT_FALSE(fs::exists(copy_file()));
+}
+
+TEST_F(MeshCacheTest, TemporaryCopiesOfProcessesGoneAreRemovedWhenACopyIsWritten) {
+    // A process that wrote a copy and ended without renaming or removing it (a window
+    // closed mid-write): a child that exits at once gives a process id no one has.
+    const pid_t child = ::fork();
+    if (child == 0) ::_exit(0);
+    ASSERT_GT(child, 0);
+    int status = 0;
+    ASSERT_EQ(::waitpid(child, &status, 0), child);
+    fs::create_directories(cache);
+    const fs::path gone = cache / ("x.mesh.tmp." + std::to_string(child));
+    const fs::path alive = cache / ("y.mesh.tmp." + std::to_string(::getppid()));  // our parent runs
+    const fs::path other = cache / "notes.tmp.txt";                                // not a process's copy
+    for (const fs::path& p : {gone, alive, other}) write_text(p, "partial");
+    write_text(obj, kQuad);
+    bool from_cache = true;
+    ASSERT_TRUE(load(from_cache));
+    EXPECT_FALSE(from_cache);
+    EXPECT_TRUE(fs::exists(copy_file()));
+    EXPECT_FALSE(fs::exists(gone)) << "its process is gone";
+    EXPECT_TRUE(fs::exists(alive)) << "its process runs: it may still be writing";
+    EXPECT_TRUE(fs::exists(other));
 }
 
 TEST_F(MeshCacheTest, AChangedFileIsParsedAgain) {
