@@ -2,15 +2,16 @@
 
 #include <algorithm>
 #include <array>
+#include <cerrno>
+#include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <string_view>
 #include <system_error>
 #include <vector>
-
-#include <cerrno>
 
 #include <fcntl.h>
 #include <signal.h>
@@ -25,6 +26,7 @@ namespace {
 constexpr char kMagic[8] = {'A', 'V', 'Z', 'M', 'E', 'S', 'H', '\n'};
 constexpr uint32_t kVersion = 1;
 constexpr uint64_t kEdgeBytes = 1 << 20;  ///< hashed at each end of the OBJ file
+constexpr std::string_view kTemporaryInfix = ".tmp.";  ///< a copy being written: NAME.tmp.PID
 
 static_assert(sizeof(Vec3) == 12, "a vertex is stored as three floats");
 constexpr uint64_t kTriangleBytes = sizeof(std::array<uint32_t, 3>);
@@ -124,15 +126,14 @@ void remove_stale_temporaries(const std::filesystem::path& dir) {
     std::error_code ec;
     for (std::filesystem::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
         const std::string name = it->path().filename().string();
-        const size_t at = name.rfind(".tmp.");
+        const size_t at = name.rfind(kTemporaryInfix);
         if (at == std::string::npos) continue;
-        const std::string pid_text = name.substr(at + 5);
-        if (pid_text.empty() || pid_text.size() > 9 ||
-            !std::all_of(pid_text.begin(), pid_text.end(), [](char c) { return c >= '0' && c <= '9'; }))
-            continue;
-        const long pid = std::stol(pid_text);
-        if (pid <= 0 || pid == long(::getpid())) continue;
-        if (::kill(pid_t(pid), 0) == 0 || errno != ESRCH) continue;
+        const char* first = name.data() + at + kTemporaryInfix.size();
+        const char* last = name.data() + name.size();
+        pid_t pid = 0;
+        const auto [parsed_to, error] = std::from_chars(first, last, pid);
+        if (error != std::errc() || parsed_to != last || pid <= 0 || pid == ::getpid()) continue;
+        if (::kill(pid, 0) == 0 || errno != ESRCH) continue;
         std::error_code removed;
         std::filesystem::remove(it->path(), removed);
     }
@@ -232,7 +233,7 @@ bool write_mesh_cache(const std::filesystem::path& file, const ObjKey& key, cons
     h.payload_hash = payload_hash(key.path, mesh);
     advance(progress, position_bytes + index_bytes);
     // A temporary name of this process, renamed into place when complete.
-    const std::filesystem::path temp = file.string() + ".tmp." + std::to_string(::getpid());
+    const std::filesystem::path temp = file.string() + std::string(kTemporaryInfix) + std::to_string(::getpid());
     {
         std::ofstream out(temp, std::ios::binary | std::ios::trunc);
         out.write(reinterpret_cast<const char*>(&h), sizeof h);
