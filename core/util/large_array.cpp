@@ -1,9 +1,50 @@
 #include "core/util/large_array.h"
 
+#include <cstdint>
+#include <cstdlib>
+#include <new>
+
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 namespace accelviz {
+
+namespace {
+constexpr size_t kHugePage = size_t(2) << 20;
+}
+
+#if defined(__linux__)
+void* allocate_huge_block(size_t bytes) {
+    // One huge page more than asked, so that an aligned start lies inside; the
+    // slack before and after it is given back at once.
+    const size_t span = bytes + kHugePage;
+    void* mapped = mmap(nullptr, span, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (mapped == MAP_FAILED) throw std::bad_alloc();
+    char* const start = static_cast<char*>(mapped);
+    char* const block =
+        reinterpret_cast<char*>((reinterpret_cast<uintptr_t>(start) + kHugePage - 1) & ~uintptr_t(kHugePage - 1));
+    if (block > start) munmap(start, size_t(block - start));
+    if (start + span > block + bytes) munmap(block + bytes, size_t(start + span - (block + bytes)));
+#if defined(MADV_HUGEPAGE)
+    madvise(block, bytes, MADV_HUGEPAGE);  // advice only: no error if refused
+#endif
+    return block;
+}
+
+void free_huge_block(void* block, size_t bytes) { munmap(block, bytes); }
+#else
+void* allocate_huge_block(size_t bytes) {
+    void* block = std::aligned_alloc(kHugePage, bytes);
+    if (!block) throw std::bad_alloc();
+    return block;
+}
+
+void free_huge_block(void* block, size_t) { std::free(block); }
+#endif
 
 void touch_pages_in_parallel(void* p, size_t bytes) {
     constexpr size_t kPage = 4096;

@@ -2,16 +2,19 @@
 /// An allocator for the big flat arrays of the acceleration structures (nodes,
 /// triangles in leaf order, triangle ids) and of their builders.
 ///
-/// Blocks of kHugePage bytes or more start on a kHugePage boundary and are marked
-/// for transparent huge pages (Linux: madvise(MADV_HUGEPAGE)). A traversal of an
-/// 871k-triangle BVH then touches a few dozen 2 MiB pages instead of thousands of
-/// 4 KiB ones (each a TLB entry to find), and the build takes a few dozen page
-/// faults instead of ~25,000. Production ray tracers do the same (Embree uses huge
-/// pages on Linux by default). It is advice, not a promise: where the kernel gives
-/// no huge pages the memory is simply ordinary memory, and so is the part of a block
-/// that glibc's aligned_alloc serves from heap pages already faulted in as 4 KiB ones
-/// (blocks below malloc's mmap threshold, which rises up to 32 MiB after the first
-/// big free). Smaller blocks come from aligned operator new.
+/// Blocks of kHugePage bytes or more are mapped from the kernel on their own
+/// (mmap), start on a kHugePage boundary and are marked for transparent huge pages
+/// (Linux: madvise(MADV_HUGEPAGE)). A traversal of an 871k-triangle BVH then
+/// touches a few dozen 2 MiB pages instead of thousands of 4 KiB ones (each a TLB
+/// entry to find), and the build takes a few dozen page faults instead of ~25,000.
+/// Production ray tracers do the same (Embree uses huge pages on Linux by default).
+/// Not from malloc: after a big free, glibc raises its mmap threshold (up to 32
+/// MiB) and serves blocks below it from heap pages already faulted in as 4 KiB
+/// ones, so whether an array of a few MiB to 32 MiB (an 871k-triangle BVH's nodes
+/// or triangles) got huge pages depended on what the process had freed before it
+/// (docs/performance.md). The advice is not a promise:
+/// where the kernel gives no huge pages the memory is simply ordinary memory.
+/// Smaller blocks come from aligned operator new.
 ///
 /// kLeadBytes: the array starts that many bytes after a 64-byte (cache line)
 /// boundary. The BVH uses sizeof(BvhNode) = 32 so that nodes[1], where the sibling
@@ -22,11 +25,13 @@
 #include <cstdlib>
 #include <new>
 
-#if defined(__linux__)
-#include <sys/mman.h>
-#endif
-
 namespace accelviz {
+
+/// `bytes` (a multiple of 2 MiB) of memory starting on a 2 MiB boundary, mapped
+/// for this block alone and marked for transparent huge pages; std::bad_alloc if the
+/// system has none. Freed by free_huge_block with the same size.
+void* allocate_huge_block(size_t bytes);
+void free_huge_block(void* block, size_t bytes);
 
 template <class T, size_t kLeadBytes = 0>
 struct LargeArrayAllocator {
@@ -49,11 +54,7 @@ struct LargeArrayAllocator {
         const size_t bytes = block_bytes(n);
         char* block = nullptr;
         if (huge(bytes)) {
-            block = static_cast<char*>(std::aligned_alloc(kHugePage, bytes));
-            if (!block) throw std::bad_alloc();
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-            madvise(block, bytes, MADV_HUGEPAGE);  // advice only: no error if refused
-#endif
+            block = static_cast<char*>(allocate_huge_block(bytes));
         } else {
             block = static_cast<char*>(::operator new(bytes, std::align_val_t(kLine)));
         }
@@ -63,7 +64,7 @@ struct LargeArrayAllocator {
     void deallocate(T* p, size_t n) {
         char* block = reinterpret_cast<char*>(p) - kLeadBytes;
         const size_t bytes = block_bytes(n);
-        if (huge(bytes)) std::free(block);
+        if (huge(bytes)) free_huge_block(block, bytes);
         else ::operator delete(block, std::align_val_t(kLine));
     }
 
