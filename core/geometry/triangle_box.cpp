@@ -1,6 +1,9 @@
 #include "core/geometry/triangle_box.h"
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <utility>
 
 namespace accelviz {
@@ -27,14 +30,22 @@ bool separates(const V3d& axis, const V3d v[3], const double half[3]) {
     return lo > radius || hi < -radius;  // touching (== radius) is overlap
 }
 
+/// The float just below f (f not NaN, not -inf): std::nextafter(f, -inf) without
+/// libm's call, which the clipping below made six times per reference it cut.
+float next_float_down(float f) {
+    if (f == 0.0f) return -std::numeric_limits<float>::denorm_min();
+    const auto bits = std::bit_cast<uint32_t>(f);
+    return std::bit_cast<float>(f > 0.0f ? bits - 1 : bits + 1);
+}
+
 /// Largest float <= x and smallest float >= x: rounding a double outwards.
 float round_down(double x) {
-    float f = float(x);
-    return double(f) > x ? std::nextafter(f, -kInfinity) : f;
+    const float f = float(x);
+    return double(f) > x ? next_float_down(f) : f;
 }
 float round_up(double x) {
-    float f = float(x);
-    return double(f) < x ? std::nextafter(f, kInfinity) : f;
+    const float f = float(x);
+    return double(f) < x ? -next_float_down(-f) : f;
 }
 
 }  // namespace
@@ -113,14 +124,16 @@ Aabb clip_triangle_to_box(Vec3 p0, Vec3 p1, Vec3 p2, const Aabb& box) {
     double lo[3] = {poly[0][0], poly[0][1], poly[0][2]}, hi[3] = {lo[0], lo[1], lo[2]};
     for (int i = 1; i < count; ++i)
         for (int k = 0; k < 3; ++k) {
-            lo[k] = std::fmin(lo[k], poly[i][k]);
-            hi[k] = std::fmax(hi[k], poly[i][k]);
+            // Plain comparisons (no NaN here: vertices are finite): std::fmin is a libm call.
+            lo[k] = poly[i][k] < lo[k] ? poly[i][k] : lo[k];
+            hi[k] = poly[i][k] > hi[k] ? poly[i][k] : hi[k];
         }
     Aabb result;
     for (int k = 0; k < 3; ++k) {
         // Outwards to float, but never beyond the clipping box.
-        result.lo[k] = std::fmax(round_down(lo[k]), box.lo[k]);
-        result.hi[k] = std::fmin(round_up(hi[k]), box.hi[k]);
+        const float down = round_down(lo[k]), up = round_up(hi[k]);
+        result.lo[k] = down > box.lo[k] ? down : box.lo[k];
+        result.hi[k] = up < box.hi[k] ? up : box.hi[k];
     }
     return result;
 }
