@@ -493,7 +493,8 @@ int run_render(const RenderOptions& given) {
         case CpuView::DepthDiff: image = depth_diff_view(raster_frame, ray_frame); break;
         case CpuView::Slice:
         case CpuView::HeatLoop:
-        case CpuView::HeatStack: break;  // drawn by run_render_slice, run_render_gpu
+        case CpuView::HeatStack:
+        case CpuView::Scaling: break;  // drawn by run_render_slice, run_render_gpu, run_render_scaling
         case CpuView::HeatNodes:
         case CpuView::HeatTris: {
             const bool nodes = cpu_view == CpuView::HeatNodes;
