@@ -132,8 +132,8 @@ Aabb clip_triangle_to_box(Vec3 p0, Vec3 p1, Vec3 p2, const Aabb& box) {
     for (int k = 0; k < 3; ++k) {
         // Outwards to float, but never beyond the clipping box.
         const float down = round_down(lo[k]), up = round_up(hi[k]);
-        result.lo[k] = down > box.lo[k] ? down : box.lo[k];
-        result.hi[k] = up < box.hi[k] ? up : box.hi[k];
+        result.lo[k] = box.lo[k] > down ? box.lo[k] : down;  // as fmax(down, box.lo): down on a tie
+        result.hi[k] = box.hi[k] < up ? box.hi[k] : up;
     }
     return result;
 }

@@ -3,17 +3,18 @@
 /// triangles in leaf order, triangle ids) and of their builders.
 ///
 /// Blocks of kHugePage bytes or more are mapped from the kernel on their own
-/// (mmap), start on a kHugePage boundary and are marked for transparent huge pages
-/// (Linux: madvise(MADV_HUGEPAGE)). A traversal of an 871k-triangle BVH then
-/// touches a few dozen 2 MiB pages instead of thousands of 4 KiB ones (each a TLB
-/// entry to find), and the build takes a few dozen page faults instead of ~25,000.
-/// Production ray tracers do the same (Embree uses huge pages on Linux by default).
-/// Not from malloc: after a big free, glibc raises its mmap threshold (up to 32
-/// MiB) and serves blocks below it from heap pages already faulted in as 4 KiB
-/// ones, so whether an array of a few MiB to 32 MiB (an 871k-triangle BVH's nodes
-/// or triangles) got huge pages depended on what the process had freed before it
-/// (docs/performance.md). The advice is not a promise:
-/// where the kernel gives no huge pages the memory is simply ordinary memory.
+/// (Linux: mmap; elsewhere, and under the sanitizers, aligned_alloc), start on a
+/// kHugePage boundary and are marked for transparent huge pages
+/// (madvise(MADV_HUGEPAGE)). A traversal of an 871k-triangle BVH then touches a few
+/// dozen 2 MiB pages instead of thousands of 4 KiB ones (each a TLB entry to find),
+/// and the build takes a few dozen page faults instead of ~25,000. Production ray
+/// tracers do the same (Embree uses huge pages on Linux by default). Not from
+/// malloc: after a big free, glibc raises its mmap threshold (up to 32 MiB) and
+/// serves blocks below it from heap pages already faulted in as 4 KiB ones, so
+/// whether an array of a few MiB to 32 MiB (an 871k-triangle BVH's nodes or
+/// triangles) got huge pages depended on what the process had freed before it
+/// (docs/performance.md). The advice is not a promise: where the kernel gives no
+/// huge pages the memory is simply ordinary memory.
 /// Smaller blocks come from aligned operator new.
 ///
 /// kLeadBytes: the array starts that many bytes after a 64-byte (cache line)
@@ -28,8 +29,8 @@
 namespace accelviz {
 
 /// `bytes` (a multiple of 2 MiB) of memory starting on a 2 MiB boundary, mapped
-/// for this block alone and marked for transparent huge pages; std::bad_alloc if the
-/// system has none. Freed by free_huge_block with the same size.
+/// for this block alone (see LargeArrayAllocator) and marked for transparent huge
+/// pages; std::bad_alloc if the system has none. Freed by free_huge_block with the same size.
 void* allocate_huge_block(size_t bytes);
 void free_huge_block(void* block, size_t bytes);
 
