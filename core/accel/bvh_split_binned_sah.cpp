@@ -69,36 +69,41 @@ public:
         // only those bins is much cheaper than over all B. Neighbouring triangles often
         // land in the same bin, and growing a bin's box must wait for the previous
         // growth of that box: in big nodes even and odd positions fill two sets of
-        // bins, merged after.
+        // bins, merged after; there the bins' counts say which are used (cheaper than
+        // marking them per triangle, since all B of them usually are).
         uint64_t used[3] = {0, 0, 0};
-        auto drop = [&](int set, const PrimRef& ref) {
+        auto drop = [&]<bool kMark>(int set, const PrimRef& ref) {
             const BinIndices b = map(ref);
             for (int axis = 0; axis < 3; ++axis) {
                 if (!usable[axis]) continue;
                 Bin& bin = bins_[set][axis][b.index[axis]];
                 bin.box.grow(ref.box);
                 ++bin.count;
-                used[axis] |= uint64_t(1) << b.index[axis];
+                if constexpr (kMark) used[axis] |= uint64_t(1) << b.index[axis];
             }
         };
-        uint32_t k = range.begin;
         if (range.count() >= kTwoBinSets) {
+            uint32_t k = range.begin;
             for (; k + 1 < range.end; k += 2) {
-                drop(0, refs_[k]);
-                drop(1, refs_[k + 1]);
+                drop.template operator()<false>(0, refs_[k]);
+                drop.template operator()<false>(1, refs_[k + 1]);
             }
+            if (k < range.end) drop.template operator()<false>(0, refs_[k]);
             for (int axis = 0; axis < 3; ++axis) {
-                for (uint64_t m = used[axis]; m != 0; m &= m - 1) {
-                    Bin& bin = bins_[0][axis][std::countr_zero(m)];
-                    Bin& odd = bins_[1][axis][std::countr_zero(m)];
-                    bin.box.grow(odd.box);
-                    bin.count += odd.count;
-                    odd = {};
+                if (!usable[axis]) continue;
+                for (int i = 0; i < bin_count_; ++i) {
+                    Bin& bin = bins_[0][axis][i];
+                    Bin& odd = bins_[1][axis][i];
+                    if (odd.count != 0) {
+                        bin.box.grow(odd.box);
+                        bin.count += odd.count;
+                        odd = {};
+                    }
+                    if (bin.count != 0) used[axis] |= uint64_t(1) << i;
                 }
             }
-        }
-        for (; k < range.end; ++k) {
-            drop(0, refs_[k]);
+        } else {
+            for (uint32_t k = range.begin; k < range.end; ++k) drop.template operator()<true>(0, refs_[k]);
         }
 
         // The plane i has bins [0, i) on the left and [i, B) on the right. Between two
