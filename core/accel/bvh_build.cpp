@@ -16,7 +16,6 @@
 
 #include "core/accel/bvh_splitter.h"
 #include "core/accel/sah.h"
-#include "core/util/prefetch.h"
 
 namespace accelviz {
 namespace {
@@ -323,27 +322,6 @@ size_t node_count(const Subtree& subtree) {
     return 1 + node_count(*subtree.left) + node_count(*subtree.right);
 }
 
-/// Fills bvh.triangles in leaf order: triangles[k] = mesh.triangle(prim_ids[k]). The ids
-/// jump around the mesh, so each triangle's index triple and corners are a cache miss of
-/// their own; the loop asks for them some triangles ahead (the index triple first, its
-/// corners once the triple has had time to arrive) so the misses overlap instead of
-/// following each other. Chunks of the array are filled in parallel.
-void copy_triangles_in_leaf_order(const Mesh& mesh, Bvh& bvh) {
-    constexpr size_t kTriplesAhead = 16, kCornersAhead = 8;
-    const auto& ids = bvh.prim_ids;
-    bvh.triangles.resize(ids.size());
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, ids.size(), kParallelChunk), [&](const tbb::blocked_range<size_t>& r) {
-        const size_t end = r.end();
-        for (size_t k = r.begin(); k < end; ++k) {
-            if (k + kTriplesAhead < end) prefetch(&mesh.indices[ids[k + kTriplesAhead]]);
-            if (k + kCornersAhead < end) {
-                for (uint32_t corner : mesh.indices[ids[k + kCornersAhead]]) prefetch(&mesh.positions[corner]);
-            }
-            bvh.triangles[k] = mesh.triangle(ids[k]);
-        }
-    });
-}
-
 /// Depths, leaf sizes and SAH cost of the finished tree, summed over its nodes in
 /// depth-first order (parents before children, left subtree first), so the float sums
 /// are the same however the tree was built.
@@ -484,7 +462,7 @@ Expected<Bvh> build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecor
         store.reset();
         // The statistics read the nodes and the ids alone: gathered (one serial walk)
         // while the triangles are copied.
-        tbb::parallel_invoke([&] { copy_triangles_in_leaf_order(mesh, bvh); }, gather_stats);
+        tbb::parallel_invoke([&] { bvh.triangles = make_triangles(mesh, bvh.prim_ids); }, gather_stats);
     } else {
         gather_stats();
     }
@@ -529,7 +507,7 @@ std::optional<Error> refit_bvh(Bvh& bvh, const Mesh& mesh) {
                      std::to_string(bvh.prim_ids.size()) + " triangles, this mesh " +
                      std::to_string(mesh.triangle_count())};
     if (!bvh.nodes.empty()) refit_subtree(bvh, mesh, 0, 0);
-    copy_triangles_in_leaf_order(mesh, bvh);
+    bvh.triangles = make_triangles(mesh, bvh.prim_ids);
     if (bvh.triangle_test == TriangleTestKind::Watertight) bvh.corners = make_corners(mesh, bvh.prim_ids);
     bvh.build_stats.refit_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

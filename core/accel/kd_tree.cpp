@@ -232,10 +232,10 @@ Expected<KdTree> build_kd_tree(const Mesh& mesh, const KdConfig& config, WorkPro
         subtrees[k] = build_subtree(ctx, std::move(deferred[k]), std::max(share, 1.0), 0, nullptr, progress);
     });
     if (cancelled(shared_progress)) return WorkProgress::cancelled_error();
-    for (size_t k = 0; k < deferred.size(); ++k) {
-        tree.splice(placeholders[k], subtrees[k].nodes, subtrees[k].prim_ids);
-        counts.add(subtrees[k].counts);
-        st.sah_cost += subtrees[k].sah_cost;
+    tree.splice_all(placeholders, subtrees);
+    for (const Subtree& sub : subtrees) {
+        counts.add(sub.counts);
+        st.sah_cost += sub.sah_cost;
     }
 
     counts.write_to(st);

@@ -191,9 +191,9 @@ Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config, Work
     }
     if (!again.empty() && !cancelled(shared_progress)) build_shares(again, std::max(0.0, budget - used), false);
     if (cancelled(shared_progress)) return WorkProgress::cancelled_error();
-    for (size_t k = 0; k < deferred.size(); ++k) {
-        tree.splice(placeholders[k], subtrees[k].nodes, subtrees[k].prim_ids);
-        counts.add(subtrees[k].counts);
+    tree.splice_all(placeholders, subtrees);
+    for (const Subtree& sub : subtrees) {
+        counts.add(sub.counts);
     }
 
     counts.write_to(st);

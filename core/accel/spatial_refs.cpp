@@ -65,13 +65,6 @@ void add_split_notes(const SplitStops& stops, std::vector<std::string>& notes) {
     }
 }
 
-TriangleArray triangles_in_leaf_order(const Mesh& mesh, const std::vector<uint32_t>& prim_ids) {
-    TriangleArray out;
-    out.reserve(prim_ids.size());
-    for (uint32_t id : prim_ids) out.push_back(mesh.triangle(id));
-    return out;
-}
-
 nlohmann::json partition_stats_json(const PartitionStats& s) {
     return {{"triangles", s.triangles},
             {"nodes", s.nodes},

@@ -119,10 +119,6 @@ struct SplitStops {
 /// One note per stop that happened, in plain words with the numbers.
 void add_split_notes(const SplitStops& stops, std::vector<std::string>& notes);
 
-/// The mesh's triangles in leaf order: out[k] is triangle prim_ids[k] (a copy, so a
-/// leaf's triangles are contiguous in memory).
-TriangleArray triangles_in_leaf_order(const Mesh& mesh, const std::vector<uint32_t>& prim_ids);
-
 /// What a subtree of a space-partitioning tree (KD tree, octree), built on its own
 /// by a parallel build, adds to its tree's statistics.
 struct SubtreeCounts {
@@ -196,14 +192,28 @@ struct PartitionTree {
     /// A build's last step, once nodes and prim_ids are final: the triangles copied
     /// into leaf order, a note for each thing that stopped the splitting, the stats.
     void end_build(const Mesh& mesh, const SplitStops& stops, std::chrono::steady_clock::time_point start) {
-        triangles = triangles_in_leaf_order(mesh, prim_ids);
+        triangles = make_triangles(mesh, prim_ids);
         add_split_notes(stops, build_stats.notes);
         finish_stats(start);
     }
 
-    /// Appends a subtree built on its own (its root at sub_nodes[0]; child indices local
-    /// to sub_nodes, leaf ranges local to sub_prim_ids), its root replacing the
-    /// placeholder node `at`: how the builds splice in the subtrees built in parallel.
+    /// Appends the subtrees built on their own (each with `nodes`, its root at nodes[0],
+    /// child indices local to it, and `prim_ids`, leaf ranges local to them), subtree k's
+    /// root replacing the placeholder node at[k], in that order: how the builds splice
+    /// in the subtrees built in parallel.
+    template <class Subtree>
+    void splice_all(const std::vector<uint32_t>& at, const std::vector<Subtree>& subtrees) {
+        size_t node_count = nodes.size(), id_count = prim_ids.size();
+        for (const Subtree& sub : subtrees) {
+            node_count += sub.nodes.empty() ? 0 : sub.nodes.size() - 1;  // each root takes its placeholder's place
+            id_count += sub.prim_ids.size();
+        }
+        nodes.reserve(node_count);
+        prim_ids.reserve(id_count);
+        for (size_t k = 0; k < subtrees.size(); ++k) splice(at[k], subtrees[k].nodes, subtrees[k].prim_ids);
+    }
+
+private:
     void splice(uint32_t at, const std::vector<Node>& sub_nodes, const std::vector<uint32_t>& sub_prim_ids) {
         const auto base = uint32_t(nodes.size());  // where the subtree's node 1 goes
         const auto prim_base = uint32_t(prim_ids.size());
@@ -216,7 +226,6 @@ struct PartitionTree {
         prim_ids.insert(prim_ids.end(), sub_prim_ids.begin(), sub_prim_ids.end());
     }
 
-private:
     /// The statistics the arrays determine, at the end of a build that began at `start`.
     void finish_stats(std::chrono::steady_clock::time_point start) {
         Stats& st = build_stats;

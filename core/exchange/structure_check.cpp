@@ -565,7 +565,7 @@ KdTree kd_tree_of(const StructureFile& f, const Mesh& mesh) {
         queue.push_back({n.children[0], first});
         queue.push_back({n.children[1], first + 1});
     }
-    kd.triangles = triangles_in_leaf_order(mesh, kd.prim_ids);
+    kd.triangles = make_triangles(mesh, kd.prim_ids);
     kd.build_stats.nodes = uint32_t(kd.nodes.size());
     kd.build_stats.references = kd.prim_ids.size();
     return kd;

@@ -52,9 +52,10 @@ inline bool within_max_coordinate(Vec3d p) {
     return std::fabs(p.x) <= kMaxCoordinate && std::fabs(p.y) <= kMaxCoordinate && std::fabs(p.z) <= kMaxCoordinate;
 }
 
-/// The triangles of a mesh in intersection form, indexed by triangle id.
-/// Built once per mesh; structures test against it.
-TriangleArray make_triangles(const Mesh& mesh);
+/// The triangles of a mesh in intersection form: triangles[k] is triangle order[k]
+/// (a structure's leaf order, so that a leaf's triangles lie next to each other in
+/// memory), or triangle k when `order` is empty. Filled in parallel.
+TriangleArray make_triangles(const Mesh& mesh, std::span<const uint32_t> order = {});
 
 /// The same triangles as corners (the watertight test's form): corners[k] is
 /// triangle order[k], or triangle k when `order` is empty (a structure's leaf
