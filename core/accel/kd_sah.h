@@ -49,41 +49,46 @@ inline double kd_split_cost(const KdConfig& c, const Aabb& box, int axis, float 
 inline bool goes_below(const SpatialRef& r, int axis, float s) { return r.box.lo[axis] < s || !(r.box.hi[axis] > s); }
 inline bool goes_above(const SpatialRef& r, int axis, float s) { return r.box.hi[axis] > s; }
 
-/// Calls visit(axis, position, below, above, cost) for every candidate plane
-/// strictly inside `box`, axis by axis, in increasing position: a boundary of a
+/// Calls visit(axis, position, below, above, cost) for every candidate plane on
+/// `axis` strictly inside `box`, in increasing position: a boundary of a
 /// reference's box. below = #{lo < s}, above = #{hi > s} (a reference lying in the
 /// plane goes below); cost(s) = C_trav + C_isect · (A_below·N_below + A_above·N_above) / A,
 /// times (1 - empty_bonus) when one side is empty. `los`, `his`, `scratch`: reused buffers.
 template <class Visit>
-void sweep_kd_sah(const std::vector<SpatialRef>& refs, const Aabb& box, const KdConfig& c, std::vector<float>& los,
-                  std::vector<float>& his, SortScratch& scratch, Visit&& visit) {
+void sweep_kd_sah_axis(const std::vector<SpatialRef>& refs, const Aabb& box, const KdConfig& c, int a,
+                       std::vector<float>& los, std::vector<float>& his, SortScratch& scratch, Visit&& visit) {
     const size_t n = refs.size();
     const double node_area = kd_area(box);
-    for (int a = 0; a < 3; ++a) {
-        const double cross_section = kd_cross_section(box, a), perimeter_half = kd_perimeter_half(box, a);
-        los.resize(n);
-        his.resize(n);
-        for (size_t i = 0; i < n; ++i) {
-            los[i] = refs[i].box.lo[a];
-            his[i] = refs[i].box.hi[a];
-        }
-        sort_ascending(los, scratch);
-        sort_ascending(his, scratch);
-        // Sweep the candidates (the merged, sorted lo and hi values) upwards.
-        size_t i_lo = 0, i_hi = 0;
-        while (i_lo < n || i_hi < n) {
-            const float value = i_hi >= n || (i_lo < n && los[i_lo] < his[i_hi]) ? los[i_lo] : his[i_hi];
-            // Counts for this s: all lo < s were passed already; then consume values == s.
-            const size_t below = i_lo;
-            while (i_lo < n && los[i_lo] == value) ++i_lo;
-            while (i_hi < n && his[i_hi] == value) ++i_hi;
-            const float s = value + 0.0f;  // -0 and +0 are one plane: +0, whichever the sort put first
-            const size_t above = n - i_hi;
-            if (!(s > box.lo[a] && s < box.hi[a])) continue;  // a plane on the boundary cuts nothing off
-            visit(a, s, below, above,
-                  kd_split_cost(c, box, a, s, below, above, cross_section, perimeter_half, node_area));
-        }
+    const double cross_section = kd_cross_section(box, a), perimeter_half = kd_perimeter_half(box, a);
+    los.resize(n);
+    his.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+        los[i] = refs[i].box.lo[a];
+        his[i] = refs[i].box.hi[a];
     }
+    sort_ascending(los, scratch);
+    sort_ascending(his, scratch);
+    // Sweep the candidates (the merged, sorted lo and hi values) upwards.
+    size_t i_lo = 0, i_hi = 0;
+    while (i_lo < n || i_hi < n) {
+        const float value = i_hi >= n || (i_lo < n && los[i_lo] < his[i_hi]) ? los[i_lo] : his[i_hi];
+        // Counts for this s: all lo < s were passed already; then consume values == s.
+        const size_t below = i_lo;
+        while (i_lo < n && los[i_lo] == value) ++i_lo;
+        while (i_hi < n && his[i_hi] == value) ++i_hi;
+        const float s = value + 0.0f;  // -0 and +0 are one plane: +0, whichever the sort put first
+        const size_t above = n - i_hi;
+        if (!(s > box.lo[a] && s < box.hi[a])) continue;  // a plane on the boundary cuts nothing off
+        visit(a, s, below, above, kd_split_cost(c, box, a, s, below, above, cross_section, perimeter_half, node_area));
+    }
+}
+
+/// sweep_kd_sah_axis over the three axes in turn: every candidate plane of a node,
+/// axis by axis, in increasing position.
+template <class Visit>
+void sweep_kd_sah(const std::vector<SpatialRef>& refs, const Aabb& box, const KdConfig& c, std::vector<float>& los,
+                  std::vector<float>& his, SortScratch& scratch, Visit&& visit) {
+    for (int a = 0; a < 3; ++a) sweep_kd_sah_axis(refs, box, c, a, los, his, scratch, visit);
 }
 
 /// The cheapest plane of a node.

@@ -1,6 +1,7 @@
 #include "core/accel/kd_tree.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -45,16 +46,84 @@ int kd_max_depth(const KdConfig& config, size_t triangles) {
 
 namespace {
 
+/// Nodes of this many references or more spread their own work over the threads:
+/// the three axes' sweeps, and the references' split into chunks of this size. Only
+/// the top of the tree has such nodes, and it is built one node at a time (below it,
+/// whole subtrees run in parallel). The result is the serial one exactly: the axes'
+/// cheapest planes are compared in axis order, and the chunks' references are joined
+/// in their order. A fixed size, so the same on any number of threads.
+constexpr size_t kParallelNode = 8192;
+
 /// The cheapest plane of the SAH sweep (kd_sah.h), found by counting in small nodes;
-/// axis -1 when no plane lies strictly inside the node.
+/// axis -1 when no plane lies strictly inside the node. The first cheapest in the
+/// sweep's order (axis, then position), also when big nodes sweep their axes in parallel.
 KdPlane best_sah_plane(const std::vector<SpatialRef>& refs, const Aabb& box, const KdConfig& c,
                        std::vector<float>& los, std::vector<float>& his, SortScratch& scratch) {
     if (refs.size() <= kKdCountingMax) return kd_cheapest_plane_by_counting(refs, box, c);
     KdPlane best;
-    sweep_kd_sah(refs, box, c, los, his, scratch, [&](int a, float s, size_t, size_t, double cost) {
-        if (cost < best.cost) best = {a, s, cost};
+    if (refs.size() < kParallelNode) {
+        sweep_kd_sah(refs, box, c, los, his, scratch, [&](int a, float s, size_t, size_t, double cost) {
+            if (cost < best.cost) best = {a, s, cost};
+        });
+        return best;
+    }
+    std::array<KdPlane, 3> per_axis;
+    tbb::parallel_for(0, 3, [&](int a) {
+        std::vector<float> axis_los, axis_his;
+        SortScratch axis_scratch;
+        KdPlane& axis_best = per_axis[size_t(a)];
+        sweep_kd_sah_axis(refs, box, c, a, axis_los, axis_his, axis_scratch,
+                          [&](int, float s, size_t, size_t, double cost) {
+                              if (cost < axis_best.cost) axis_best = {a, s, cost};
+                          });
     });
+    for (const KdPlane& p : per_axis)
+        if (p.cost < best.cost) best = p;
     return best;
+}
+
+/// The references of a node split at s on axis a: those reaching the lower child
+/// (clipped to `lower`) appended to `below`, those reaching the upper one to `above`,
+/// in the node's order. Big nodes split chunk by chunk in parallel.
+void split_references(const std::vector<SpatialRef>& refs, int a, float s, const Aabb& lower, const Aabb& upper,
+                      const Mesh& mesh, float pad, ClipMode clip, std::vector<SpatialRef>& below,
+                      std::vector<SpatialRef>& above) {
+    auto split_range = [&](size_t begin, size_t end, std::vector<SpatialRef>& to_below,
+                           std::vector<SpatialRef>& to_above) {
+        for (size_t i = begin; i < end; ++i) {
+            const SpatialRef& r = refs[i];
+            if (goes_below(r, a, s))
+                if (auto c = clip_reference(r, mesh, lower, pad, clip)) to_below.push_back(*c);
+            if (goes_above(r, a, s))
+                if (auto c = clip_reference(r, mesh, upper, pad, clip)) to_above.push_back(*c);
+        }
+    };
+    const size_t n = refs.size();
+    if (n < kParallelNode) {
+        below.reserve(n);
+        above.reserve(n);
+        split_range(0, n, below, above);
+        return;
+    }
+    const size_t chunks = (n + kParallelNode - 1) / kParallelNode;
+    std::vector<std::vector<SpatialRef>> chunk_below(chunks), chunk_above(chunks);
+    tbb::parallel_for(size_t(0), chunks, [&](size_t k) {
+        const size_t begin = k * kParallelNode, end = std::min(n, begin + kParallelNode);
+        chunk_below[k].reserve(end - begin);
+        chunk_above[k].reserve(end - begin);
+        split_range(begin, end, chunk_below[k], chunk_above[k]);
+    });
+    size_t below_count = 0, above_count = 0;
+    for (size_t k = 0; k < chunks; ++k) {
+        below_count += chunk_below[k].size();
+        above_count += chunk_above[k].size();
+    }
+    below.reserve(below_count);
+    above.reserve(above_count);
+    for (size_t k = 0; k < chunks; ++k) {
+        below.insert(below.end(), chunk_below[k].begin(), chunk_below[k].end());
+        above.insert(above.end(), chunk_above[k].begin(), chunk_above[k].end());
+    }
 }
 
 struct WorkItem {
@@ -134,14 +203,7 @@ Subtree build_subtree(const BuildContext& ctx, WorkItem root, double budget, siz
                 upper.lo[a] = s;
                 below.clear();
                 above.clear();
-                below.reserve(n);
-                above.reserve(n);
-                for (const SpatialRef& r : item.refs) {
-                    if (goes_below(r, a, s))
-                        if (auto c = clip_reference(r, ctx.mesh, lower, ctx.pad, config.clip)) below.push_back(*c);
-                    if (goes_above(r, a, s))
-                        if (auto c = clip_reference(r, ctx.mesh, upper, ctx.pad, config.clip)) above.push_back(*c);
-                }
+                split_references(item.refs, a, s, lower, upper, ctx.mesh, ctx.pad, config.clip, below, above);
                 plane.axis = a;
                 plane.position = s;
                 const bool progress = (below.size() < n || above.size() < n) && s > item.box.lo[a] && s < item.box.hi[a];

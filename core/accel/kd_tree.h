@@ -118,9 +118,10 @@ private:
     Hit front_to_back(const Ray& ray, Observer& obs) const;
 };
 
-/// Builds the tree: an explicit work stack (no recursion), the top of the tree on
-/// one thread, then the subtrees below max(4096, N/64) references in parallel,
-/// each built on its own; the output is the same on any number of threads.
+/// Builds the tree: an explicit work stack (no recursion), the top of the tree one
+/// node at a time (a big node's sweeps and split spread over the threads), then the
+/// subtrees below max(4096, N/64) references in parallel, each built on its own;
+/// the output is the same on any number of threads.
 /// build_stats.build_ms is wall time. `progress` (PartitionProgress's units) may
 /// cancel the build: it then returns WorkProgress::cancelled_error().
 Expected<KdTree> build_kd_tree(const Mesh& mesh, const KdConfig& config, WorkProgress* progress = nullptr);

@@ -87,7 +87,8 @@ inline Aabb octant_box(const Aabb& box, Vec3 centre, int o) {
     return b;
 }
 
-/// Builds the octree (its top on one thread, subtrees in parallel, as the KD tree).
+/// Builds the octree as the KD tree: its top one cell at a time (a big cell's split spread
+/// over the threads), then the subtrees below in parallel.
 /// `progress` (PartitionProgress's units) may cancel the build: it then returns
 /// WorkProgress::cancelled_error().
 Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config, WorkProgress* progress = nullptr);
