@@ -38,11 +38,12 @@ struct Subtree {
 
 using OctantRefs = std::array<std::vector<SpatialRef>, 8>;
 
-/// Cells of this many references or more split them chunk by chunk in parallel:
-/// only the top of the tree has such cells, and it is built one cell at a time
-/// (below it, whole subtrees run in parallel). The chunks' references are joined in
-/// their order, so each octant's list is the serial one. A fixed size, so the same
-/// on any number of threads.
+/// Cells of this many references or more split them chunk by chunk in parallel.
+/// Such cells make up the top of the tree, which is built one cell at a time (below
+/// it, whole subtrees run in parallel, whose first cells may be such cells too in a
+/// mesh of over 64 · 8192 triangles). The chunks' references are joined in their
+/// order, so each octant's list is the serial one. A fixed size, so the same on any
+/// number of threads.
 constexpr size_t kParallelCell = 8192;
 
 /// Appends to children[o] each reference of `refs[begin, end)` that reaches octant
