@@ -507,7 +507,7 @@ std::optional<Error> refit_bvh(Bvh& bvh, const Mesh& mesh) {
                      std::to_string(bvh.prim_ids.size()) + " triangles, this mesh " +
                      std::to_string(mesh.triangle_count())};
     if (!bvh.nodes.empty()) refit_subtree(bvh, mesh, 0, 0);
-    bvh.triangles = make_triangles(mesh, bvh.prim_ids);
+    fill_triangles(mesh, bvh.prim_ids, bvh.triangles);
     if (bvh.triangle_test == TriangleTestKind::Watertight) bvh.corners = make_corners(mesh, bvh.prim_ids);
     bvh.build_stats.refit_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

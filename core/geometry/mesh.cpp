@@ -42,12 +42,18 @@ void Mesh::add_triangle(Vec3 a, Vec3 b, Vec3 c) {
 }
 
 TriangleArray make_triangles(const Mesh& mesh, std::span<const uint32_t> order) {
-    TriangleArray tris(order.empty() ? mesh.triangle_count() : order.size());
+    TriangleArray tris;
+    fill_triangles(mesh, order, tris);
+    return tris;
+}
+
+void fill_triangles(const Mesh& mesh, std::span<const uint32_t> order, TriangleArray& tris) {
+    tris.resize(order.empty() ? mesh.triangle_count() : order.size());
     if (order.empty()) {
         tbb::parallel_for(tbb::blocked_range<size_t>(0, tris.size(), 1 << 16), [&](const tbb::blocked_range<size_t>& range) {
             for (size_t i = range.begin(); i < range.end(); ++i) tris[i] = mesh.triangle(i);
         });
-        return tris;
+        return;
     }
     // A leaf order jumps around the mesh, so each triangle's index triple and corners
     // are a cache miss of their own; the loop asks for them some triangles ahead (the
@@ -63,7 +69,6 @@ TriangleArray make_triangles(const Mesh& mesh, std::span<const uint32_t> order) 
             tris[k] = mesh.triangle(order[k]);
         }
     });
-    return tris;
 }
 
 CornerArray make_corners(const Mesh& mesh, std::span<const uint32_t> order) {

@@ -56,6 +56,8 @@ inline bool within_max_coordinate(Vec3d p) {
 /// (a structure's leaf order, so that a leaf's triangles lie next to each other in
 /// memory), or triangle k when `order` is empty. Filled in parallel.
 TriangleArray make_triangles(const Mesh& mesh, std::span<const uint32_t> order = {});
+/// The same into `out`, reusing its memory: a refit copies the moved triangles every frame.
+void fill_triangles(const Mesh& mesh, std::span<const uint32_t> order, TriangleArray& out);
 
 /// The same triangles as corners (the watertight test's form): corners[k] is
 /// triangle order[k], or triangle k when `order` is empty (a structure's leaf
