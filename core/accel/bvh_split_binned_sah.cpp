@@ -72,23 +72,23 @@ public:
         // bins, merged after; there the bins' counts say which are used (cheaper than
         // marking them per triangle, since all B of them usually are).
         uint64_t used[3] = {0, 0, 0};
-        auto drop = [&]<bool kMark>(int set, const PrimRef& ref) {
+        auto drop = [&](int set, const PrimRef& ref, bool mark_used) {
             const BinIndices b = map(ref);
             for (int axis = 0; axis < 3; ++axis) {
                 if (!usable[axis]) continue;
                 Bin& bin = bins_[set][axis][b.index[axis]];
                 bin.box.grow(ref.box);
                 ++bin.count;
-                if constexpr (kMark) used[axis] |= uint64_t(1) << b.index[axis];
+                if (mark_used) used[axis] |= uint64_t(1) << b.index[axis];
             }
         };
         if (range.count() >= kTwoBinSets) {
             uint32_t k = range.begin;
             for (; k + 1 < range.end; k += 2) {
-                drop.template operator()<false>(0, refs_[k]);
-                drop.template operator()<false>(1, refs_[k + 1]);
+                drop(0, refs_[k], false);
+                drop(1, refs_[k + 1], false);
             }
-            if (k < range.end) drop.template operator()<false>(0, refs_[k]);
+            if (k < range.end) drop(0, refs_[k], false);
             for (int axis = 0; axis < 3; ++axis) {
                 if (!usable[axis]) continue;
                 for (int i = 0; i < bin_count_; ++i) {
@@ -103,7 +103,7 @@ public:
                 }
             }
         } else {
-            for (uint32_t k = range.begin; k < range.end; ++k) drop.template operator()<true>(0, refs_[k]);
+            for (uint32_t k = range.begin; k < range.end; ++k) drop(0, refs_[k], true);
         }
 
         // The plane i has bins [0, i) on the left and [i, B) on the right. Between two

@@ -46,16 +46,6 @@ int kd_max_depth(const KdConfig& config, size_t triangles) {
 
 namespace {
 
-/// Nodes of this many references or more spread their own work over the threads:
-/// the three axes' sweeps, and the references' split into chunks of this size. Such
-/// nodes make up the top of the tree, which is built one node at a time (below it,
-/// whole subtrees run in parallel; in a mesh of over 64 · 8192 triangles the biggest
-/// subtrees' first nodes are such nodes too, and their loops run on idle threads).
-/// The result is the serial one exactly: the axes' cheapest planes are compared in
-/// axis order, and the chunks' references are joined in their order. A fixed size,
-/// so the same on any number of threads.
-constexpr size_t kParallelNode = 8192;
-
 /// The cheapest plane of the SAH sweep (kd_sah.h), found by counting in small nodes;
 /// axis -1 when no plane lies strictly inside the node. The first cheapest in the
 /// sweep's order (axis, then position), also when big nodes sweep their axes in parallel.
@@ -63,7 +53,7 @@ KdPlane best_sah_plane(const std::vector<SpatialRef>& refs, const Aabb& box, con
                        std::vector<float>& los, std::vector<float>& his, SortScratch& scratch) {
     if (refs.size() <= kKdCountingMax) return kd_cheapest_plane_by_counting(refs, box, c);
     KdPlane best;
-    if (refs.size() < kParallelNode) {
+    if (refs.size() < kRefsToShareOut) {
         sweep_kd_sah(refs, box, c, los, his, scratch, [&](int a, float s, size_t, size_t, double cost) {
             if (cost < best.cost) best = {a, s, cost};
         });
@@ -86,46 +76,24 @@ KdPlane best_sah_plane(const std::vector<SpatialRef>& refs, const Aabb& box, con
 
 /// The references of a node split at s on axis a: those reaching the lower child
 /// (clipped to `lower`) appended to `below`, those reaching the upper one to `above`,
-/// in the node's order. Big nodes split chunk by chunk in parallel.
+/// in the node's order (big nodes in parallel chunks: split_in_order).
 void split_references(const std::vector<SpatialRef>& refs, int a, float s, const Aabb& lower, const Aabb& upper,
                       const Mesh& mesh, float pad, ClipMode clip, std::vector<SpatialRef>& below,
                       std::vector<SpatialRef>& above) {
-    auto split_range = [&](size_t begin, size_t end, std::vector<SpatialRef>& to_below,
-                           std::vector<SpatialRef>& to_above) {
+    std::array<std::vector<SpatialRef>, 2> sides = {std::move(below), std::move(above)};
+    sides[0].reserve(refs.size());
+    sides[1].reserve(refs.size());
+    split_in_order(refs.size(), sides, [&](size_t begin, size_t end, std::array<std::vector<SpatialRef>, 2>& to) {
         for (size_t i = begin; i < end; ++i) {
             const SpatialRef& r = refs[i];
             if (goes_below(r, a, s))
-                if (auto c = clip_reference(r, mesh, lower, pad, clip)) to_below.push_back(*c);
+                if (auto c = clip_reference(r, mesh, lower, pad, clip)) to[0].push_back(*c);
             if (goes_above(r, a, s))
-                if (auto c = clip_reference(r, mesh, upper, pad, clip)) to_above.push_back(*c);
+                if (auto c = clip_reference(r, mesh, upper, pad, clip)) to[1].push_back(*c);
         }
-    };
-    const size_t n = refs.size();
-    if (n < kParallelNode) {
-        below.reserve(n);
-        above.reserve(n);
-        split_range(0, n, below, above);
-        return;
-    }
-    const size_t chunks = (n + kParallelNode - 1) / kParallelNode;
-    std::vector<std::vector<SpatialRef>> chunk_below(chunks), chunk_above(chunks);
-    tbb::parallel_for(size_t(0), chunks, [&](size_t k) {
-        const size_t begin = k * kParallelNode, end = std::min(n, begin + kParallelNode);
-        chunk_below[k].reserve(end - begin);
-        chunk_above[k].reserve(end - begin);
-        split_range(begin, end, chunk_below[k], chunk_above[k]);
     });
-    size_t below_count = 0, above_count = 0;
-    for (size_t k = 0; k < chunks; ++k) {
-        below_count += chunk_below[k].size();
-        above_count += chunk_above[k].size();
-    }
-    below.reserve(below_count);
-    above.reserve(above_count);
-    for (size_t k = 0; k < chunks; ++k) {
-        below.insert(below.end(), chunk_below[k].begin(), chunk_below[k].end());
-        above.insert(above.end(), chunk_above[k].begin(), chunk_above[k].end());
-    }
+    below = std::move(sides[0]);
+    above = std::move(sides[1]);
 }
 
 struct WorkItem {

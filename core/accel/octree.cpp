@@ -38,58 +38,31 @@ struct Subtree {
 
 using OctantRefs = std::array<std::vector<SpatialRef>, 8>;
 
-/// Cells of this many references or more split them chunk by chunk in parallel.
-/// Such cells make up the top of the tree, which is built one cell at a time (below
-/// it, whole subtrees run in parallel, whose first cells may be such cells too in a
-/// mesh of over 64 · 8192 triangles). The chunks' references are joined in their
-/// order, so each octant's list is the serial one. A fixed size, so the same on any
-/// number of threads.
-constexpr size_t kParallelCell = 8192;
-
-/// Appends to children[o] each reference of `refs[begin, end)` that reaches octant
-/// o of `box` (cut at `centre`), clipped to it, in their order.
-void split_range(const std::vector<SpatialRef>& refs, size_t begin, size_t end, const Aabb& box, Vec3 centre,
-                 const Mesh& mesh, float pad, ClipMode clip, OctantRefs& children) {
-    for (size_t i = begin; i < end; ++i) {
-        const SpatialRef& r = refs[i];
-        // The octants the reference's box reaches (below iff lo < c, above iff hi > c; see SpatialRef).
-        int lo_side[3], hi_side[3];
-        for (int a = 0; a < 3; ++a) {
-            const bool above = r.box.hi[a] > centre[a];
-            const bool below = r.box.lo[a] < centre[a] || !above;
-            lo_side[a] = below ? 0 : 1;
-            hi_side[a] = above ? 1 : 0;
-        }
-        for (int z = lo_side[2]; z <= hi_side[2]; ++z)
-            for (int y = lo_side[1]; y <= hi_side[1]; ++y)
-                for (int x = lo_side[0]; x <= hi_side[0]; ++x) {
-                    const int o = x | y << 1 | z << 2;
-                    if (auto c = clip_reference(r, mesh, octant_box(box, centre, o), pad, clip))
-                        children[size_t(o)].push_back(*c);
-                }
-    }
-}
-
-/// The references of a cell split among its octants (appended to `children`, in the
-/// cell's order). Big cells split chunk by chunk in parallel.
+/// The references of a cell split among its octants (cut at `centre`): each appended
+/// to the list of every octant it reaches, clipped to it, in the cell's order (big
+/// cells in parallel chunks: split_in_order).
 void split_references(const std::vector<SpatialRef>& refs, const Aabb& box, Vec3 centre, const Mesh& mesh, float pad,
                       ClipMode clip, OctantRefs& children) {
-    const size_t n = refs.size();
-    if (n < kParallelCell) {
-        split_range(refs, 0, n, box, centre, mesh, pad, clip, children);
-        return;
-    }
-    std::vector<OctantRefs> chunks((n + kParallelCell - 1) / kParallelCell);
-    tbb::parallel_for(size_t(0), chunks.size(), [&](size_t k) {
-        split_range(refs, k * kParallelCell, std::min(n, (k + 1) * kParallelCell), box, centre, mesh, pad, clip,
-                    chunks[k]);
+    split_in_order(refs.size(), children, [&](size_t begin, size_t end, OctantRefs& to) {
+        for (size_t i = begin; i < end; ++i) {
+            const SpatialRef& r = refs[i];
+            // The octants the reference's box reaches (below iff lo < c, above iff hi > c; see SpatialRef).
+            int lo_side[3], hi_side[3];
+            for (int a = 0; a < 3; ++a) {
+                const bool above = r.box.hi[a] > centre[a];
+                const bool below = r.box.lo[a] < centre[a] || !above;
+                lo_side[a] = below ? 0 : 1;
+                hi_side[a] = above ? 1 : 0;
+            }
+            for (int z = lo_side[2]; z <= hi_side[2]; ++z)
+                for (int y = lo_side[1]; y <= hi_side[1]; ++y)
+                    for (int x = lo_side[0]; x <= hi_side[0]; ++x) {
+                        const int o = x | y << 1 | z << 2;
+                        if (auto c = clip_reference(r, mesh, octant_box(box, centre, o), pad, clip))
+                            to[size_t(o)].push_back(*c);
+                    }
+        }
     });
-    for (size_t o = 0; o < 8; ++o) {
-        size_t count = children[o].size();
-        for (const OctantRefs& chunk : chunks) count += chunk[o].size();
-        children[o].reserve(count);
-        for (const OctantRefs& chunk : chunks) children[o].insert(children[o].end(), chunk[o].begin(), chunk[o].end());
-    }
 }
 
 /// Builds the subtree of `root` depth first over an explicit work stack. Cells whose

@@ -5,6 +5,7 @@
 /// (lecture: 同一个基元可以包含在空间的多个区域中), with its box clipped to each side.
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <optional>
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
+#include <tbb/parallel_for.h>
 
 #include "core/geometry/mesh.h"
 #include "core/geometry/triangle.h"
@@ -48,6 +50,34 @@ std::vector<SpatialRef> root_references(const Mesh& mesh, float pad);
 /// Exact: the box reaches the child, the triangle does not).
 std::optional<SpatialRef> clip_reference(const SpatialRef& ref, const Mesh& mesh, const Aabb& child, float pad,
                                          ClipMode mode);
+
+/// Nodes with this many references or more share their own work out over the threads
+/// (split_in_order; the KD tree also sweeps its three axes at once). Such nodes make up
+/// the top of a tree, which is built one node at a time (below it, whole subtrees run
+/// in parallel). A fixed size, so the same on any number of threads.
+inline constexpr size_t kRefsToShareOut = 8192;
+
+/// A node's `n` references split among K children: split_range(begin, end, lists)
+/// appends references [begin, end) to the children's lists. For kRefsToShareOut
+/// references or more, chunks of that size are split in parallel into lists of their
+/// own, then appended to `children` chunk after chunk: the lists one pass would give.
+template <size_t K, class SplitRange>
+void split_in_order(size_t n, std::array<std::vector<SpatialRef>, K>& children, SplitRange&& split_range) {
+    if (n < kRefsToShareOut) {
+        split_range(size_t(0), n, children);
+        return;
+    }
+    std::vector<std::array<std::vector<SpatialRef>, K>> chunks((n + kRefsToShareOut - 1) / kRefsToShareOut);
+    tbb::parallel_for(size_t(0), chunks.size(), [&](size_t k) {
+        split_range(k * kRefsToShareOut, std::min(n, (k + 1) * kRefsToShareOut), chunks[k]);
+    });
+    for (size_t c = 0; c < K; ++c) {
+        size_t count = children[c].size();
+        for (const auto& chunk : chunks) count += chunk[c].size();
+        children[c].reserve(count);
+        for (const auto& chunk : chunks) children[c].insert(children[c].end(), chunk[c].begin(), chunk[c].end());
+    }
+}
 
 /// A space-partitioning build's progress, counted so that it adds up whatever the
 /// references' duplication: the root holds kTotal units, a split hands a node's
