@@ -28,15 +28,18 @@ KdSahChart kd_sah_chart(const Mesh& mesh, const KdTree& tree, uint32_t node, con
     for (size_t k = 0; k + 1 < path.size(); ++k) {
         const KdNode& p = tree.nodes[path[k]];
         const bool lower = path[k + 1] == p.lower_child();
-        Aabb child = cell;
-        if (lower) child.hi[p.axis] = p.split;
-        else child.lo[p.axis] = p.split;
         next.clear();
-        for (const SpatialRef& r : refs)
-            if (lower ? goes_below(r, p.axis, p.split) : goes_above(r, p.axis, p.split))
-                if (auto c = clip_reference(r, mesh, child, pad, tree.build_config.clip)) next.push_back(*c);
+        Vec3 planes;
+        planes[p.axis] = p.split;
+        ChildRefs parts;
+        for (const SpatialRef& r : refs) {
+            split_reference(r, mesh, cell, planes, 1u << p.axis, pad, tree.build_config.clip, parts);
+            for (int k = 0; k < parts.count; ++k)
+                if ((parts.child[k] != 0) != lower) next.push_back(parts.ref[k]);
+        }
         refs.swap(next);
-        cell = child;
+        if (lower) cell.hi[p.axis] = p.split;
+        else cell.lo[p.axis] = p.split;
     }
     chart.cell = cell;
     chart.count = uint32_t(refs.size());

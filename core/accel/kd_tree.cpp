@@ -74,22 +74,22 @@ KdPlane best_sah_plane(const std::vector<SpatialRef>& refs, const Aabb& box, con
     return best;
 }
 
-/// The references of a node split at s on axis a: those reaching the lower child
-/// (clipped to `lower`) appended to `below`, those reaching the upper one to `above`,
+/// The references of the node `box` split at s on axis a (split_reference): those
+/// reaching the lower child appended to `below`, those reaching the upper one to `above`,
 /// in the node's order (big nodes in parallel chunks: split_in_order).
-void split_references(const std::vector<SpatialRef>& refs, int a, float s, const Aabb& lower, const Aabb& upper,
-                      const Mesh& mesh, float pad, ClipMode clip, std::vector<SpatialRef>& below,
-                      std::vector<SpatialRef>& above) {
+void split_references(const std::vector<SpatialRef>& refs, int a, float s, const Aabb& box, const Mesh& mesh,
+                      float pad, ClipMode clip, std::vector<SpatialRef>& below, std::vector<SpatialRef>& above) {
     std::array<std::vector<SpatialRef>, 2> sides = {std::move(below), std::move(above)};
     sides[0].reserve(refs.size());
     sides[1].reserve(refs.size());
     split_in_order(refs.size(), sides, [&](size_t begin, size_t end, std::array<std::vector<SpatialRef>, 2>& to) {
+        Vec3 planes;
+        planes[a] = s;
+        ChildRefs parts;
         for (size_t i = begin; i < end; ++i) {
-            const SpatialRef& r = refs[i];
-            if (goes_below(r, a, s))
-                if (auto c = clip_reference(r, mesh, lower, pad, clip)) to[0].push_back(*c);
-            if (goes_above(r, a, s))
-                if (auto c = clip_reference(r, mesh, upper, pad, clip)) to[1].push_back(*c);
+            if (clip == ClipMode::Exact) prefetch_triangles_ahead(refs, i, end, mesh);
+            split_reference(refs[i], mesh, box, planes, 1u << a, pad, clip, parts);
+            for (int k = 0; k < parts.count; ++k) to[parts.child[k] == 0 ? 0 : 1].push_back(parts.ref[k]);
         }
     });
     below = std::move(sides[0]);
@@ -168,12 +168,9 @@ Subtree build_subtree(const BuildContext& ctx, WorkItem root, double budget, siz
             for (int attempt = 0; attempt < 3; ++attempt) {
                 const int a = config.builder == KdBuilder::Sah ? plane.axis : (longest + attempt) % 3;
                 const float s = config.builder == KdBuilder::Sah ? plane.position : item.box.center()[a];
-                Aabb lower = item.box, upper = item.box;
-                lower.hi[a] = s;
-                upper.lo[a] = s;
                 below.clear();
                 above.clear();
-                split_references(item.refs, a, s, lower, upper, ctx.mesh, ctx.pad, config.clip, below, above);
+                split_references(item.refs, a, s, item.box, ctx.mesh, ctx.pad, config.clip, below, above);
                 plane.axis = a;
                 plane.position = s;
                 const bool progress = (below.size() < n || above.size() < n) && s > item.box.lo[a] && s < item.box.hi[a];

@@ -38,29 +38,17 @@ struct Subtree {
 
 using OctantRefs = std::array<std::vector<SpatialRef>, 8>;
 
-/// The references of a cell split among its octants (cut at `centre`): each appended
-/// to the list of every octant it reaches, clipped to it, in the cell's order (big
+/// The references of a cell split among its octants (cut at `centre`, split_reference):
+/// each appended to the list of every octant it reaches, in the cell's order (big
 /// cells in parallel chunks: split_in_order).
 void split_references(const std::vector<SpatialRef>& refs, const Aabb& box, Vec3 centre, const Mesh& mesh, float pad,
                       ClipMode clip, OctantRefs& children) {
     split_in_order(refs.size(), children, [&](size_t begin, size_t end, OctantRefs& to) {
+        ChildRefs parts;
         for (size_t i = begin; i < end; ++i) {
-            const SpatialRef& r = refs[i];
-            // The octants the reference's box reaches (below iff lo < c, above iff hi > c; see SpatialRef).
-            int lo_side[3], hi_side[3];
-            for (int a = 0; a < 3; ++a) {
-                const bool above = r.box.hi[a] > centre[a];
-                const bool below = r.box.lo[a] < centre[a] || !above;
-                lo_side[a] = below ? 0 : 1;
-                hi_side[a] = above ? 1 : 0;
-            }
-            for (int z = lo_side[2]; z <= hi_side[2]; ++z)
-                for (int y = lo_side[1]; y <= hi_side[1]; ++y)
-                    for (int x = lo_side[0]; x <= hi_side[0]; ++x) {
-                        const int o = x | y << 1 | z << 2;
-                        if (auto c = clip_reference(r, mesh, octant_box(box, centre, o), pad, clip))
-                            to[size_t(o)].push_back(*c);
-                    }
+            if (clip == ClipMode::Exact) prefetch_triangles_ahead(refs, i, end, mesh);
+            split_reference(refs[i], mesh, box, centre, 7u, pad, clip, parts);
+            for (int k = 0; k < parts.count; ++k) to[parts.child[k]].push_back(parts.ref[k]);
         }
     });
 }

@@ -25,24 +25,82 @@ std::vector<SpatialRef> root_references(const Mesh& mesh, float pad) {
     return refs;
 }
 
-std::optional<SpatialRef> clip_reference(const SpatialRef& ref, const Mesh& mesh, const Aabb& child, float pad,
-                                         ClipMode mode) {
-    // The reference's box is its part grown by pad, so it fits in child grown by 2·pad
-    // exactly when the part fits in child grown by pad: nothing to clip.
-    const Aabb limit = padded(child, 2 * pad);
-    if (limit.contains(ref.box)) return ref;
-    if (mode == ClipMode::Box) {
-        const Aabb box = intersection(ref.box, limit);
-        if (box.empty()) return std::nullopt;
-        return SpatialRef{ref.tri, box};
+void split_reference(const SpatialRef& ref, const Mesh& mesh, const Aabb& cell, Vec3 planes, unsigned axes,
+                     float pad, ClipMode mode, ChildRefs& out) {
+    // The sides of each cut axis the reference's box reaches (0 below, 1 above).
+    int lo_side[3] = {0, 0, 0}, hi_side[3] = {0, 0, 0};
+    for (int a = 0; a < 3; ++a) {
+        if (!(axes >> a & 1)) continue;
+        const bool above = ref.box.hi[a] > planes[a];
+        const bool below = ref.box.lo[a] < planes[a] || !above;
+        lo_side[a] = below ? 0 : 1;
+        hi_side[a] = above ? 1 : 0;
     }
-    const Aabb part = clip_triangle_to_box(mesh.vertex(ref.tri, 0), mesh.vertex(ref.tri, 1), mesh.vertex(ref.tri, 2),
-                                           padded(child, pad));
-    if (part.empty()) return std::nullopt;
-    // Never grow beyond what the parent had (clipping is monotone; this absorbs rounding).
-    const Aabb box = intersection(padded(part, pad), ref.box);
-    if (box.empty()) return std::nullopt;
-    return SpatialRef{ref.tri, box};
+    out.count = 0;
+    ClippedPolygon in_cell;  // the triangle clipped to the padded cell, once it is needed
+    bool have_polygon = false;
+    for (int z = lo_side[2]; z <= hi_side[2]; ++z)
+        for (int y = lo_side[1]; y <= hi_side[1]; ++y)
+            for (int x = lo_side[0]; x <= hi_side[0]; ++x) {
+                const int o = x | y << 1 | z << 2;
+                Aabb child = cell;
+                for (int a = 0; a < 3; ++a) {
+                    if (!(axes >> a & 1)) continue;
+                    if (o >> a & 1) child.lo[a] = planes[a];
+                    else child.hi[a] = planes[a];
+                }
+                // The reference's box is its part grown by pad, so it fits in child grown
+                // by 2·pad exactly when the part fits in child grown by pad: nothing to clip.
+                const Aabb limit = padded(child, 2 * pad);
+                Aabb box = ref.box;
+                if (!limit.contains(ref.box)) {
+                    if (mode == ClipMode::Box) {
+                        box = intersection(ref.box, limit);
+                    } else {
+                        if (!have_polygon) {
+                            in_cell = ClippedPolygon::of_triangle(mesh.vertex(ref.tri, 0), mesh.vertex(ref.tri, 1),
+                                                                  mesh.vertex(ref.tri, 2));
+                            in_cell.clip_to(padded(cell, pad));
+                            have_polygon = true;
+                        }
+                        // Cut at the planes whose sides the box reaches both of; the last
+                        // cut only bounds the part. (On an axis whose plane the box lies on
+                        // one side of, the polygon, within the box shrunk by pad, lies
+                        // inside the child's side already.)
+                        const Aabb clip_box = padded(child, pad);
+                        int cuts[3], cut_count = 0;
+                        for (int a = 0; a < 3; ++a)
+                            if ((axes >> a & 1) && lo_side[a] != hi_side[a]) cuts[cut_count++] = a;
+                        Aabb bounds;
+                        if (cut_count == 0) {
+                            bounds = in_cell.bounds_within(clip_box);
+                        } else {
+                            const ClippedPolygon* last_cut_of = &in_cell;
+                            ClippedPolygon part;
+                            if (cut_count > 1) {
+                                part.copy_from(in_cell);
+                                for (int j = 0; j + 1 < cut_count; ++j) {
+                                    const int a = cuts[j];
+                                    const bool above = o >> a & 1;
+                                    part.keep_side(a, above ? double(clip_box.lo[a]) : double(clip_box.hi[a]), above);
+                                }
+                                last_cut_of = &part;
+                            }
+                            const int a = cuts[cut_count - 1];
+                            const bool above = o >> a & 1;
+                            bounds = last_cut_of->side_bounds_within(
+                                a, above ? double(clip_box.lo[a]) : double(clip_box.hi[a]), above, clip_box);
+                        }
+                        if (bounds.empty()) continue;
+                        // Never grow beyond what the parent had (clipping is monotone; this absorbs rounding).
+                        box = intersection(padded(bounds, pad), ref.box);
+                    }
+                    if (box.empty()) continue;
+                }
+                out.child[out.count] = uint8_t(o);
+                out.ref[out.count] = {ref.tri, box};
+                ++out.count;
+            }
 }
 
 void add_split_notes(const SplitStops& stops, std::vector<std::string>& notes) {

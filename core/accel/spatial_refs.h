@@ -19,6 +19,7 @@
 #include "core/geometry/mesh.h"
 #include "core/geometry/triangle.h"
 #include "core/geometry/triangle_box.h"
+#include "core/util/prefetch.h"
 #include "core/util/work_progress.h"
 
 namespace accelviz {
@@ -45,11 +46,34 @@ struct SpatialRef {
 /// The references of a whole mesh in its root box `root` (the scene box grown by pad).
 std::vector<SpatialRef> root_references(const Mesh& mesh, float pad);
 
-/// `ref` restricted to `child` (a box inside the node `ref` belongs to), or
-/// nothing if the triangle does not come within pad of `child` (possible with
-/// Exact: the box reaches the child, the triangle does not).
-std::optional<SpatialRef> clip_reference(const SpatialRef& ref, const Mesh& mesh, const Aabb& child, float pad,
-                                         ClipMode mode);
+/// What split_reference gives: the reference's part in each child it reaches, in
+/// increasing child index.
+struct ChildRefs {
+    int count = 0;
+    uint8_t child[8];
+    SpatialRef ref[8];
+};
+
+/// `ref`, a reference of the node `cell`, split among the node's children: the cell cut
+/// at planes[a] on each axis a in `axes` (a bit per axis: the KD tree cuts one, the
+/// octree all three). Child o lies above planes[a] iff bit a of o is set. A reference
+/// reaches the children its box reaches (below iff lo < plane or not hi > plane, above
+/// iff hi > plane: see SpatialRef), and in each its box is cut down to that child per
+/// `mode`; a child the triangle does not come within pad of (possible with Exact: the
+/// box reaches it, the triangle does not) gets nothing. With Exact, the triangle is
+/// clipped to the cell once and that polygon cut at the planes for each child.
+void split_reference(const SpatialRef& ref, const Mesh& mesh, const Aabb& cell, Vec3 planes, unsigned axes,
+                     float pad, ClipMode mode, ChildRefs& out);
+
+/// Before split_reference(refs[i], ...) in a loop over refs up to `end`: asks for the
+/// triangle corners of the references a few places ahead (their index triples further
+/// ahead), which exact clipping reads from the mesh, out of the references' order.
+inline void prefetch_triangles_ahead(const std::vector<SpatialRef>& refs, size_t i, size_t end, const Mesh& mesh) {
+    constexpr size_t kTriplesAhead = 16, kCornersAhead = 8;
+    if (i + kTriplesAhead < end) prefetch(&mesh.indices[refs[i + kTriplesAhead].tri]);
+    if (i + kCornersAhead < end)
+        for (uint32_t corner : mesh.indices[refs[i + kCornersAhead].tri]) prefetch(&mesh.positions[corner]);
+}
 
 /// Nodes with this many references or more share their own work out over the threads
 /// (split_in_order; the KD tree also sweeps its three axes at once). Such nodes make up

@@ -78,64 +78,133 @@ bool triangle_overlaps_box(Vec3 p0, Vec3 p1, Vec3 p2, const Aabb& box) {
     return true;
 }
 
-Aabb clip_triangle_to_box(Vec3 p0, Vec3 p1, Vec3 p2, const Aabb& box) {
-    if (box.empty()) return {};
-    // A convex polygon clipped by 6 half-spaces has at most 3 + 6 vertices.
-    constexpr int kMax = 9;
-    V3d buffers[2][kMax + 1];
-    V3d* poly = buffers[0];
-    V3d* next = buffers[1];
-    int count = 3;
-    const double zero[3] = {0, 0, 0};
-    poly[0] = sub(p0, zero);
-    poly[1] = sub(p1, zero);
-    poly[2] = sub(p2, zero);
-    for (int a = 0; a < 3 && count > 0; ++a) {
-        for (int side = 0; side < 2 && count > 0; ++side) {
-            // Keep the part with sign * (x_a - plane) >= 0: x >= lo, or x <= hi.
-            const double plane = side == 0 ? double(box.lo[a]) : double(box.hi[a]);
-            const double sign = side == 0 ? 1.0 : -1.0;
-            // A plane with every corner on the kept side changes nothing (most planes of
-            // a cell that a triangle straddles on one axis only): skip its pass.
-            int inside = 0;
-            for (int i = 0; i < count; ++i) inside += sign * (poly[i][a] - plane) >= 0 ? 1 : 0;
-            if (inside == count) continue;
-            if (inside == 0) return {};
-            int out = 0;
-            for (int i = 0; i < count; ++i) {
-                const V3d& cur = poly[i];
-                const V3d& nxt = poly[(i + 1) % count];
-                const double dc = sign * (cur[a] - plane), dn = sign * (nxt[a] - plane);
-                if (dc >= 0) next[out++] = cur;
-                if ((dc >= 0) != (dn >= 0)) {
-                    // The edge crosses the plane: add the crossing point, exactly on the plane.
-                    const double s = dc / (dc - dn);
-                    V3d p;
-                    for (int k = 0; k < 3; ++k) p.v[k] = cur[k] + s * (nxt[k] - cur[k]);
-                    p.v[a] = plane;
-                    next[out++] = p;
-                }
-            }
-            count = out;
-            std::swap(poly, next);
+ClippedPolygon ClippedPolygon::of_triangle(Vec3 p0, Vec3 p1, Vec3 p2) {
+    ClippedPolygon poly;
+    poly.count = 3;
+    for (int k = 0; k < 3; ++k) {
+        poly.v[0][k] = p0[k];
+        poly.v[1][k] = p1[k];
+        poly.v[2][k] = p2[k];
+    }
+    return poly;
+}
+
+void ClippedPolygon::keep_side(int axis, double plane, bool keep_above) {
+    if (count == 0) return;
+    // Each corner's signed distance: sign * (x_a - plane) >= 0 is kept (x >= plane
+    // above, x <= plane below).
+    const double sign = keep_above ? 1.0 : -1.0;
+    double d[kMaxCorners];
+    int inside = 0;
+    for (int i = 0; i < count; ++i) {
+        d[i] = sign * (v[i][axis] - plane);
+        inside += d[i] >= 0 ? 1 : 0;
+    }
+    // A plane with every corner on the kept side changes nothing (most planes of a
+    // cell that a triangle straddles on one axis only): no pass.
+    if (inside == count) return;
+    if (inside == 0) {
+        count = 0;
+        return;
+    }
+    // Sutherland–Hodgman, each edge taken from its earlier corner to its later one
+    // (the last edge from the last corner to the first).
+    double out[kMaxCorners][3];
+    int n = 0;
+    int prev = count - 1;
+    for (int i = 0; i < count; prev = i, ++i) {
+        if ((d[prev] >= 0) != (d[i] >= 0)) {
+            // The edge crosses the plane: add the crossing point, exactly on the plane.
+            const double s = d[prev] / (d[prev] - d[i]);
+            for (int k = 0; k < 3; ++k) out[n][k] = v[prev][k] + s * (v[i][k] - v[prev][k]);
+            out[n][axis] = plane;
+            ++n;
+        }
+        if (d[i] >= 0) {
+            for (int k = 0; k < 3; ++k) out[n][k] = v[i][k];
+            ++n;
         }
     }
-    if (count == 0) return {};
-    double lo[3] = {poly[0][0], poly[0][1], poly[0][2]}, hi[3] = {lo[0], lo[1], lo[2]};
-    for (int i = 1; i < count; ++i)
-        for (int k = 0; k < 3; ++k) {
-            // Plain comparisons (no NaN here: vertices are finite): std::fmin is a libm call.
-            lo[k] = poly[i][k] < lo[k] ? poly[i][k] : lo[k];
-            hi[k] = poly[i][k] > hi[k] ? poly[i][k] : hi[k];
-        }
+    count = n;
+    for (int i = 0; i < n; ++i)
+        for (int k = 0; k < 3; ++k) v[i][k] = out[i][k];
+}
+
+void ClippedPolygon::clip_to(const Aabb& box) {
+    if (box.empty()) {
+        count = 0;
+        return;
+    }
+    for (int a = 0; a < 3; ++a) {
+        keep_side(a, double(box.lo[a]), true);
+        keep_side(a, double(box.hi[a]), false);
+    }
+}
+
+namespace {
+
+/// Bounds [lo, hi] (double) rounded outwards to float, but never beyond `box`.
+Aabb rounded_within(const double lo[3], const double hi[3], const Aabb& box) {
     Aabb result;
     for (int k = 0; k < 3; ++k) {
-        // Outwards to float, but never beyond the clipping box.
         const float down = round_down(lo[k]), up = round_up(hi[k]);
         result.lo[k] = box.lo[k] > down ? box.lo[k] : down;  // as fmax(down, box.lo): down on a tie
         result.hi[k] = box.hi[k] < up ? box.hi[k] : up;
     }
     return result;
+}
+
+/// Grows [lo, hi] to hold p. Plain comparisons (no NaN here: corners are finite):
+/// std::fmin is a libm call.
+void grow(double lo[3], double hi[3], const double p[3]) {
+    for (int k = 0; k < 3; ++k) {
+        lo[k] = p[k] < lo[k] ? p[k] : lo[k];
+        hi[k] = p[k] > hi[k] ? p[k] : hi[k];
+    }
+}
+
+}  // namespace
+
+Aabb ClippedPolygon::bounds_within(const Aabb& box) const {
+    if (count == 0) return {};
+    double lo[3] = {v[0][0], v[0][1], v[0][2]}, hi[3] = {lo[0], lo[1], lo[2]};
+    for (int i = 1; i < count; ++i) grow(lo, hi, v[i]);
+    return rounded_within(lo, hi, box);
+}
+
+Aabb ClippedPolygon::side_bounds_within(int axis, double plane, bool keep_above, const Aabb& box) const {
+    // keep_side's corners and crossing points, the same arithmetic, taken into the
+    // bounds as they come instead of into a new polygon.
+    const double sign = keep_above ? 1.0 : -1.0;
+    double d[kMaxCorners];
+    for (int i = 0; i < count; ++i) d[i] = sign * (v[i][axis] - plane);
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    double lo[3] = {inf, inf, inf}, hi[3] = {-inf, -inf, -inf};
+    bool any = false;
+    int prev = count - 1;
+    for (int i = 0; i < count; prev = i, ++i) {
+        if ((d[prev] >= 0) != (d[i] >= 0)) {
+            const double s = d[prev] / (d[prev] - d[i]);
+            double p[3];
+            for (int k = 0; k < 3; ++k) p[k] = v[prev][k] + s * (v[i][k] - v[prev][k]);
+            p[axis] = plane;
+            grow(lo, hi, p);
+            any = true;
+        }
+        if (d[i] >= 0) {
+            grow(lo, hi, v[i]);
+            any = true;
+        }
+    }
+    if (!any) return {};
+    return rounded_within(lo, hi, box);
+}
+
+Aabb clip_triangle_to_box(Vec3 p0, Vec3 p1, Vec3 p2, const Aabb& box) {
+    if (box.empty()) return {};
+    ClippedPolygon poly = ClippedPolygon::of_triangle(p0, p1, p2);
+    poly.clip_to(box);
+    return poly.bounds_within(box);
 }
 
 float reference_padding(const Aabb& scene_bounds) {

@@ -26,6 +26,36 @@ bool triangle_overlaps_box(Vec3 p0, Vec3 p1, Vec3 p2, const Aabb& box);
 /// side ("perfect splits", Wald & Havran 2006), much smaller than box ∩ box.
 Aabb clip_triangle_to_box(Vec3 p0, Vec3 p1, Vec3 p2, const Aabb& box);
 
+/// The part of a triangle that clipping leaves: a convex polygon, in double
+/// precision (Sutherland–Hodgman). clip_triangle_to_box is of_triangle, clip_to,
+/// bounds_within; a tree splitting a triangle among several children clips it to
+/// the node once and then cuts the polygon at the split planes (keep_side).
+struct ClippedPolygon {
+    /// A triangle cut by the six planes of a box and three more planes: 3 + 9 corners.
+    static constexpr int kMaxCorners = 12;
+    double v[kMaxCorners][3];
+    int count = 0;  ///< 0: nothing left
+
+    static ClippedPolygon of_triangle(Vec3 p0, Vec3 p1, Vec3 p2);
+    /// This polygon becomes `other` (its corners only, not the whole array).
+    void copy_from(const ClippedPolygon& other) {
+        count = other.count;
+        for (int i = 0; i < count; ++i)
+            for (int k = 0; k < 3; ++k) v[i][k] = other.v[i][k];
+    }
+    /// Keeps the part with x_axis >= plane (keep_above) or <= plane (each cut adds at
+    /// most one corner: nine cuts of a triangle in all).
+    void keep_side(int axis, double plane, bool keep_above);
+    /// Keeps the part inside `box`: its six planes, lo then hi, x then y then z.
+    void clip_to(const Aabb& box);
+    /// The polygon's bounds rounded outwards to float, clamped to `box` (the box it
+    /// was clipped to, which rounding may overstep); empty if nothing is left.
+    Aabb bounds_within(const Aabb& box) const;
+    /// What keep_side(axis, plane, keep_above), then bounds_within(box) give, bit for
+    /// bit, without changing this polygon: one pass, no copy.
+    Aabb side_bounds_within(int axis, double plane, bool keep_above, const Aabb& box) const;
+};
+
 /// The safety margin of every space-partitioning structure (grid, KD tree,
 /// octree). A triangle is referenced by every cell it comes within `padding` of,
 /// not only by the cells it touches. Why: a traversal computes cell boundaries
