@@ -87,7 +87,6 @@ void split_references(const std::vector<SpatialRef>& refs, int a, float s, const
         planes[a] = s;
         ChildRefs parts;
         for (size_t i = begin; i < end; ++i) {
-            if (clip == ClipMode::Exact) prefetch_triangles_ahead(refs, i, end, mesh);
             split_reference(refs[i], mesh, box, planes, 1u << a, pad, clip, parts);
             for (int k = 0; k < parts.count; ++k) to[parts.child[k] == 0 ? 0 : 1].push_back(parts.ref[k]);
         }

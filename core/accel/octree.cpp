@@ -46,7 +46,6 @@ void split_references(const std::vector<SpatialRef>& refs, const Aabb& box, Vec3
     split_in_order(refs.size(), children, [&](size_t begin, size_t end, OctantRefs& to) {
         ChildRefs parts;
         for (size_t i = begin; i < end; ++i) {
-            if (clip == ClipMode::Exact) prefetch_triangles_ahead(refs, i, end, mesh);
             split_reference(refs[i], mesh, box, centre, 7u, pad, clip, parts);
             for (int k = 0; k < parts.count; ++k) to[parts.child[k]].push_back(parts.ref[k]);
         }

@@ -19,7 +19,6 @@
 #include "core/geometry/mesh.h"
 #include "core/geometry/triangle.h"
 #include "core/geometry/triangle_box.h"
-#include "core/util/prefetch.h"
 #include "core/util/work_progress.h"
 
 namespace accelviz {
@@ -64,16 +63,6 @@ struct ChildRefs {
 /// clipped to the cell once and that polygon cut at the planes for each child.
 void split_reference(const SpatialRef& ref, const Mesh& mesh, const Aabb& cell, Vec3 planes, unsigned axes,
                      float pad, ClipMode mode, ChildRefs& out);
-
-/// Before split_reference(refs[i], ...) in a loop over refs up to `end`: asks for the
-/// triangle corners of the references a few places ahead (their index triples further
-/// ahead), which exact clipping reads from the mesh, out of the references' order.
-inline void prefetch_triangles_ahead(const std::vector<SpatialRef>& refs, size_t i, size_t end, const Mesh& mesh) {
-    constexpr size_t kTriplesAhead = 16, kCornersAhead = 8;
-    if (i + kTriplesAhead < end) prefetch(&mesh.indices[refs[i + kTriplesAhead].tri]);
-    if (i + kCornersAhead < end)
-        for (uint32_t corner : mesh.indices[refs[i + kCornersAhead].tri]) prefetch(&mesh.positions[corner]);
-}
 
 /// Nodes with this many references or more share their own work out over the threads
 /// (split_in_order; the KD tree also sweeps its three axes at once). Such nodes make up
