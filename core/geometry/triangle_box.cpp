@@ -89,24 +89,9 @@ ClippedPolygon ClippedPolygon::of_triangle(Vec3 p0, Vec3 p1, Vec3 p2) {
     return poly;
 }
 
-void ClippedPolygon::keep_side(int axis, double plane, bool keep_above) {
-    if (count == 0) return;
-    // Each corner's signed distance: sign * (x_a - plane) >= 0 is kept (x >= plane
-    // above, x <= plane below).
-    const double sign = keep_above ? 1.0 : -1.0;
+void ClippedPolygon::cut(int axis, double plane, double sign) {
     double d[kMaxCorners];
-    int inside = 0;
-    for (int i = 0; i < count; ++i) {
-        d[i] = sign * (v[i][axis] - plane);
-        inside += d[i] >= 0 ? 1 : 0;
-    }
-    // A plane with every corner on the kept side changes nothing (most planes of a
-    // cell that a triangle straddles on one axis only): no pass.
-    if (inside == count) return;
-    if (inside == 0) {
-        count = 0;
-        return;
-    }
+    for (int i = 0; i < count; ++i) d[i] = sign * (v[i][axis] - plane);
     // Sutherland–Hodgman, each edge taken from its earlier corner to its later one
     // (the last edge from the last corner to the first).
     double out[kMaxCorners][3];
@@ -144,7 +129,7 @@ void ClippedPolygon::clip_to(const Aabb& box) {
 namespace {
 
 /// Bounds [lo, hi] (double) rounded outwards to float, but never beyond `box`.
-Aabb rounded_within(const double lo[3], const double hi[3], const Aabb& box) {
+[[gnu::always_inline]] inline Aabb rounded_within(const double lo[3], const double hi[3], const Aabb& box) {
     Aabb result;
     for (int k = 0; k < 3; ++k) {
         const float down = round_down(lo[k]), up = round_up(hi[k]);

@@ -45,7 +45,17 @@ struct ClippedPolygon {
     }
     /// Keeps the part with x_axis >= plane (keep_above) or <= plane (each cut adds at
     /// most one corner: nine cuts of a triangle in all).
-    void keep_side(int axis, double plane, bool keep_above);
+    void keep_side(int axis, double plane, bool keep_above) {
+        // Each corner's signed distance: sign * (x_a - plane) >= 0 is kept. A plane with
+        // every corner on the kept side changes nothing (most planes of a cell that a
+        // triangle straddles on one axis only): no pass, and no call.
+        const double sign = keep_above ? 1.0 : -1.0;
+        int inside = 0;
+        for (int i = 0; i < count; ++i) inside += sign * (v[i][axis] - plane) >= 0 ? 1 : 0;
+        if (inside == count) return;
+        if (inside == 0) count = 0;
+        else cut(axis, plane, sign);
+    }
     /// Keeps the part inside `box`: its six planes, lo then hi, x then y then z.
     void clip_to(const Aabb& box);
     /// The polygon's bounds rounded outwards to float, clamped to `box` (the box it
@@ -54,6 +64,10 @@ struct ClippedPolygon {
     /// What keep_side(axis, plane, keep_above), then bounds_within(box) give, bit for
     /// bit, without changing this polygon: one pass, no copy.
     Aabb side_bounds_within(int axis, double plane, bool keep_above, const Aabb& box) const;
+
+private:
+    /// keep_side's pass (Sutherland–Hodgman) for a plane with corners on both sides.
+    void cut(int axis, double plane, double sign);
 };
 
 /// The safety margin of every space-partitioning structure (grid, KD tree,
