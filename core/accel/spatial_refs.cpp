@@ -25,16 +25,42 @@ std::vector<SpatialRef> root_references(const Mesh& mesh, float pad) {
     return refs;
 }
 
+namespace {
+
+/// The bounds of `in_cell` (a triangle clipped to its padded cell) within `clip_box`
+/// (a child grown by pad, child `o`): the polygon cut at the planes of the axes in
+/// `cuts`, the axes whose plane the reference's box straddles; the last cut only
+/// bounds the part. (On an axis whose plane the box lies on one side of, the polygon,
+/// within the box shrunk by pad, lies inside the child's side already.)
+Aabb part_bounds(const ClippedPolygon& in_cell, const int cuts[3], int cut_count, int o, const Aabb& clip_box) {
+    if (cut_count == 0) return in_cell.bounds_within(clip_box);
+    const auto plane = [&](int a) { return (o >> a & 1) ? double(clip_box.lo[a]) : double(clip_box.hi[a]); };
+    const ClippedPolygon* last_cut_of = &in_cell;
+    ClippedPolygon part;
+    if (cut_count > 1) {
+        part.copy_from(in_cell);
+        for (int j = 0; j + 1 < cut_count; ++j) part.keep_side(cuts[j], plane(cuts[j]), o >> cuts[j] & 1);
+        last_cut_of = &part;
+    }
+    const int a = cuts[cut_count - 1];
+    return last_cut_of->side_bounds_within(a, plane(a), o >> a & 1, clip_box);
+}
+
+}  // namespace
+
 void split_reference(const SpatialRef& ref, const Mesh& mesh, const Aabb& cell, Vec3 planes, unsigned axes,
                      float pad, ClipMode mode, ChildRefs& out) {
-    // The sides of each cut axis the reference's box reaches (0 below, 1 above).
+    // The sides of each cut axis the reference's box reaches (0 below, 1 above), and
+    // the axes where it reaches both.
     int lo_side[3] = {0, 0, 0}, hi_side[3] = {0, 0, 0};
+    int cuts[3], cut_count = 0;
     for (int a = 0; a < 3; ++a) {
         if (!(axes >> a & 1)) continue;
         const bool above = ref.box.hi[a] > planes[a];
         const bool below = ref.box.lo[a] < planes[a] || !above;
         lo_side[a] = below ? 0 : 1;
         hi_side[a] = above ? 1 : 0;
+        if (below && above) cuts[cut_count++] = a;
     }
     out.count = 0;
     ClippedPolygon in_cell;  // the triangle clipped to the padded cell, once it is needed
@@ -63,34 +89,7 @@ void split_reference(const SpatialRef& ref, const Mesh& mesh, const Aabb& cell, 
                             in_cell.clip_to(padded(cell, pad));
                             have_polygon = true;
                         }
-                        // Cut at the planes whose sides the box reaches both of; the last
-                        // cut only bounds the part. (On an axis whose plane the box lies on
-                        // one side of, the polygon, within the box shrunk by pad, lies
-                        // inside the child's side already.)
-                        const Aabb clip_box = padded(child, pad);
-                        int cuts[3], cut_count = 0;
-                        for (int a = 0; a < 3; ++a)
-                            if ((axes >> a & 1) && lo_side[a] != hi_side[a]) cuts[cut_count++] = a;
-                        Aabb bounds;
-                        if (cut_count == 0) {
-                            bounds = in_cell.bounds_within(clip_box);
-                        } else {
-                            const ClippedPolygon* last_cut_of = &in_cell;
-                            ClippedPolygon part;
-                            if (cut_count > 1) {
-                                part.copy_from(in_cell);
-                                for (int j = 0; j + 1 < cut_count; ++j) {
-                                    const int a = cuts[j];
-                                    const bool above = o >> a & 1;
-                                    part.keep_side(a, above ? double(clip_box.lo[a]) : double(clip_box.hi[a]), above);
-                                }
-                                last_cut_of = &part;
-                            }
-                            const int a = cuts[cut_count - 1];
-                            const bool above = o >> a & 1;
-                            bounds = last_cut_of->side_bounds_within(
-                                a, above ? double(clip_box.lo[a]) : double(clip_box.hi[a]), above, clip_box);
-                        }
+                        const Aabb bounds = part_bounds(in_cell, cuts, cut_count, o, padded(child, pad));
                         if (bounds.empty()) continue;
                         // Never grow beyond what the parent had (clipping is monotone; this absorbs rounding).
                         box = intersection(padded(bounds, pad), ref.box);

@@ -108,34 +108,39 @@ void expect_parts_match_own_clips(const Case& c, Vec3 planes, unsigned axes, Cli
     EXPECT_EQ(k, parts.count) << "no parts beyond the children reached";
 }
 
-TEST(SplitReference, KdSplitMatchesClippingEachSideOnItsOwn) {
-    Rng rng(11);
+/// Random cases from `seed`, each split at the planes `split(case, i)` gives on `axes(i)`,
+/// with both clip modes. Returns how many parts exact clipping had to cut.
+template <class Planes, class Axes>
+int check_random_cases(uint64_t seed, Planes&& split, Axes&& axes) {
+    Rng rng(seed);
     int cases = 0, clipped = 0;
     for (int i = 0; i < 4000; ++i) {
         const Case c = random_case(rng);
         if (!c.valid) continue;
         ++cases;
-        const int a = i % 3;
-        Vec3 planes;
-        planes[a] = rng.uniform(c.cell.lo[a], c.cell.hi[a]);
+        const Vec3 planes = split(c, i, rng);
         for (ClipMode mode : {ClipMode::Exact, ClipMode::Box})
-            expect_parts_match_own_clips(c, planes, 1u << a, mode, clipped);
+            expect_parts_match_own_clips(c, planes, axes(i), mode, clipped);
     }
     EXPECT_GT(cases, 2000);
+    return clipped;
+}
+
+TEST(SplitReference, KdSplitMatchesClippingEachSideOnItsOwn) {
+    const int clipped = check_random_cases(
+        11,
+        [](const Case& c, int i, Rng& rng) {
+            Vec3 planes;
+            planes[i % 3] = rng.uniform(c.cell.lo[i % 3], c.cell.hi[i % 3]);
+            return planes;
+        },
+        [](int i) { return 1u << (i % 3); });
     EXPECT_GT(clipped, 1000) << "most cases cut the triangle";
 }
 
 TEST(SplitReference, OctantSplitMatchesClippingEachOctantOnItsOwn) {
-    Rng rng(12);
-    int cases = 0, clipped = 0;
-    for (int i = 0; i < 4000; ++i) {
-        const Case c = random_case(rng);
-        if (!c.valid) continue;
-        ++cases;
-        for (ClipMode mode : {ClipMode::Exact, ClipMode::Box})
-            expect_parts_match_own_clips(c, c.cell.center(), 7u, mode, clipped);
-    }
-    EXPECT_GT(cases, 2000);
+    const int clipped = check_random_cases(
+        12, [](const Case& c, int, Rng&) { return c.cell.center(); }, [](int) { return 7u; });
     EXPECT_GT(clipped, 4000) << "most cases cut the triangle into several octants";
 }
 
