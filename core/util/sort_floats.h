@@ -14,41 +14,63 @@ struct SortScratch {
     std::vector<uint32_t> keys, other;
 };
 
-/// Sorts `values` ascending. Big arrays by a radix sort (three passes of 11, 11 and 10
-/// bits over the floats' bits made monotone: flip every bit of a negative float, the
-/// sign bit of a positive one), small ones by std::sort. The order is std::sort's but
-/// for -0 and +0, which compare equal (the KD sweep treats them as one value). No NaN.
-/// Linear in n, so a KD build's sorts are O(N log N) in all instead of O(N log^2 N).
-inline void sort_ascending(std::vector<float>& values, SortScratch& scratch) {
-    constexpr size_t kRadixFrom = 2048;
+/// A float's bits made monotone as an unsigned key: every bit of a negative float
+/// flipped, the sign bit of a positive one (-0 sorts just before +0).
+inline uint32_t float_sort_key(float value) {
+    const uint32_t bits = std::bit_cast<uint32_t>(value);
+    return bits ^ ((bits >> 31) ? 0xFFFFFFFFu : 0x80000000u);
+}
+inline float float_from_sort_key(uint32_t key) {
+    return std::bit_cast<float>(key ^ ((key >> 31) ? 0x80000000u : 0xFFFFFFFFu));
+}
+
+/// A least-significant-digit radix sort of `values` by kDigits digits of the widths
+/// kBits (one pass counts every digit, then one placing pass per digit). A digit that
+/// all keys share (often the sign and exponent in a small node) is not placed.
+template <int kDigits, int... kBits>
+void radix_sort_floats(std::vector<float>& values, SortScratch& scratch) {
+    constexpr int kWidth[kDigits] = {kBits...};
+    int shift[kDigits];
+    for (int d = 0, s = 0; d < kDigits; s += kWidth[d], ++d) shift[d] = s;
+    constexpr size_t kMaxBuckets = size_t(1) << std::max({kBits...});
     const size_t n = values.size();
-    if (n < kRadixFrom) {
-        std::sort(values.begin(), values.end());
-        return;
-    }
     std::vector<uint32_t>& keys = scratch.keys;
     std::vector<uint32_t>& other = scratch.other;
     keys.resize(n);
     other.resize(n);
-    // One pass makes the keys and counts all three digits; each digit pass then places.
-    constexpr int kShift[3] = {0, 11, 22};
-    constexpr uint32_t kMask[3] = {0x7FF, 0x7FF, 0x3FF};
-    uint32_t count[3][2049] = {};
+    uint32_t count[kDigits][kMaxBuckets + 1] = {};
     for (size_t i = 0; i < n; ++i) {
-        const uint32_t bits = std::bit_cast<uint32_t>(values[i]);
-        const uint32_t key = bits ^ ((bits >> 31) ? 0xFFFFFFFFu : 0x80000000u);
+        const uint32_t key = float_sort_key(values[i]);
         keys[i] = key;
-        for (int d = 0; d < 3; ++d) ++count[d][((key >> kShift[d]) & kMask[d]) + 1];
+        for (int d = 0; d < kDigits; ++d) ++count[d][((key >> shift[d]) & ((1u << kWidth[d]) - 1)) + 1];
     }
-    for (int d = 0; d < 3; ++d) {
+    for (int d = 0; d < kDigits; ++d) {
+        const uint32_t mask = (1u << kWidth[d]) - 1;
         uint32_t* start = count[d];  // start[digit]: where the digit's keys begin
-        for (uint32_t b = 1; b <= kMask[d] + 1; ++b) start[b] += start[b - 1];
-        for (size_t i = 0; i < n; ++i) other[start[(keys[i] >> kShift[d]) & kMask[d]]++] = keys[i];
+        if (start[((keys[0] >> shift[d]) & mask) + 1] == n) continue;  // one digit value: order unchanged
+        for (uint32_t b = 1; b <= mask + 1; ++b) start[b] += start[b - 1];
+        for (size_t i = 0; i < n; ++i) other[start[(keys[i] >> shift[d]) & mask]++] = keys[i];
         keys.swap(other);
     }
-    for (size_t i = 0; i < n; ++i) {
-        const uint32_t key = keys[i];
-        values[i] = std::bit_cast<float>(key ^ ((key >> 31) ? 0x80000000u : 0xFFFFFFFFu));
+    for (size_t i = 0; i < n; ++i) values[i] = float_from_sort_key(keys[i]);
+}
+
+/// Sorts `values` ascending: by a radix sort over the floats' bits made monotone
+/// (float_sort_key), with four 8-bit digits for arrays of up to 2047 values (small
+/// count tables) and three digits of 11, 11 and 10 bits above; tiny arrays by
+/// std::sort. The order is std::sort's but for -0 and +0, which compare equal (the KD
+/// sweep treats them as one value). No NaN. Linear in n, so a KD build's sorts are
+/// O(N log N) in all instead of O(N log^2 N), and free of the comparison sort's
+/// mispredicted branches.
+inline void sort_ascending(std::vector<float>& values, SortScratch& scratch) {
+    constexpr size_t kRadixFrom = 32, kWideDigitsFrom = 2048;
+    const size_t n = values.size();
+    if (n < kRadixFrom) {
+        std::sort(values.begin(), values.end());
+    } else if (n < kWideDigitsFrom) {
+        radix_sort_floats<4, 8, 8, 8, 8>(values, scratch);
+    } else {
+        radix_sort_floats<3, 11, 11, 10>(values, scratch);
     }
 }
 
