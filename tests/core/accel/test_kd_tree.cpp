@@ -320,3 +320,60 @@ TEST(KdTree, SmallNodesChooseBySweepsPlaneWhenCounting) {
         ASSERT_EQ(counted.cost, swept.cost) << "trial " << trial;
     }
 }
+
+TEST(KdTree, SweepVisitsEveryBoundInsideOnceWithItsCounts) {
+    // The sweep's passes against the definition: every distinct bound strictly inside
+    // the node once, in increasing order, with below = #{lo < s}, above = #{hi > s}
+    // counted directly. Coarse positions make ties (and both zeros) common.
+    Rng rng(23);
+    const Aabb node{{-2, -1, -0.5f}, {2, 1, 0.5f}};
+    KdConfig config;
+    std::vector<float> los, his;
+    SortScratch scratch;
+    for (int trial = 0; trial < 300; ++trial) {
+        const size_t n = trial == 0 ? 3000 : 1 + rng.below(trial % 3 == 0 ? 400 : 40);
+        const uint32_t steps = trial % 2 ? 16 : 1u << 20;
+        std::vector<SpatialRef> refs;
+        for (size_t i = 0; i < n; ++i) {
+            Aabb b;
+            for (int a = 0; a < 3; ++a) {
+                auto coarse = [&] {
+                    const float step = (node.hi[a] - node.lo[a] + 1.0f) / float(steps);
+                    const float v = node.lo[a] - 0.5f + step * float(rng.below(steps + 1));
+                    return v == 0.0f && rng.below(2) ? -0.0f : v;
+                };
+                const float x = coarse(), y = coarse();
+                b.lo[a] = std::min(x, y);
+                b.hi[a] = std::max(x, y);
+            }
+            refs.push_back({uint32_t(i), b});
+        }
+        for (int a = 0; a < 3; ++a) {
+            std::vector<float> expected;
+            for (const SpatialRef& r : refs)
+                for (float v : {r.box.lo[a] + 0.0f, r.box.hi[a] + 0.0f})
+                    if (v > node.lo[a] && v < node.hi[a]) expected.push_back(v);
+            std::sort(expected.begin(), expected.end());
+            expected.erase(std::unique(expected.begin(), expected.end()), expected.end());
+            std::vector<float> visited;
+            const auto check = [&](int axis, float s, size_t below, size_t above, double cost) {
+                ASSERT_EQ(axis, a);
+                size_t want_below = 0, want_above = 0;
+                for (const SpatialRef& r : refs) {
+                    want_below += r.box.lo[a] < s;
+                    want_above += r.box.hi[a] > s;
+                }
+                ASSERT_EQ(below, want_below) << "trial " << trial << " s " << s;
+                ASSERT_EQ(above, want_above) << "trial " << trial << " s " << s;
+                ASSERT_EQ(cost, kd_split_cost(config, node, a, s, want_below, want_above, kd_cross_section(node, a),
+                                              kd_perimeter_half(node, a), kd_area(node)));
+                visited.push_back(s);
+            };
+            sweep_kd_sah_axis(refs, node, config, a, los, his, scratch, check);
+            ASSERT_EQ(visited.size(), expected.size()) << "trial " << trial << " axis " << a;
+            for (size_t k = 0; k < visited.size(); ++k)
+                ASSERT_EQ(std::bit_cast<uint32_t>(visited[k]), std::bit_cast<uint32_t>(expected[k]))
+                    << "trial " << trial << " axis " << a;
+        }
+    }
+}
