@@ -34,6 +34,7 @@ void radix_sort_floats(std::vector<float>& values, SortScratch& scratch) {
     for (int d = 0, s = 0; d < kDigits; s += kWidth[d], ++d) shift[d] = s;
     constexpr size_t kMaxBuckets = size_t(1) << std::max({kBits...});
     const size_t n = values.size();
+    if (n == 0) return;
     std::vector<uint32_t>& keys = scratch.keys;
     std::vector<uint32_t>& other = scratch.other;
     keys.resize(n);
