@@ -87,6 +87,29 @@ Mesh straddle_scene() {
     return m;
 }
 
+/// n random boxes whose bounds lie on a lattice of steps + 1 positions spanning the
+/// node widened by `margin` on each side (a coarse lattice makes shared bounds and
+/// bounds on the node's faces likely; a bound at zero is -0 or +0 at random); `flat`:
+/// every box has lo == hi.
+std::vector<SpatialRef> lattice_refs(Rng& rng, const Aabb& node, size_t n, uint32_t steps, float margin, bool flat) {
+    std::vector<SpatialRef> refs;
+    for (size_t i = 0; i < n; ++i) {
+        Aabb b;
+        for (int a = 0; a < 3; ++a) {
+            const float step = (node.hi[a] - node.lo[a] + 2.0f * margin) / float(steps);
+            auto coarse = [&] {
+                const float v = node.lo[a] - margin + step * float(rng.below(steps + 1));
+                return v == 0.0f && rng.below(2) ? -0.0f : v;
+            };
+            const float x = coarse(), y = coarse();
+            b.lo[a] = std::min(x, y);
+            b.hi[a] = flat ? b.lo[a] : std::max(x, y);
+        }
+        refs.push_back({uint32_t(i), b});
+    }
+    return refs;
+}
+
 }  // namespace
 
 TEST(KdTree, ExactOnStadium) { check_scene("builtin:stadium"); }
@@ -293,21 +316,8 @@ TEST(KdTree, SmallNodesChooseBySweepsPlaneWhenCounting) {
     SortScratch scratch;
     for (int trial = 0; trial < 3000; ++trial) {
         const size_t n = 1 + rng.below(kKdCountingMax);
-        std::vector<SpatialRef> refs;
-        for (size_t i = 0; i < n; ++i) {
-            Aabb b;
-            for (int a = 0; a < 3; ++a) {
-                // Coarse positions make shared bounds likely; some stay on the faces.
-                auto coarse = [&] {
-                    const float v = node.lo[a] + (node.hi[a] - node.lo[a]) * float(rng.below(9)) / 8.0f;
-                    return v == 0.0f && rng.below(2) ? -0.0f : v;  // both zeros
-                };
-                const float x = coarse(), y = coarse();
-                b.lo[a] = std::min(x, y);
-                b.hi[a] = trial % 7 == 0 ? b.lo[a] : std::max(x, y);
-            }
-            refs.push_back({uint32_t(i), b});
-        }
+        // Coarse positions make shared bounds likely; some stay on the faces.
+        const std::vector<SpatialRef> refs = lattice_refs(rng, node, n, 8, 0.0f, trial % 7 == 0);
         config.empty_bonus = trial % 2 ? 0.2f : 0.0f;
         KdPlane swept;
         sweep_kd_sah(refs, node, config, los, his, scratch, [&](int a, float s, size_t, size_t, double cost) {
@@ -322,7 +332,7 @@ TEST(KdTree, SmallNodesChooseBySweepsPlaneWhenCounting) {
 }
 
 TEST(KdTree, SweepVisitsEveryBoundInsideOnceWithItsCounts) {
-    // The sweep's passes against the definition: every distinct bound strictly inside
+    // The sweep against its definition: every distinct bound strictly inside
     // the node once, in increasing order, with below = #{lo < s}, above = #{hi > s}
     // counted directly. Coarse positions make ties (and both zeros) common.
     Rng rng(23);
@@ -333,21 +343,7 @@ TEST(KdTree, SweepVisitsEveryBoundInsideOnceWithItsCounts) {
     for (int trial = 0; trial < 300; ++trial) {
         const size_t n = trial == 0 ? 3000 : 1 + rng.below(trial % 3 == 0 ? 400 : 40);
         const uint32_t steps = trial % 2 ? 16 : 1u << 20;
-        std::vector<SpatialRef> refs;
-        for (size_t i = 0; i < n; ++i) {
-            Aabb b;
-            for (int a = 0; a < 3; ++a) {
-                auto coarse = [&] {
-                    const float step = (node.hi[a] - node.lo[a] + 1.0f) / float(steps);
-                    const float v = node.lo[a] - 0.5f + step * float(rng.below(steps + 1));
-                    return v == 0.0f && rng.below(2) ? -0.0f : v;
-                };
-                const float x = coarse(), y = coarse();
-                b.lo[a] = std::min(x, y);
-                b.hi[a] = std::max(x, y);
-            }
-            refs.push_back({uint32_t(i), b});
-        }
+        const std::vector<SpatialRef> refs = lattice_refs(rng, node, n, steps, 0.5f, false);
         for (int a = 0; a < 3; ++a) {
             std::vector<float> expected;
             for (const SpatialRef& r : refs)
