@@ -317,8 +317,8 @@ struct FramePlan {
 
 // [SECTION] Draw with: raster or ray cast
 
-/// Above this many triangle tests for a picture, the naive structure does not ray
-/// cast the mesh (a picture would take minutes; the view stays rasterized).
+/// Above this many triangle tests for a picture, brute force does not ray cast the
+/// mesh (a picture would take minutes; the view stays rasterized).
 constexpr double kNaiveCastBudget = 2e9;
 /// "Auto" tries the ray caster once a rasterized mesh is estimated slower than this.
 constexpr double kAutoTryRayCastMs = 30.0;
@@ -355,17 +355,21 @@ bool mesh_by_ray_cast(const AppState& state, Session& session, const FramePlan& 
     if ((state.view.draw_with == DrawWith::Raster && !needs_rays) || plan.split || !session.scene || !session.scene->accel ||
         session.build_stepper.shows_3d(state) || state.overlay.mesh_opacity <= 0.0f)
         return false;
+    const LoadedScene& scene = *session.scene;
+    // Brute force answers the rays of the naive structure and of a structure file that
+    // failed its check: #pixels x #triangles tests, never the faster way to draw.
+    const bool brute_force = scene.accel_config.type == AccelType::Naive ||
+                             (scene.structure_file && !scene.structure_file->check.valid());
     bool cast = true;
     if (state.view.draw_with == DrawWith::Auto && !needs_rays) {
+        if (brute_force) return false;
         // Whichever draws this view faster, as last measured.
         const double cast_ms = measured ? session.surface_cast.full_cast_milliseconds(session.scene_generation) : 0;
         const double raster_ms = raster_estimate_ms(session);
         if (cast_ms <= 0) cast = raster_ms > kAutoTryRayCastMs;
         else cast = session.mesh_ray_cast ? !(raster_ms < kAutoSwitchFactor * cast_ms) : cast_ms < kAutoSwitchFactor * raster_ms;
     }
-    const LoadedScene& scene = *session.scene;
-    if (cast && scene.accel_config.type == AccelType::Naive &&
-        double(scene.mesh->triangle_count()) * double(pixels) > kNaiveCastBudget) {
+    if (cast && brute_force && double(scene.mesh->triangle_count()) * double(pixels) > kNaiveCastBudget) {
         session.naive_cast_refused = true;
         return false;
     }

@@ -523,7 +523,7 @@ void ViewPanel::draw_split_choices(ViewSettings& view) {
             ImGui::SetTooltip("Raster: OpenGL draws every triangle (z-buffer).\n"
                               "Ray cast: a ray per pixel through the structure, on the CPU;\n"
                               "a quarter of the pixels while the camera moves.\n"
-                              "Auto: whichever was measured faster on this scene.");
+                              "Auto: whichever was measured faster on this scene\n(raster where brute force answers the rays).");
     } else {
         static constexpr const char* kLeftLabels[] = {"OpenGL (its z-buffer)", "CPU rasterizer", "CPU raster depth", "OpenGL depth (read back)"};
         static_assert(std::size(kLeftLabels) == kLeftViewNames.entries.size());
@@ -734,7 +734,7 @@ std::string drawn_by(const AppState& state, const Session& session, bool determi
     std::string text = state.view.draw_with == DrawWith::Auto && !state.light.point_light() ? "auto: " : "";
     if (!session.mesh_ray_cast) {
         text += "raster (OpenGL)";
-        if (session.naive_cast_refused) text += ", a naive ray cast of this view would take minutes";
+        if (session.naive_cast_refused) text += ", a brute-force ray cast of this view would take minutes";
         return text;
     }
     text += "ray cast (CPU)";

@@ -95,7 +95,7 @@ struct Session {
     /// "Draw with: ray cast": the 3D view's mesh from the CPU ray caster.
     SurfaceCast surface_cast;
     /// What drew the mesh in the last frame (the status line says which), and whether
-    /// "ray cast" was refused because a naive cast of the view would take minutes.
+    /// "ray cast" was refused because a brute-force cast of the view would take minutes.
     bool mesh_ray_cast = false;
     bool naive_cast_refused = false;
     /// "Draw with: auto": the last rasterized mesh's time in ms (to glFinish) and the

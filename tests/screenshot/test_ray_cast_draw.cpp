@@ -141,6 +141,16 @@ TEST(RayCastDraw, AutoChoosesTheFasterAndNaiveStaysRasterizedOnABigView) {
         EXPECT_EQ(session.mesh_ray_cast, cast) << scene;
         EXPECT_EQ(session.naive_cast_refused, !cast) << scene;
     }
+    // Auto never chooses brute force, however slow the rasterizer, under the budget too.
+    state.view.draw_with = DrawWith::Auto;
+    state.scene = "builtin:teapot?n=4";
+    auto small = load_and_build(state.scene, state.accel);
+    ASSERT_TRUE(small) << small.error();
+    session.set_scene(state, *small, false);
+    session.raster_ms_per_triangle = 1.0;
+    (*app)->draw(state, input);
+    EXPECT_FALSE(session.mesh_ray_cast);
+    EXPECT_FALSE(session.naive_cast_refused) << "auto chose: nothing refused";
 }
 
 }  // namespace

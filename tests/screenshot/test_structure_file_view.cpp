@@ -107,6 +107,28 @@ TEST(StructureFileView, AnInvalidTreeIsDrawnWithItsFaultyNodesRed) {
     EXPECT_NE(session.overlay.legend.find("NOT VALID: 2 problems"), std::string::npos) << session.overlay.legend;
 }
 
+TEST(StructureFileView, AnInvalidTreeIsRayCastOnlyWhenAsked) {
+    // Its rays go through brute force: auto rasterizes even when rasterizing is slow;
+    // Draw with: ray cast casts it.
+    AppState state;
+    state.scene = "builtin:teapot";
+    state.accel.structure_file = kBrokenTree;
+    state.view.draw_with = DrawWith::Auto;
+    auto app = session_with(state, 320, 240);
+    ASSERT_TRUE(app);
+    Session& session = app->session();
+    ASSERT_NE(session.scene, nullptr) << session.message;
+    session.raster_ms_per_triangle = 1.0;
+    FrameInput input;
+    input.draw_ui = false;
+    app->draw(state, input);
+    EXPECT_FALSE(session.mesh_ray_cast);
+    state.view.draw_with = DrawWith::RayCast;
+    app->draw(state, input);
+    EXPECT_TRUE(session.mesh_ray_cast);
+    EXPECT_FALSE(session.naive_cast_refused) << "3,552 triangles x 76,800 pixels is within the budget";
+}
+
 TEST(StructureFileView, AnUnreadableTreeIsAMessageAndTheStructureStays) {
     AppState state;
     state.scene = "builtin:cube";
