@@ -234,7 +234,7 @@ void kd_overlay(const KdTree& tree, const OverlaySettings& s, StructureOverlay& 
     std::vector<size_t> per_level;  // one box (a leaf, or a plane's outline) per counted node
     for (const Cell& c : cells) {
         const KdNode& n = tree.nodes[c.node];
-        if (s.leaves_only ? (n.is_leaf() && n.count > 0) : !n.is_leaf()) count_level(per_level, c.depth);
+        if (s.leaves_only ? (n.is_leaf() && n.count() > 0) : !n.is_leaf()) count_level(per_level, c.depth);
     }
     const ShownLevels shown = shown_levels(s, out.deepest_level, per_level);
     const LevelRange levels = shown.range;
@@ -245,19 +245,19 @@ void kd_overlay(const KdTree& tree, const OverlaySettings& s, StructureOverlay& 
         const double x = level_position(c.depth, levels.lo, levels.hi);
         const Aabb& box = boxes[c.node];
         if (s.leaves_only) {
-            if (n.is_leaf() && n.count > 0) ordered.add({box.lo, box.hi, level_colour(x)}, c.depth);
+            if (n.is_leaf() && n.count() > 0) ordered.add({box.lo, box.hi, level_colour(x)}, c.depth);
             continue;
         }
         if (n.is_leaf()) continue;
         // The plane x_axis = split, as a rectangle spanning the node's box.
         ColouredQuad quad;
-        const std::array<Vec3, 4> corners = plane_across_box(box, n.axis, n.split);
+        const std::array<Vec3, 4> corners = plane_across_box(box, n.axis(), n.split());
         std::copy(corners.begin(), corners.end(), quad.corners);
         quad.colour = level_colour(x, 70);
         ordered.add(quad, c.depth);
         // The rectangle's outline, so the plane reads edge-on too: a flat box.
         Aabb rim = box;
-        rim.lo[n.axis] = rim.hi[n.axis] = n.split;
+        rim.lo[n.axis()] = rim.hi[n.axis()] = n.split();
         ordered.add({rim.lo, rim.hi, level_colour(x, 200)}, c.depth);
     }
     ordered.finish(out);
@@ -472,7 +472,7 @@ LeafHistogram leaf_histogram(const Accelerator& accel) {
     } else if (const KdTree* kd = structure_if<KdTree>(accel)) {
         out.what = "KD leaves";
         for (const KdNode& n : kd->nodes)
-            if (n.is_leaf()) add(n.count);
+            if (n.is_leaf()) add(n.count());
     } else if (const BspTree* bsp = structure_if<BspTree>(accel)) {
         out.what = "BSP leaves";
         for (const BspNode& n : bsp->nodes)

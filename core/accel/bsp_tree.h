@@ -75,6 +75,7 @@ struct BspNode {
     bool from_triangle = false;  ///< the plane is a triangle's (else an axis-aligned one)
 
     bool is_leaf() const { return leaf; }
+    bool is_empty_leaf() const { return leaf && count == 0; }
 };
 
 struct BspBuildStats : PartitionStats {
@@ -152,11 +153,11 @@ Hit BspTree::front_to_back(const Ray& ray, Observer& obs) const {
             const uint32_t near = n->first + (back_first ? 0 : 1), far = n->first + (back_first ? 1 : 0);
             obs.on({.kind = EventKind::SplitPlane, .axis = kGeneralPlane, .near_first = back_first, .node = cur.node,
                     .t = t_split, .split = p.offset});
-            walk.cross_plane(cur, t_split, near, far, nodes, obs);
+            walk.cross_plane(cur, t_split, near, far, nodes.data(), obs);
             walk.visit(cur, obs);
             n = &nodes[cur.node];
         }
-        if (walk.test_leaf(cur, n->first, n->count, prim_ids, hits, obs)) break;
+        if (walk.test_leaf(cur, n->first, n->count, prim_ids.data(), hits, obs)) break;
     } while (walk.pop_next(hits, cur, obs));
     return hits.done(obs);
 }

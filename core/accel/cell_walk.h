@@ -58,8 +58,8 @@ struct CellWalk {
     /// first hit anywhere on the ray ends the leaf). True when no deferred part can
     /// hold a closer hit, or any-hit found one (the walk may stop).
     template <class Hits, class Observer>
-    static bool test_leaf(const Entry& cur, uint32_t first, uint32_t count, const std::vector<uint32_t>& prim_ids,
-                          Hits& hits, Observer& obs) {
+    static bool test_leaf(const Entry& cur, uint32_t first, uint32_t count, const uint32_t* prim_ids, Hits& hits,
+                          Observer& obs) {
         obs.on({.kind = EventKind::Leaf, .node = cur.node, .first = first, .count = count, .t_enter = cur.t_min,
                 .t_exit = cur.t_max});
         hits.enter(cur.t_max, obs);
@@ -92,8 +92,7 @@ struct CellWalk {
     /// the far child alone (crossed before the interval), or the near part with the
     /// far part deferred. An empty leaf holds nothing to test: skipped.
     template <class Node, class Observer>
-    void cross_plane(Entry& cur, float t_split, uint32_t near, uint32_t far, const std::vector<Node>& nodes,
-                     Observer& obs) {
+    void cross_plane(Entry& cur, float t_split, uint32_t near, uint32_t far, const Node* nodes, Observer& obs) {
         if (!(t_split < cur.t_max)) {
             cur.node = near;
         } else if (t_split <= cur.t_min) {
@@ -101,11 +100,11 @@ struct CellWalk {
         } else {
             const Node& n = nodes[near];
             const Node& f = nodes[far];
-            if (n.is_leaf() && n.count == 0) {
+            if (n.is_empty_leaf()) {
                 cur.node = far;
                 cur.t_min = t_split;
             } else {
-                if (!(f.is_leaf() && f.count == 0)) push({far, t_split, cur.t_max}, obs);
+                if (!f.is_empty_leaf()) push({far, t_split, cur.t_max}, obs);
                 cur.node = near;
                 cur.t_max = t_split;
             }

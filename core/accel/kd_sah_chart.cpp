@@ -30,16 +30,16 @@ KdSahChart kd_sah_chart(const Mesh& mesh, const KdTree& tree, uint32_t node, con
         const bool lower = path[k + 1] == p.lower_child();
         next.clear();
         Vec3 planes;
-        planes[p.axis] = p.split;
+        planes[p.axis()] = p.split();
         ChildRefs parts;
         for (const SpatialRef& r : refs) {
-            split_reference(r, mesh, cell, planes, 1u << p.axis, pad, tree.build_config.clip, parts);
+            split_reference(r, mesh, cell, planes, 1u << p.axis(), pad, tree.build_config.clip, parts);
             for (int k = 0; k < parts.count; ++k)
                 if ((parts.child[k] != 0) != lower) next.push_back(parts.ref[k]);
         }
         refs.swap(next);
-        if (lower) cell.hi[p.axis] = p.split;
-        else cell.lo[p.axis] = p.split;
+        if (lower) cell.hi[p.axis()] = p.split();
+        else cell.lo[p.axis()] = p.split();
     }
     chart.cell = cell;
     chart.count = uint32_t(refs.size());

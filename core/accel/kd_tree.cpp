@@ -188,7 +188,7 @@ Subtree build_subtree(const BuildContext& ctx, WorkItem root, double budget, siz
 
         if (!split) {
             KdNode& leaf = out.nodes[item.node];
-            leaf = KdNode{0, uint32_t(out.prim_ids.size()), uint32_t(n), KdNode::kLeaf};
+            leaf = KdNode::leaf(uint32_t(out.prim_ids.size()), uint32_t(n));
             for (const SpatialRef& r : item.refs) out.prim_ids.push_back(r.tri);
             out.counts.add_leaf(n, item.depth, ctx.depth_limit, config.leaf_size);
             out.sah_cost += p * double(n) * config.cost_isect;
@@ -197,7 +197,7 @@ Subtree build_subtree(const BuildContext& ctx, WorkItem root, double budget, siz
         }
         live_refs = uint64_t(int64_t(live_refs) + int64_t(below.size() + above.size()) - int64_t(n));
         const uint32_t first = uint32_t(out.nodes.size());
-        out.nodes[item.node] = KdNode{plane.position, first, 0, uint8_t(plane.axis)};
+        out.nodes[item.node] = KdNode::interior(plane.axis, plane.position, first);
         out.nodes.emplace_back();
         out.nodes.emplace_back();
         out.sah_cost += p * config.cost_trav;
@@ -244,8 +244,8 @@ Expected<KdTree> build_kd_tree(const Mesh& mesh, const KdConfig& config, WorkPro
         build_subtree(ctx, WorkItem{0, 0, tree.bounds, root_references(mesh, pad), PartitionProgress::kTotal},
                       budget, defer_below, &deferred, top_progress);
     top_progress.flush();
-    tree.nodes = top.nodes;
-    tree.prim_ids = top.prim_ids;
+    tree.nodes.assign(top.nodes.begin(), top.nodes.end());
+    tree.prim_ids.assign(top.prim_ids.begin(), top.prim_ids.end());
     counts.add(top.counts);
     st.sah_cost += top.sah_cost;
     double deferred_refs = 0;
@@ -309,8 +309,8 @@ std::vector<Aabb> KdTree::node_boxes() const {
         const KdNode& n = nodes[i];
         if (n.is_leaf()) continue;
         Aabb lower = boxes[i], upper = boxes[i];
-        lower.hi[n.axis] = n.split;
-        upper.lo[n.axis] = n.split;
+        lower.hi[n.axis()] = n.split();
+        upper.lo[n.axis()] = n.split();
         boxes[n.lower_child()] = lower;
         boxes[n.upper_child()] = upper;
     }

@@ -11,6 +11,7 @@
 /// naive rule gives. Built by build_kd_tree(): median or SAH (Wald & Havran 2006,
 /// "On building fast kd-trees for ray tracing, and on doing that in O(N log N)").
 
+#include <bit>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -71,22 +72,48 @@ std::optional<Error> validate(const KdConfig& config);
 /// The max depth a config gives for N triangles.
 int kd_max_depth(const KdConfig& config, size_t triangles);
 
-/// One node, 16 bytes.
-/// Invariant: a leaf iff axis == kLeaf; its triangles are prim_ids[first .. first+count)
-/// (count may be 0: an empty leaf). Otherwise the plane is x_axis = split, the
-/// lower child (x <= split) is nodes[first], the upper nodes[first + 1].
+/// One node, 8 bytes, as pbrt's KD tree node (Pharr, Jakob & Humphreys, "Physically
+/// Based Rendering", 4.4): a ray's walk down the tree mostly waits for nodes to arrive
+/// from memory, and at 8 bytes a cache line holds four pairs of children.
+/// A leaf holds prim_ids[first() .. first() + count()) (count may be 0: an empty leaf).
+/// An interior node cuts its cell by the plane x_axis() = split(); its lower child
+/// (x <= split) is nodes[lower_child()], its upper one the next node.
+/// Packed: an interior node's plane is a float and a leaf's first index the same 32
+/// bits; the other 32 bits hold the lower child's index or the leaf's count, shifted
+/// past a 2-bit axis (3: a leaf).
 struct KdNode {
     static constexpr uint8_t kLeaf = 3;
-    float split = 0;
-    uint32_t first = 0;
-    uint32_t count = 0;
-    uint8_t axis = kLeaf;
+    static constexpr uint32_t kMaxIndex = (1u << 30) - 1;  ///< the largest child index and leaf count
+    /// The tree's node array starts 8 bytes into a cache line: the pairs of children,
+    /// from nodes[1] on, then start on 16-byte boundaries and never straddle two lines.
+    static constexpr size_t kLeadBytes = 8;
 
-    bool is_leaf() const { return axis == kLeaf; }
-    uint32_t lower_child() const { return first; }
-    uint32_t upper_child() const { return first + 1; }
+    static KdNode leaf(uint32_t first, uint32_t count) { return KdNode(first, count << 2 | kLeaf); }
+    static KdNode interior(int axis, float split, uint32_t lower_child) {
+        return KdNode(std::bit_cast<uint32_t>(split), lower_child << 2 | uint32_t(axis));
+    }
+    KdNode() = default;  // an empty leaf
+
+    bool is_leaf() const { return (bits_ & 3u) == kLeaf; }
+    bool is_empty_leaf() const { return bits_ == kLeaf; }
+    int axis() const { return int(bits_ & 3u); }  ///< 0, 1, 2; kLeaf for a leaf
+    float split() const { return std::bit_cast<float>(word_); }
+    uint32_t lower_child() const { return bits_ >> 2; }
+    uint32_t upper_child() const { return (bits_ >> 2) + 1; }
+    uint32_t count() const { return is_leaf() ? bits_ >> 2 : 0; }
+    /// A leaf's first index into prim_ids; an interior node's lower child.
+    uint32_t first() const { return is_leaf() ? word_ : bits_ >> 2; }
+    void set_first(uint32_t first) {
+        if (is_leaf()) word_ = first;
+        else bits_ = first << 2 | (bits_ & 3u);
+    }
+
+private:
+    KdNode(uint32_t word, uint32_t bits) : word_(word), bits_(bits) {}
+    uint32_t word_ = 0;     ///< the split (a float's bits) or the leaf's first index
+    uint32_t bits_ = kLeaf; ///< lower child or count << 2 | axis (kLeaf)
 };
-static_assert(sizeof(KdNode) == 16, "a KD node is 16 bytes");
+static_assert(sizeof(KdNode) == 8, "a KD node is 8 bytes");
 
 struct KdBuildStats : PartitionStats {
     uint32_t depth_limit = 0;  ///< the max depth the build used
@@ -147,19 +174,20 @@ Hit KdTree::front_to_back(const Ray& ray, Observer& obs) const {
         walk.visit(cur, obs);
         const KdNode* n = &nodes[cur.node];
         while (!n->is_leaf()) {
-            const int a = n->axis;
-            const float t_split = (n->split - origin[a]) * dir_inv[a];
+            const int a = n->axis();
+            const float t_split = (n->split() - origin[a]) * dir_inv[a];
             // Moving up the axis (or along it, +0) the lower child comes first.
             const bool lower_first = !dir_negative[a];
-            const uint32_t near = n->first + (lower_first ? 0 : 1), far = n->first + (lower_first ? 1 : 0);
+            const uint32_t lower = n->lower_child();
+            const uint32_t near = lower + (lower_first ? 0 : 1), far = lower + (lower_first ? 1 : 0);
             obs.on({.kind = EventKind::SplitPlane, .axis = uint8_t(a), .near_first = lower_first, .node = cur.node,
-                    .t = t_split, .split = n->split});
-            walk.cross_plane(cur, t_split, near, far, nodes, obs);  // (the SAH's empty-space cuts make many empty leaves)
+                    .t = t_split, .split = n->split()});
+            walk.cross_plane(cur, t_split, near, far, nodes.data(), obs);  // (the SAH's empty-space cuts make many empty leaves)
             walk.visit(cur, obs);
             n = &nodes[cur.node];
         }
         // A leaf: its triangles, with the in-cell rule; then the next deferred subtree.
-        if (walk.test_leaf(cur, n->first, n->count, prim_ids, hits, obs)) break;
+        if (walk.test_leaf(cur, n->first(), n->count(), prim_ids.data(), hits, obs)) break;
     } while (walk.pop_next(hits, cur, obs));
     return hits.done(obs);
 }

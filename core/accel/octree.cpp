@@ -163,8 +163,8 @@ Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config, Work
                                       WorkItem{0, 0, tree.bounds, root_references(mesh, pad), PartitionProgress::kTotal},
                                       budget, defer_below, &deferred, top_progress);
     top_progress.flush();
-    tree.nodes = top.nodes;
-    tree.prim_ids = top.prim_ids;
+    tree.nodes.assign(top.nodes.begin(), top.nodes.end());
+    tree.prim_ids.assign(top.prim_ids.begin(), top.prim_ids.end());
     counts.add(top.counts);
     std::vector<uint32_t> placeholders;
     for (const WorkItem& w : deferred) placeholders.push_back(w.node);

@@ -157,7 +157,7 @@ Hit Octree::front_to_back(const Ray& ray, Observer& obs) const {
             walk.visit(cur, obs);
             n = &nodes[cur.node];
         }
-        if (n->is_leaf() && walk.test_leaf(cur, n->first, n->count, prim_ids, hits, obs)) break;
+        if (n->is_leaf() && walk.test_leaf(cur, n->first, n->count, prim_ids.data(), hits, obs)) break;
     } while (walk.pop_next(hits, cur, obs));
     return hits.done(obs);
 }

@@ -19,6 +19,7 @@
 #include "core/geometry/mesh.h"
 #include "core/geometry/triangle.h"
 #include "core/geometry/triangle_box.h"
+#include "core/util/large_array.h"
 #include "core/util/work_progress.h"
 
 namespace accelviz {
@@ -198,16 +199,26 @@ struct SubtreeCounts {
     }
 };
 
+/// Where a tree's node array starts after a cache line's start: Node::kLeadBytes if the
+/// node type says (the KD tree's, so that its pairs of children never straddle two
+/// lines), else 0.
+template <class Node>
+constexpr size_t node_lead_bytes() {
+    if constexpr (requires { Node::kLeadBytes; }) return Node::kLeadBytes;
+    else return 0;
+}
+
 /// The arrays of a space-partitioning tree (KD tree, octree, BSP tree) and what it was built
-/// with. Invariants of both: nodes[0] is the root and `bounds` its box (the scene's
+/// with. The nodes and ids are on huge pages, as the BVH's (large_array.h): a ray's
+/// walk reads a few nodes scattered over the whole array. Invariants of both: nodes[0] is the root and `bounds` its box (the scene's
 /// box grown by the reference padding); nodes is empty iff the mesh has no
 /// triangles; triangles[k] is triangle prim_ids[k] (leaf order: a copy, so that a
 /// leaf's triangles are contiguous in memory).
 template <class Node, class Config, class Stats>
 struct PartitionTree {
     Aabb bounds;
-    std::vector<Node> nodes;
-    std::vector<uint32_t> prim_ids;
+    std::vector<Node, LargeArrayAllocator<Node, node_lead_bytes<Node>()>> nodes;
+    std::vector<uint32_t, LargeArrayAllocator<uint32_t>> prim_ids;
     TriangleArray triangles;
     CornerArray corners;  ///< the same, as corners; only when triangle_test is watertight
     Config build_config;
@@ -257,12 +268,24 @@ struct PartitionTree {
     }
 
 private:
+    // A node's first child or first reference: a field of the octree's and BSP tree's
+    // nodes, packed into the KD tree's (methods).
+    static uint32_t first_of(const Node& n) {
+        if constexpr (requires { n.first(); }) return n.first();
+        else return n.first;
+    }
+    static void set_first(Node& n, uint32_t first) {
+        if constexpr (requires { n.set_first(first); }) n.set_first(first);
+        else n.first = first;
+    }
+
     void splice(uint32_t at, const std::vector<Node>& sub_nodes, const std::vector<uint32_t>& sub_prim_ids) {
         const auto base = uint32_t(nodes.size());  // where the subtree's node 1 goes
         const auto prim_base = uint32_t(prim_ids.size());
         for (size_t i = 0; i < sub_nodes.size(); ++i) {
             Node n = sub_nodes[i];
-            n.first = n.is_leaf() ? n.first + prim_base : (n.first == 0 ? at : base + n.first - 1);
+            const uint32_t first = first_of(n);
+            set_first(n, n.is_leaf() ? first + prim_base : (first == 0 ? at : base + first - 1));
             if (i == 0) nodes[at] = n;
             else nodes.push_back(n);
         }

@@ -555,12 +555,12 @@ KdTree kd_tree_of(const StructureFile& f, const Mesh& mesh) {
         const auto [from, to] = queue[q];
         const FileKdNode& n = f.kd_nodes[from];
         if (n.is_leaf()) {
-            kd.nodes[to] = KdNode{0, uint32_t(kd.prim_ids.size()), uint32_t(n.triangles.size()), KdNode::kLeaf};
+            kd.nodes[to] = KdNode::leaf(uint32_t(kd.prim_ids.size()), uint32_t(n.triangles.size()));
             kd.prim_ids.insert(kd.prim_ids.end(), n.triangles.begin(), n.triangles.end());
             continue;
         }
         const auto first = uint32_t(kd.nodes.size());
-        kd.nodes[to] = KdNode{n.split, first, 0, uint8_t(n.axis)};
+        kd.nodes[to] = KdNode::interior(n.axis, n.split, first);
         kd.nodes.resize(kd.nodes.size() + 2);
         queue.push_back({n.children[0], first});
         queue.push_back({n.children[1], first + 1});

@@ -609,10 +609,10 @@ void export_kd(const KdTree& kd, StructureFile& f) {
         const KdNode& n = kd.nodes[i];
         FileKdNode& out = f.kd_nodes[i];
         if (n.is_leaf()) {
-            out.triangles.assign(kd.prim_ids.begin() + n.first, kd.prim_ids.begin() + n.first + n.count);
+            out.triangles.assign(kd.prim_ids.begin() + n.first(), kd.prim_ids.begin() + n.first() + n.count());
         } else {
-            out.axis = n.axis;
-            out.split = n.split;
+            out.axis = n.axis();
+            out.split = n.split();
             out.children = {n.lower_child(), n.upper_child()};
         }
     }

@@ -188,15 +188,15 @@ NearestPoint nearest_point(const KdTree& kd, const Mesh& mesh, Vec3d q, Observer
         stack.pop_back();
         obs.on({.kind = EventKind::Pop, .node = e.node, .t_enter = float(std::sqrt(e.d2))});
         const KdNode& node = kd.nodes[e.node];
-        if (!nearest_detail::enter_node(e.node, e.d2, node.is_leaf(), node.first, node.count, kd.prim_ids.data(), mesh,
+        if (!nearest_detail::enter_node(e.node, e.d2, node.is_leaf(), node.first(), node.count(), kd.prim_ids.data(), mesh,
                                         q, best, obs))
             continue;
         Aabb lower = e.box, upper = e.box;
-        lower.hi[node.axis] = node.split;
-        upper.lo[node.axis] = node.split;
+        lower.hi[node.axis()] = node.split();
+        upper.lo[node.axis()] = node.split();
         Entry near{node.lower_child(), lower, box_distance_squared(q, lower)};
         Entry far{node.upper_child(), upper, box_distance_squared(q, upper)};
-        if (double(node.split) < (node.axis == 0 ? q.x : node.axis == 1 ? q.y : q.z)) std::swap(near, far);
+        if (double(node.split()) < (node.axis() == 0 ? q.x : node.axis() == 1 ? q.y : q.z)) std::swap(near, far);
         push(far);
         push(near);
     }

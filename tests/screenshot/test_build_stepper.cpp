@@ -163,8 +163,8 @@ TEST(BuildStepHeadless, OurKdTreeIsSteppedNodeByNodeInItsBuildOrder) {
     const FileNodeStep* root = session.build_stepper.file_node();
     ASSERT_NE(root, nullptr);
     EXPECT_EQ(root->node, 0u);
-    EXPECT_EQ(root->axis, kd->nodes[0].axis);
-    EXPECT_EQ(root->split, kd->nodes[0].split);
+    EXPECT_EQ(root->axis, kd->nodes[0].axis());
+    EXPECT_EQ(root->split, kd->nodes[0].split());
     EXPECT_EQ(root->box, kd->bounds);
     EXPECT_EQ(root->children, (std::vector<uint64_t>{kd->nodes[0].lower_child(), kd->nodes[0].upper_child()}));
     // Every node comes after its parent: the build made it when it split the parent.
@@ -172,8 +172,8 @@ TEST(BuildStepHeadless, OurKdTreeIsSteppedNodeByNodeInItsBuildOrder) {
     // The SAH chart of the root: its cheapest plane under the tree's costs is the tree's.
     const KdSahChart* chart = session.build_stepper.kd_chart();
     ASSERT_NE(chart, nullptr);
-    EXPECT_EQ(chart->best_axis, int(kd->nodes[0].axis));
-    EXPECT_EQ(chart->best_position, kd->nodes[0].split);
+    EXPECT_EQ(chart->best_axis, kd->nodes[0].axis());
+    EXPECT_EQ(chart->best_position, kd->nodes[0].split());
     EXPECT_EQ(chart->config.cost_trav, kd->build_config.cost_trav);
     // A key steps to the next node.
     ImGuiIO& io = ImGui::GetIO();

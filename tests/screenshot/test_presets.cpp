@@ -579,8 +579,8 @@ TEST(Presets, TheKdPlanePresetShowsTheRootsPlaneAsTheCheapestWithStraddlers) {
     const uint32_t node = uint32_t(state->build_step.step);
     ASSERT_FALSE(kd->nodes[node].is_leaf());
     const KdSahChart chart = kd_sah_chart(*(*loaded)->mesh, *kd, node, kd->build_config);
-    EXPECT_EQ(chart.best_axis, int(kd->nodes[node].axis));
-    EXPECT_EQ(chart.best_position, kd->nodes[node].split);
+    EXPECT_EQ(chart.best_axis, kd->nodes[node].axis());
+    EXPECT_EQ(chart.best_position, kd->nodes[node].split());
     EXPECT_LT(chart.best_cost, chart.leaf_cost);
     EXPECT_GT(chart.best_below + chart.best_above, chart.count) << "triangles crossing the plane, on both sides";
     EXPECT_GT(kd->build_config.empty_bonus, 0.0f);

@@ -34,8 +34,8 @@ TEST(KdSahChart, TheCheapestPlaneIsTheTreesAtEveryInteriorNode) {
         for (size_t k = 0; k < interiors.size(); k += stride) {
             const uint32_t n = interiors[k];
             const KdSahChart chart = kd_sah_chart(*mesh, tree, n, tree.build_config);
-            ASSERT_EQ(chart.best_axis, int(tree.nodes[n].axis)) << source << " node " << n;
-            ASSERT_EQ(chart.best_position, tree.nodes[n].split) << source << " node " << n;
+            ASSERT_EQ(chart.best_axis, tree.nodes[n].axis()) << source << " node " << n;
+            ASSERT_EQ(chart.best_position, tree.nodes[n].split()) << source << " node " << n;
             EXPECT_LT(chart.best_cost, chart.leaf_cost) << "the build split because the plane was cheaper";
             // Each side's count is what the child holds (its subtree's references at its top).
             const KdSahChart lower = kd_sah_chart(*mesh, tree, tree.nodes[n].lower_child(), tree.build_config);

@@ -1,8 +1,8 @@
 // The KD tree: exact against brute force in every configuration, the lecture's
 // pitfall made visible by --kd-strict-cell off, and the tree's invariants.
-#include <gtest/gtest.h>
-
 #include <bit>
+
+#include <gtest/gtest.h>
 
 #include <tbb/global_control.h>
 
@@ -70,10 +70,10 @@ void for_each_node(const KdTree& t, F&& f) {
         const KdNode& n = t.nodes[it.node];
         if (n.is_leaf()) continue;
         Aabb lo = it.box, hi = it.box;
-        lo.hi[n.axis] = n.split;
-        hi.lo[n.axis] = n.split;
-        stack.push_back({n.first, lo, it.depth + 1});
-        stack.push_back({n.first + 1, hi, it.depth + 1});
+        lo.hi[n.axis()] = n.split();
+        hi.lo[n.axis()] = n.split();
+        stack.push_back({n.first(), lo, it.depth + 1});
+        stack.push_back({n.first() + 1, hi, it.depth + 1});
     }
 }
 
@@ -135,7 +135,7 @@ TEST(KdTree, StrictCellOffGivesTheSlidesWrongAnswer) {
     c.leaf_size = 1;
     const KdTree strict = build(m, c);
     ASSERT_FALSE(strict.nodes[0].is_leaf());
-    EXPECT_EQ(strict.nodes[0].axis, 0);
+    EXPECT_EQ(strict.nodes[0].axis(), 0);
     EXPECT_TRUE(same_hit(strict.intersect_closest(ray, none), truth));
     // The in-cell rule at work: A's hit is seen in the first leaf and deferred.
     RecordingObserver rec;
@@ -177,14 +177,14 @@ TEST(KdTree, ChildrenPartitionTheirParent) {
             max_depth = std::max(max_depth, depth);
             if (n.is_leaf()) {
                 ++leaves;
-                refs += n.count;
-                EXPECT_LE(n.first + n.count, t.prim_ids.size());
+                refs += n.count();
+                EXPECT_LE(n.first() + n.count(), t.prim_ids.size());
                 return;
             }
             // The plane lies strictly inside the box: two non-empty halves that tile it.
-            EXPECT_GT(n.split, box.lo[n.axis]);
-            EXPECT_LT(n.split, box.hi[n.axis]);
-            EXPECT_EQ(n.first % 2, 1u) << "children are allocated in pairs after the root";
+            EXPECT_GT(n.split(), box.lo[n.axis()]);
+            EXPECT_LT(n.split(), box.hi[n.axis()]);
+            EXPECT_EQ(n.first() % 2, 1u) << "children are allocated in pairs after the root";
         });
         EXPECT_EQ(leaves, t.build_stats.leaves);
         EXPECT_EQ(refs, t.prim_ids.size());
@@ -211,7 +211,7 @@ TEST(KdTree, EveryTriangleIsInEveryLeafItComesNear) {
             const KdNode& n = t.nodes[node];
             if (!n.is_leaf()) return;
             std::vector<char> here(scene.mesh.triangle_count(), 0);
-            for (uint32_t k = n.first; k < n.first + n.count; ++k) here[t.prim_ids[k]] = 1;
+            for (uint32_t k = n.first(); k < n.first() + n.count(); ++k) here[t.prim_ids[k]] = 1;
             for (uint32_t tri = 0; tri < scene.mesh.triangle_count(); ++tri)
                 if (!here[tri] && triangle_overlaps_box(scene.mesh.vertex(tri, 0), scene.mesh.vertex(tri, 1),
                                                         scene.mesh.vertex(tri, 2), padded(box, margin)))
@@ -235,13 +235,43 @@ TEST(KdTree, MaxDepthDefaultsToWaldHavran) {
     EXPECT_EQ(kd_max_depth(c, 1024), 5);
 }
 
+TEST(KdNode, PacksALeafOrAPlaneIntoEightBytes) {
+    const KdNode empty;
+    EXPECT_TRUE(empty.is_leaf() && empty.is_empty_leaf());
+    EXPECT_EQ(empty.count(), 0u);
+    KdNode leaf = KdNode::leaf(123456, KdNode::kMaxIndex);
+    EXPECT_TRUE(leaf.is_leaf());
+    EXPECT_FALSE(leaf.is_empty_leaf());
+    EXPECT_EQ(leaf.first(), 123456u);
+    EXPECT_EQ(leaf.count(), KdNode::kMaxIndex);
+    leaf.set_first(0xFFFFFFFFu);  // a leaf's first index has all 32 bits
+    EXPECT_EQ(leaf.first(), 0xFFFFFFFFu);
+    EXPECT_EQ(leaf.count(), KdNode::kMaxIndex);
+    EXPECT_TRUE(KdNode::leaf(7, 0).is_empty_leaf());
+    for (int axis = 0; axis < 3; ++axis)
+        for (const float split : {-0.0f, 1.5f, -3.25e-30f, 7e30f, std::nextafter(1.0f, 2.0f)}) {
+            KdNode n = KdNode::interior(axis, split, KdNode::kMaxIndex - 1);
+            EXPECT_FALSE(n.is_leaf());
+            EXPECT_FALSE(n.is_empty_leaf());
+            EXPECT_EQ(n.axis(), axis);
+            EXPECT_EQ(std::bit_cast<uint32_t>(n.split()), std::bit_cast<uint32_t>(split)) << "every bit of the plane";
+            EXPECT_EQ(n.lower_child(), KdNode::kMaxIndex - 1);
+            EXPECT_EQ(n.upper_child(), KdNode::kMaxIndex);
+            EXPECT_EQ(n.count(), 0u);
+            n.set_first(5);
+            EXPECT_EQ(n.first(), 5u);
+            EXPECT_EQ(n.axis(), axis);
+            EXPECT_EQ(n.split(), split);
+        }
+}
+
 TEST(KdTree, BuildIsDeterministic) {
     const SceneCase& scene = scene_case("builtin:soup?n=2000&seed=3", 10);
     const KdTree a = build(scene.mesh, KdConfig{}), b = build(scene.mesh, KdConfig{});
     ASSERT_EQ(a.nodes.size(), b.nodes.size());
     for (size_t i = 0; i < a.nodes.size(); ++i) {
-        EXPECT_EQ(a.nodes[i].split, b.nodes[i].split);
-        EXPECT_EQ(a.nodes[i].first, b.nodes[i].first);
+        EXPECT_EQ(a.nodes[i].split(), b.nodes[i].split());
+        EXPECT_EQ(a.nodes[i].first(), b.nodes[i].first());
     }
     EXPECT_EQ(a.prim_ids, b.prim_ids);
 }
@@ -257,9 +287,9 @@ TEST(KdTree, ParallelBuildIsTheSameOnAnyNumberOfThreads) {
     }
     ASSERT_EQ(many.nodes.size(), one.nodes.size());
     for (size_t i = 0; i < many.nodes.size(); ++i) {
-        EXPECT_EQ(many.nodes[i].split, one.nodes[i].split);
-        EXPECT_EQ(many.nodes[i].first, one.nodes[i].first);
-        EXPECT_EQ(many.nodes[i].count, one.nodes[i].count);
+        EXPECT_EQ(many.nodes[i].split(), one.nodes[i].split());
+        EXPECT_EQ(many.nodes[i].first(), one.nodes[i].first());
+        EXPECT_EQ(many.nodes[i].count(), one.nodes[i].count());
     }
     EXPECT_EQ(many.prim_ids, one.prim_ids);
     EXPECT_EQ(many.build_stats.leaves, one.build_stats.leaves);
@@ -297,7 +327,7 @@ TEST(KdTree, OriginsOnSplitPlanes) {
             const KdTree t = build(scene.mesh, config);
             std::array<std::vector<float>, 3> planes;
             for (const KdNode& n : t.nodes)
-                if (!n.is_leaf()) planes[n.axis].push_back(n.split);
+                if (!n.is_leaf()) planes[n.axis()].push_back(n.split());
             const SceneCase on_planes = rays_on_planes(scene.mesh, planes, 20000, 12);
             expect_exact(t, on_planes, "kd " + label + " origins on split planes");
         }

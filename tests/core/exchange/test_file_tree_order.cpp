@@ -81,7 +81,7 @@ TEST(FileTreeOrder, OurExportedKdTreeGivesEachChildItsCellAndTriangles) {
     EXPECT_EQ(root.triangle_count, listed.size());
     EXPECT_EQ(root.box, kd.bounds);
     ASSERT_FALSE(root.leaf);
-    EXPECT_EQ(root.axis, kd.nodes[0].axis);
+    EXPECT_EQ(root.axis, kd.nodes[0].axis());
     Aabb below = kd.bounds, above = kd.bounds;
     below.hi[root.axis] = above.lo[root.axis] = root.split;
     ASSERT_EQ(root.child_boxes.size(), 2u);
