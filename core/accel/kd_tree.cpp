@@ -260,6 +260,11 @@ Expected<KdTree> build_kd_tree(const Mesh& mesh, const KdConfig& config, WorkPro
         subtrees[k] = build_subtree(ctx, std::move(deferred[k]), std::max(share, 1.0), 0, nullptr, progress);
     });
     if (cancelled(shared_progress)) return WorkProgress::cancelled_error();
+    size_t node_count = tree.nodes.size();
+    for (const Subtree& sub : subtrees) node_count += sub.nodes.empty() ? 0 : sub.nodes.size() - 1;
+    if (node_count > KdNode::kMaxIndex)
+        return Error{"the KD tree would have " + std::to_string(node_count) + " nodes, more than its nodes can index (" +
+                     std::to_string(KdNode::kMaxIndex) + "): raise --leaf-size or lower --kd-max-depth"};
     tree.splice_all(placeholders, subtrees);
     for (const Subtree& sub : subtrees) {
         counts.add(sub.counts);

@@ -73,8 +73,8 @@ std::optional<Error> validate(const KdConfig& config);
 int kd_max_depth(const KdConfig& config, size_t triangles);
 
 /// One node, 8 bytes, as pbrt's KD tree node (Pharr, Jakob & Humphreys, "Physically
-/// Based Rendering", 4.4): a ray's walk down the tree mostly waits for nodes to arrive
-/// from memory, and at 8 bytes a cache line holds four pairs of children.
+/// Based Rendering", 4.4): half the memory of a plain struct, and a cache line holds
+/// four pairs of children.
 /// A leaf holds prim_ids[first() .. first() + count()) (count may be 0: an empty leaf).
 /// An interior node cuts its cell by the plane x_axis() = split(); its lower child
 /// (x <= split) is nodes[lower_child()], its upper one the next node.
@@ -182,7 +182,8 @@ Hit KdTree::front_to_back(const Ray& ray, Observer& obs) const {
             const uint32_t near = lower + (lower_first ? 0 : 1), far = lower + (lower_first ? 1 : 0);
             obs.on({.kind = EventKind::SplitPlane, .axis = uint8_t(a), .near_first = lower_first, .node = cur.node,
                     .t = t_split, .split = n->split()});
-            walk.cross_plane(cur, t_split, near, far, nodes.data(), obs);  // (the SAH's empty-space cuts make many empty leaves)
+            // (The SAH's empty-space cuts make many empty leaves: cross_plane skips them.)
+            walk.cross_plane(cur, t_split, near, far, nodes.data(), obs);
             walk.visit(cur, obs);
             n = &nodes[cur.node];
         }

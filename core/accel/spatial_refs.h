@@ -210,10 +210,10 @@ constexpr size_t node_lead_bytes() {
 
 /// The arrays of a space-partitioning tree (KD tree, octree, BSP tree) and what it was built
 /// with. The nodes and ids are on huge pages, as the BVH's (large_array.h): a ray's
-/// walk reads a few nodes scattered over the whole array. Invariants of both: nodes[0] is the root and `bounds` its box (the scene's
-/// box grown by the reference padding); nodes is empty iff the mesh has no
-/// triangles; triangles[k] is triangle prim_ids[k] (leaf order: a copy, so that a
-/// leaf's triangles are contiguous in memory).
+/// walk reads a few nodes scattered over the whole array. Invariants of both: nodes[0]
+/// is the root and `bounds` its box (the scene's box grown by the reference padding);
+/// nodes is empty iff the mesh has no triangles; triangles[k] is triangle prim_ids[k]
+/// (leaf order: a copy, so that a leaf's triangles are contiguous in memory).
 template <class Node, class Config, class Stats>
 struct PartitionTree {
     Aabb bounds;
