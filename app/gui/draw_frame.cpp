@@ -319,7 +319,7 @@ struct FramePlan {
 
 /// Above this many triangle tests for a picture, brute force does not ray cast the
 /// mesh (a picture would take minutes; the view stays rasterized).
-constexpr double kNaiveCastBudget = 2e9;
+constexpr double kBruteForceCastBudget = 2e9;
 /// "Auto" tries the ray caster once a rasterized mesh is estimated slower than this.
 constexpr double kAutoTryRayCastMs = 30.0;
 /// Before any measurement: a software rasterizer's rate (llvmpipe, two cores:
@@ -350,7 +350,7 @@ constexpr double kAutoSwitchFactor = 0.8;
 /// A point light (shadows, reflections) needs rays: the mesh is then ray cast whatever
 /// Draw with says (the rasterizer has the headlight only).
 bool mesh_by_ray_cast(const AppState& state, Session& session, const FramePlan& plan, int pixels, bool measured) {
-    session.naive_cast_refused = false;
+    session.brute_force_cast_refused = false;
     const bool needs_rays = state.light.point_light();
     if ((state.view.draw_with == DrawWith::Raster && !needs_rays) || plan.split || !session.scene || !session.scene->accel ||
         session.build_stepper.shows_3d(state) || state.overlay.mesh_opacity <= 0.0f)
@@ -369,8 +369,8 @@ bool mesh_by_ray_cast(const AppState& state, Session& session, const FramePlan& 
         if (cast_ms <= 0) cast = raster_ms > kAutoTryRayCastMs;
         else cast = session.mesh_ray_cast ? !(raster_ms < kAutoSwitchFactor * cast_ms) : cast_ms < kAutoSwitchFactor * raster_ms;
     }
-    if (cast && brute_force && double(scene.mesh->triangle_count()) * double(pixels) > kNaiveCastBudget) {
-        session.naive_cast_refused = true;
+    if (cast && brute_force && double(scene.mesh->triangle_count()) * double(pixels) > kBruteForceCastBudget) {
+        session.brute_force_cast_refused = true;
         return false;
     }
     return cast;

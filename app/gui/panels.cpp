@@ -734,7 +734,7 @@ std::string drawn_by(const AppState& state, const Session& session, bool determi
     std::string text = state.view.draw_with == DrawWith::Auto && !state.light.point_light() ? "auto: " : "";
     if (!session.mesh_ray_cast) {
         text += "raster (OpenGL)";
-        if (session.naive_cast_refused) text += ", a brute-force ray cast of this view would take minutes";
+        if (session.brute_force_cast_refused) text += ", a brute-force ray cast of this view would take minutes";
         return text;
     }
     text += "ray cast (CPU)";
@@ -784,7 +784,7 @@ void StatsBar::draw(const AppState& state, const Session& session, double frame_
     // How the mesh was drawn, unless rasterized as by default (auto on a small mesh).
     if (session.scene && state.view.mode == ViewMode::View3D &&
         (state.view.draw_with == DrawWith::RayCast || state.light.point_light() || session.mesh_ray_cast ||
-         session.naive_cast_refused))
+         session.brute_force_cast_refused))
         line += "  |  " + drawn_by(state, session, deterministic);
     if (!deterministic && frame_ms > 0) {
         char text[64];

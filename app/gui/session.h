@@ -97,7 +97,7 @@ struct Session {
     /// What drew the mesh in the last frame (the status line says which), and whether
     /// "ray cast" was refused because a brute-force cast of the view would take minutes.
     bool mesh_ray_cast = false;
-    bool naive_cast_refused = false;
+    bool brute_force_cast_refused = false;
     /// "Draw with: auto": the last rasterized mesh's time in ms (to glFinish) and the
     /// scene generation it was measured on (0: not measured).
     double raster_mesh_ms = 0;

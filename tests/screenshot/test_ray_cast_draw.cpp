@@ -139,7 +139,7 @@ TEST(RayCastDraw, AutoChoosesTheFasterAndNaiveStaysRasterizedOnABigView) {
         session.set_scene(state, *naive, false);
         (*app)->draw(state, input);
         EXPECT_EQ(session.mesh_ray_cast, cast) << scene;
-        EXPECT_EQ(session.naive_cast_refused, !cast) << scene;
+        EXPECT_EQ(session.brute_force_cast_refused, !cast) << scene;
     }
     // Auto never chooses brute force, however slow the rasterizer, under the budget too.
     state.view.draw_with = DrawWith::Auto;
@@ -150,7 +150,7 @@ TEST(RayCastDraw, AutoChoosesTheFasterAndNaiveStaysRasterizedOnABigView) {
     session.raster_ms_per_triangle = 1.0;
     (*app)->draw(state, input);
     EXPECT_FALSE(session.mesh_ray_cast);
-    EXPECT_FALSE(session.naive_cast_refused) << "auto chose: nothing refused";
+    EXPECT_FALSE(session.brute_force_cast_refused) << "auto chose: nothing refused";
 }
 
 }  // namespace

@@ -126,7 +126,7 @@ TEST(StructureFileView, AnInvalidTreeIsRayCastOnlyWhenAsked) {
     state.view.draw_with = DrawWith::RayCast;
     app->draw(state, input);
     EXPECT_TRUE(session.mesh_ray_cast);
-    EXPECT_FALSE(session.naive_cast_refused) << "3,552 triangles x 76,800 pixels is within the budget";
+    EXPECT_FALSE(session.brute_force_cast_refused) << "3,552 triangles x 76,800 pixels is within the budget";
 }
 
 TEST(StructureFileView, AnUnreadableTreeIsAMessageAndTheStructureStays) {
