@@ -5,6 +5,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <vector>
+
+#include "core/util/large_array.h"
 
 namespace accelviz {
 
@@ -297,6 +300,10 @@ Score score(const std::vector<Piece>& pieces, const std::vector<Aabb>& piece_bou
     return s;
 }
 
+/// A split counts this part of its node's progress units at once (count_part): a
+/// tree some dozens of levels deep does about that share of its work per level.
+constexpr uint64_t kSplitParts = 16;
+
 struct WorkItem {
     uint32_t node;
     uint32_t depth;
@@ -326,8 +333,9 @@ Expected<BspTree> build_bsp_tree(const Mesh& mesh, const BspConfig& config, Work
     start_stage(shared_progress, PartitionProgress::kTotal);
     PartitionProgress progress(shared_progress);
 
-    std::vector<Piece> root(st.triangles);
+    std::vector<Piece> root = make_prefaulted<std::vector<Piece>>(st.triangles);
     for (uint32_t t = 0; t < st.triangles; ++t) {
+        if (t % 16384 == 0 && progress.cancelled()) return WorkProgress::cancelled_error();
         root[t].tri = t;
         root[t].count = 3;
         for (int k = 0; k < 3; ++k) root[t].v[size_t(k)] = mesh.vertex(t, k);
@@ -347,9 +355,10 @@ Expected<BspTree> build_bsp_tree(const Mesh& mesh, const BspConfig& config, Work
         std::optional<Plane> best;
         bool from_triangle = false;
         if (n > size_t(config.leaf_size) && int(item.depth) < config.max_depth) {
-            std::vector<Aabb> piece_bounds(n);
+            std::vector<Aabb> piece_bounds = make_prefaulted<std::vector<Aabb>>(n);
             Aabb content;
             for (size_t i = 0; i < n; ++i) {
+                if (i % 16384 == 0 && progress.cancelled()) return WorkProgress::cancelled_error();
                 piece_bounds[i] = bounds_of(item.pieces[i]);
                 content.grow(piece_bounds[i]);
             }
@@ -385,7 +394,10 @@ Expected<BspTree> build_bsp_tree(const Mesh& mesh, const BspConfig& config, Work
         }
         std::vector<Piece> back, front;
         if (best) {
-            for (const Piece& p : item.pieces) {
+            for (size_t i = 0; i < n; ++i) {
+                // A node of millions of pieces takes seconds: a cancel is heard within it.
+                if (i % 16384 == 0 && progress.cancelled()) return WorkProgress::cancelled_error();
+                const Piece& p = item.pieces[i];
                 const Sides sd = sides_of(p, *best, pad);
                 if (sd.back)
                     if (auto piece = p.side(*best, true, pad)) back.push_back(*piece);
@@ -419,10 +431,13 @@ Expected<BspTree> build_bsp_tree(const Mesh& mesh, const BspConfig& config, Work
         tree.shapes.split_polygons.resize(tree.nodes.size());
         Polygon& cap = tree.shapes.split_polygons[item.node];
         cap = item.cell.cap(*best);
-        const uint64_t back_units = PartitionProgress::share_of(item.progress_units, back.size(), back.size() + front.size());
+        // This node's own work counts now (1/kSplitParts of its units): the tree is built
+        // one node at a time, and the first leaf of a big scene comes seconds after the root.
+        const uint64_t units = progress.count_part(item.progress_units, kSplitParts);
+        const uint64_t back_units = PartitionProgress::share_of(units, back.size(), back.size() + front.size());
         // Front pushed first: the back child is built first (depth first, construction order).
         work.push_back({first + 1, item.depth + 1, item.cell.side(*best, false, cap), std::move(front),
-                        item.progress_units - back_units});
+                        units - back_units});
         work.push_back({first, item.depth + 1, item.cell.side(*best, true, cap), std::move(back), back_units});
     }
     counts.write_to(st);

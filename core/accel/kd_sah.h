@@ -54,9 +54,12 @@ inline bool goes_above(const SpatialRef& r, int axis, float s) { return r.box.hi
 /// reference's box. below = #{lo < s}, above = #{hi > s} (a reference lying in the
 /// plane goes below); cost(s) = C_trav + C_isect · (A_below·N_below + A_above·N_above) / A,
 /// times (1 - empty_bonus) when one side is empty. `los`, `his`, `scratch`: reused buffers.
-template <class Visit>
-void sweep_kd_sah_axis(const std::vector<SpatialRef>& refs, const Aabb& box, const KdConfig& c, int a,
-                       std::vector<float>& los, std::vector<float>& his, SortScratch& scratch, Visit&& visit) {
+/// `stop()` true (asked between the sorts and every 65,536 candidates) ends the sweep
+/// early: a node of millions of references sweeps for a good part of a second.
+template <class Visit, class Stop>
+void sweep_kd_sah_axis(const SpatialRefs& refs, const Aabb& box, const KdConfig& c, int a,
+                       std::vector<float>& los, std::vector<float>& his, SortScratch& scratch, Visit&& visit,
+                       Stop&& stop) {
     const size_t n = refs.size();
     const double node_area = kd_area(box);
     const double cross_section = kd_cross_section(box, a), perimeter_half = kd_perimeter_half(box, a);
@@ -66,11 +69,14 @@ void sweep_kd_sah_axis(const std::vector<SpatialRef>& refs, const Aabb& box, con
         los[i] = refs[i].box.lo[a];
         his[i] = refs[i].box.hi[a];
     }
+    if (stop()) return;
     sort_ascending(los, scratch);
+    if (stop()) return;
     sort_ascending(his, scratch);
     // Sweep the candidates (the merged, sorted lo and hi values) upwards.
     size_t i_lo = 0, i_hi = 0;
-    while (i_lo < n || i_hi < n) {
+    for (uint32_t step = 0; i_lo < n || i_hi < n; ++step) {
+        if (step % 65536 == 0 && stop()) return;
         const float value = i_hi >= n || (i_lo < n && los[i_lo] < his[i_hi]) ? los[i_lo] : his[i_hi];
         // Counts for this s: all lo < s were passed already; then consume values == s.
         const size_t below = i_lo;
@@ -83,10 +89,17 @@ void sweep_kd_sah_axis(const std::vector<SpatialRef>& refs, const Aabb& box, con
     }
 }
 
+/// The same, to the end.
+template <class Visit>
+void sweep_kd_sah_axis(const SpatialRefs& refs, const Aabb& box, const KdConfig& c, int a,
+                       std::vector<float>& los, std::vector<float>& his, SortScratch& scratch, Visit&& visit) {
+    sweep_kd_sah_axis(refs, box, c, a, los, his, scratch, visit, [] { return false; });
+}
+
 /// sweep_kd_sah_axis over the three axes in turn: every candidate plane of a node,
 /// axis by axis, in increasing position.
 template <class Visit>
-void sweep_kd_sah(const std::vector<SpatialRef>& refs, const Aabb& box, const KdConfig& c, std::vector<float>& los,
+void sweep_kd_sah(const SpatialRefs& refs, const Aabb& box, const KdConfig& c, std::vector<float>& los,
                   std::vector<float>& his, SortScratch& scratch, Visit&& visit) {
     for (int a = 0; a < 3; ++a) sweep_kd_sah_axis(refs, box, c, a, los, his, scratch, visit);
 }
@@ -107,7 +120,7 @@ inline constexpr size_t kKdCountingMax = 32;
 /// against two sorts per axis). Same candidates, same costs, and the same choice:
 /// the first cheapest in the sweep's order (axis, then position).
 template <size_t kLanes = kKdCountingMax>
-KdPlane kd_cheapest_plane_by_counting(const std::vector<SpatialRef>& refs, const Aabb& box, const KdConfig& c) {
+KdPlane kd_cheapest_plane_by_counting(const SpatialRefs& refs, const Aabb& box, const KdConfig& c) {
     const size_t n = refs.size();
     if constexpr (kLanes > 8)  // fewer lanes for fewer references
         if (n <= kLanes / 2) return kd_cheapest_plane_by_counting<kLanes / 2>(refs, box, c);

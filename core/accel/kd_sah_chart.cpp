@@ -23,7 +23,7 @@ KdSahChart kd_sah_chart(const Mesh& mesh, const KdTree& tree, uint32_t node, con
 
     // The references down the path, as the build cut them.
     const float pad = tree.build_stats.padding;
-    std::vector<SpatialRef> refs = root_references(mesh, pad), next;
+    SpatialRefs refs = root_references(mesh, pad), next;
     Aabb cell = tree.bounds;
     for (size_t k = 0; k + 1 < path.size(); ++k) {
         const KdNode& p = tree.nodes[path[k]];

@@ -49,8 +49,9 @@ namespace {
 /// The cheapest plane of the SAH sweep (kd_sah.h), found by counting in small nodes;
 /// axis -1 when no plane lies strictly inside the node. The first cheapest in the
 /// sweep's order (axis, then position), also when big nodes sweep their axes in parallel.
-KdPlane best_sah_plane(const std::vector<SpatialRef>& refs, const Aabb& box, const KdConfig& c,
-                       std::vector<float>& los, std::vector<float>& his, SortScratch& scratch) {
+KdPlane best_sah_plane(const SpatialRefs& refs, const Aabb& box, const KdConfig& c,
+                       std::vector<float>& los, std::vector<float>& his, SortScratch& scratch,
+                       const PartitionProgress& progress) {
     if (refs.size() <= kKdCountingMax) return kd_cheapest_plane_by_counting(refs, box, c);
     KdPlane best;
     if (refs.size() < kRefsToShareOut) {
@@ -61,13 +62,16 @@ KdPlane best_sah_plane(const std::vector<SpatialRef>& refs, const Aabb& box, con
     }
     std::array<KdPlane, 3> per_axis;
     tbb::parallel_for(0, 3, [&](int a) {
+        if (progress.cancelled()) return;  // no plane: the caller checks before its next node
         std::vector<float> axis_los, axis_his;
         SortScratch axis_scratch;
         KdPlane& axis_best = per_axis[size_t(a)];
-        sweep_kd_sah_axis(refs, box, c, a, axis_los, axis_his, axis_scratch,
-                          [&](int, float s, size_t, size_t, double cost) {
-                              if (cost < axis_best.cost) axis_best = {a, s, cost};
-                          });
+        sweep_kd_sah_axis(
+            refs, box, c, a, axis_los, axis_his, axis_scratch,
+            [&](int, float s, size_t, size_t, double cost) {
+                if (cost < axis_best.cost) axis_best = {a, s, cost};
+            },
+            [&] { return progress.cancelled(); });
     });
     for (const KdPlane& p : per_axis)
         if (p.cost < best.cost) best = p;
@@ -77,12 +81,13 @@ KdPlane best_sah_plane(const std::vector<SpatialRef>& refs, const Aabb& box, con
 /// The references of the node `box` split at s on axis a (split_reference): those
 /// reaching the lower child appended to `below`, those reaching the upper one to `above`,
 /// in the node's order (big nodes in parallel chunks: split_in_order).
-void split_references(const std::vector<SpatialRef>& refs, int a, float s, const Aabb& box, const Mesh& mesh,
-                      float pad, ClipMode clip, std::vector<SpatialRef>& below, std::vector<SpatialRef>& above) {
-    std::array<std::vector<SpatialRef>, 2> sides = {std::move(below), std::move(above)};
+void split_references(const SpatialRefs& refs, int a, float s, const Aabb& box, const Mesh& mesh,
+                      float pad, ClipMode clip, const PartitionProgress& progress, SpatialRefs& below,
+                      SpatialRefs& above) {
+    std::array<SpatialRefs, 2> sides = {std::move(below), std::move(above)};
     sides[0].reserve(refs.size());
     sides[1].reserve(refs.size());
-    split_in_order(refs.size(), sides, [&](size_t begin, size_t end, std::array<std::vector<SpatialRef>, 2>& to) {
+    split_in_order(refs.size(), sides, progress, [&](size_t begin, size_t end, std::array<SpatialRefs, 2>& to) {
         Vec3 planes;
         planes[a] = s;
         ChildRefs parts;
@@ -99,7 +104,7 @@ struct WorkItem {
     uint32_t node;
     uint32_t depth;
     Aabb box;
-    std::vector<SpatialRef> refs;
+    SpatialRefs refs;
     uint64_t progress_units;  ///< its part of PartitionProgress::kTotal
 };
 
@@ -137,7 +142,7 @@ Subtree build_subtree(const BuildContext& ctx, WorkItem root, double budget, siz
     work.push_back(std::move(root));
     std::vector<float> los, his;  // scratch for the SAH sweep
     SortScratch sort_scratch;
-    std::vector<SpatialRef> below, above;
+    SpatialRefs below, above;
     bool is_root = true;
     while (!work.empty()) {
         if (progress.cancelled()) return out;  // the caller drops the unfinished tree
@@ -145,6 +150,7 @@ Subtree build_subtree(const BuildContext& ctx, WorkItem root, double budget, siz
         work.pop_back();
         const size_t n = item.refs.size();
         if (deferred && !is_root && n < defer_below) {
+            item.progress_units = progress.count_part(item.progress_units, kTopParts);
             deferred->push_back(std::move(item));
             continue;
         }
@@ -155,7 +161,7 @@ Subtree build_subtree(const BuildContext& ctx, WorkItem root, double budget, siz
         KdPlane plane;
         bool split = n > size_t(config.leaf_size) && int(item.depth) < ctx.depth_limit;
         if (split && config.builder == KdBuilder::Sah) {
-            plane = best_sah_plane(item.refs, item.box, config, los, his, sort_scratch);
+            plane = best_sah_plane(item.refs, item.box, config, los, his, sort_scratch, progress);
             split = plane.axis >= 0 && plane.cost < config.cost_isect * double(n);
         }
         below.clear();
@@ -169,17 +175,18 @@ Subtree build_subtree(const BuildContext& ctx, WorkItem root, double budget, siz
                 const float s = config.builder == KdBuilder::Sah ? plane.position : item.box.center()[a];
                 below.clear();
                 above.clear();
-                split_references(item.refs, a, s, item.box, ctx.mesh, ctx.pad, config.clip, below, above);
+                split_references(item.refs, a, s, item.box, ctx.mesh, ctx.pad, config.clip, progress, below, above);
                 plane.axis = a;
                 plane.position = s;
-                const bool progress = (below.size() < n || above.size() < n) && s > item.box.lo[a] && s < item.box.hi[a];
-                if (progress || config.builder == KdBuilder::Sah) {
-                    split = progress;
+                const bool separates = (below.size() < n || above.size() < n) && s > item.box.lo[a] && s < item.box.hi[a];
+                if (separates || config.builder == KdBuilder::Sah) {
+                    split = separates;
                     break;
                 }
                 split = false;
             }
             if (!split) ++out.counts.no_progress;
+            if (progress.cancelled()) return out;  // the lists may be short: dropped, as the whole tree
         }
         if (split && double(live_refs) + double(below.size() + above.size()) - double(n) > budget) {
             split = false;

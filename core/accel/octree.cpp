@@ -24,7 +24,7 @@ struct WorkItem {
     uint32_t node;
     uint32_t depth;
     Aabb box;
-    std::vector<SpatialRef> refs;
+    SpatialRefs refs;
     uint64_t progress_units;  ///< its part of PartitionProgress::kTotal
 };
 
@@ -36,14 +36,14 @@ struct Subtree {
     SubtreeCounts counts;
 };
 
-using OctantRefs = std::array<std::vector<SpatialRef>, 8>;
+using OctantRefs = std::array<SpatialRefs, 8>;
 
 /// The references of a cell split among its octants (cut at `centre`, split_reference):
 /// each appended to the list of every octant it reaches, in the cell's order (big
 /// cells in parallel chunks: split_in_order).
-void split_references(const std::vector<SpatialRef>& refs, const Aabb& box, Vec3 centre, const Mesh& mesh, float pad,
-                      ClipMode clip, OctantRefs& children) {
-    split_in_order(refs.size(), children, [&](size_t begin, size_t end, OctantRefs& to) {
+void split_references(const SpatialRefs& refs, const Aabb& box, Vec3 centre, const Mesh& mesh, float pad,
+                      ClipMode clip, const PartitionProgress& progress, OctantRefs& children) {
+    split_in_order(refs.size(), children, progress, [&](size_t begin, size_t end, OctantRefs& to) {
         ChildRefs parts;
         for (size_t i = begin; i < end; ++i) {
             split_reference(refs[i], mesh, box, centre, 7u, pad, clip, parts);
@@ -73,6 +73,7 @@ Subtree build_subtree(const Mesh& mesh, const OctreeConfig& config, float pad, W
         work.pop_back();
         const size_t n = item.refs.size();
         if (deferred && !is_root && n < defer_below) {
+            item.progress_units = progress.count_part(item.progress_units, kTopParts);
             deferred->push_back(std::move(item));
             continue;
         }
@@ -83,7 +84,8 @@ Subtree build_subtree(const Mesh& mesh, const OctreeConfig& config, float pad, W
             if (!(centre[a] > item.box.lo[a] && centre[a] < item.box.hi[a])) split = false;  // cell too thin to cut
         if (split) {
             for (auto& c : children) c.clear();
-            split_references(item.refs, item.box, centre, mesh, pad, config.clip, children);
+            split_references(item.refs, item.box, centre, mesh, pad, config.clip, progress, children);
+            if (progress.cancelled()) return out;  // the lists may be short: dropped, as the whole tree
             // No progress: the triangles all reach every non-empty octant (two or more),
             // so cutting only copies them. (All of them in one octant is progress:
             // the cell shrinks around them.)
@@ -123,11 +125,11 @@ Subtree build_subtree(const Mesh& mesh, const OctreeConfig& config, float pad, W
         for (const auto& c : children) all_refs += c.size();
         uint64_t units_left = item.progress_units;
         for (int o = 7; o >= 0; --o) {
-            const std::vector<SpatialRef>& refs = children[size_t(o)];
+            const SpatialRefs& refs = children[size_t(o)];
             const uint64_t units = o == 7 ? 0 : PartitionProgress::share_of(item.progress_units, refs.size(), all_refs);
             units_left -= units;
             work.push_back({first + uint32_t(o), item.depth + 1, octant_box(item.box, centre, o),
-                            std::vector<SpatialRef>(refs.begin(), refs.end()), units});
+                            SpatialRefs(refs.begin(), refs.end()), units});
         }
         work[work.size() - 8].progress_units = units_left;
         item.refs = {};

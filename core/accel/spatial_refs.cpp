@@ -2,6 +2,9 @@
 
 #include <sstream>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include "core/geometry/triangle_box.h"
 
 namespace accelviz {
@@ -19,9 +22,11 @@ const std::vector<std::string>& clip_mode_names() {
     return names;
 }
 
-std::vector<SpatialRef> root_references(const Mesh& mesh, float pad) {
-    std::vector<SpatialRef> refs(mesh.triangle_count());
-    for (uint32_t t = 0; t < refs.size(); ++t) refs[t] = {t, padded(mesh.triangle_bounds(t), pad)};
+SpatialRefs root_references(const Mesh& mesh, float pad) {
+    SpatialRefs refs = make_prefaulted<SpatialRefs>(mesh.triangle_count());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, refs.size(), kRefsToShareOut), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t t = r.begin(); t < r.end(); ++t) refs[t] = {uint32_t(t), padded(mesh.triangle_bounds(uint32_t(t)), pad)};
+    });
     return refs;
 }
 

@@ -43,8 +43,13 @@ struct SpatialRef {
     Aabb box;
 };
 
+/// A node's references. At the top of a tree at ten million triangles a list holds
+/// hundreds of megabytes: on huge pages (large_array.h) it takes a few hundred page
+/// faults instead of tens of thousands.
+using SpatialRefs = std::vector<SpatialRef, LargeArrayAllocator<SpatialRef>>;
+
 /// The references of a whole mesh in its root box `root` (the scene box grown by pad).
-std::vector<SpatialRef> root_references(const Mesh& mesh, float pad);
+SpatialRefs root_references(const Mesh& mesh, float pad);
 
 /// What split_reference gives: the reference's part in each child it reaches, in
 /// increasing child index.
@@ -64,34 +69,6 @@ struct ChildRefs {
 /// clipped to the cell once and that polygon cut at the planes for each child.
 void split_reference(const SpatialRef& ref, const Mesh& mesh, const Aabb& cell, Vec3 planes, unsigned axes,
                      float pad, ClipMode mode, ChildRefs& out);
-
-/// Nodes with this many references or more share their own work out over the threads
-/// (split_in_order; the KD tree also sweeps its three axes at once). Such nodes make up
-/// the top of a tree, which is built one node at a time (below it, whole subtrees run
-/// in parallel). A fixed size, so the same on any number of threads.
-inline constexpr size_t kRefsToShareOut = 8192;
-
-/// A node's `n` references split among K children: split_range(begin, end, lists)
-/// appends references [begin, end) to the children's lists. For kRefsToShareOut
-/// references or more, chunks of that size are split in parallel into lists of their
-/// own, then appended to `children` chunk after chunk: the lists one pass would give.
-template <size_t K, class SplitRange>
-void split_in_order(size_t n, std::array<std::vector<SpatialRef>, K>& children, SplitRange&& split_range) {
-    if (n < kRefsToShareOut) {
-        split_range(size_t(0), n, children);
-        return;
-    }
-    std::vector<std::array<std::vector<SpatialRef>, K>> chunks((n + kRefsToShareOut - 1) / kRefsToShareOut);
-    tbb::parallel_for(size_t(0), chunks.size(), [&](size_t k) {
-        split_range(k * kRefsToShareOut, std::min(n, (k + 1) * kRefsToShareOut), chunks[k]);
-    });
-    for (size_t c = 0; c < K; ++c) {
-        size_t count = children[c].size();
-        for (const auto& chunk : chunks) count += chunk[c].size();
-        children[c].reserve(count);
-        for (const auto& chunk : chunks) children[c].insert(children[c].end(), chunk[c].begin(), chunk[c].end());
-    }
-}
 
 /// A space-partitioning build's progress, counted so that it adds up whatever the
 /// references' duplication: the root holds kTotal units, a split hands a node's
@@ -117,6 +94,15 @@ public:
         advance(shared_, tally_);
         tally_ = 0;
     }
+    /// Counts 1/`parts` of a node's `units` now and returns the rest, for its children
+    /// or its subtree to count as their leaves are made. For the work a node does before
+    /// any leaf exists below it: the top of a tree is cut one node at a time, which at
+    /// ten million triangles takes seconds, and the bar should move meanwhile.
+    uint64_t count_part(uint64_t units, uint64_t parts) {
+        const uint64_t now = units / parts;
+        leaf_done(now);
+        return units - now;
+    }
     /// The units of a child holding `child_refs` of the `all_refs` references its
     /// parent's children hold (give the last child what the others leave).
     static uint64_t share_of(uint64_t units, size_t child_refs, size_t all_refs) {
@@ -128,6 +114,43 @@ private:
     bool counts_;
     uint64_t tally_ = 0;
 };
+
+/// Nodes with this many references or more share their own work out over the threads
+/// (split_in_order; the KD tree also sweeps its three axes at once). Such nodes make up
+/// the top of a tree, which is built one node at a time (below it, whole subtrees run
+/// in parallel). A fixed size, so the same on any number of threads.
+inline constexpr size_t kRefsToShareOut = 8192;
+
+/// When the top of a KD tree or octree hands a node on to be built as a subtree, 1/4
+/// of the node's progress units count at once (PartitionProgress::count_part): about
+/// the top's share of the build's work (docs/performance.md).
+inline constexpr uint64_t kTopParts = 4;
+
+/// A node's `n` references split among K children: split_range(begin, end, lists)
+/// appends references [begin, end) to the children's lists. For kRefsToShareOut
+/// references or more, chunks of that size are split in parallel into lists of their
+/// own, then appended to `children` chunk after chunk: the lists one pass would give.
+/// A chunk starts only while the build is wanted: once `progress` is cancelled the
+/// lists are left short, and the caller, which checks right after, drops them with the tree.
+template <size_t K, class SplitRange>
+void split_in_order(size_t n, std::array<SpatialRefs, K>& children, const PartitionProgress& progress,
+                    SplitRange&& split_range) {
+    if (n < kRefsToShareOut) {
+        split_range(size_t(0), n, children);
+        return;
+    }
+    std::vector<std::array<SpatialRefs, K>> chunks((n + kRefsToShareOut - 1) / kRefsToShareOut);
+    tbb::parallel_for(size_t(0), chunks.size(), [&](size_t k) {
+        if (progress.cancelled()) return;
+        split_range(k * kRefsToShareOut, std::min(n, (k + 1) * kRefsToShareOut), chunks[k]);
+    });
+    for (size_t c = 0; c < K; ++c) {
+        size_t count = children[c].size();
+        for (const auto& chunk : chunks) count += chunk[c].size();
+        children[c].reserve(count);
+        for (const auto& chunk : chunks) children[c].insert(children[c].end(), chunk[c].begin(), chunk[c].end());
+    }
+}
 
 /// What the builds of the space-partitioning trees report (KD tree, octree, BSP tree).
 struct PartitionStats {

@@ -91,8 +91,8 @@ Mesh straddle_scene() {
 /// node widened by `margin` on each side (a coarse lattice makes shared bounds and
 /// bounds on the node's faces likely; a bound at zero is -0 or +0 at random); `flat`:
 /// every box has lo == hi.
-std::vector<SpatialRef> lattice_refs(Rng& rng, const Aabb& node, size_t n, uint32_t steps, float margin, bool flat) {
-    std::vector<SpatialRef> refs;
+SpatialRefs lattice_refs(Rng& rng, const Aabb& node, size_t n, uint32_t steps, float margin, bool flat) {
+    SpatialRefs refs;
     for (size_t i = 0; i < n; ++i) {
         Aabb b;
         for (int a = 0; a < 3; ++a) {
@@ -347,7 +347,7 @@ TEST(KdTree, SmallNodesChooseBySweepsPlaneWhenCounting) {
     for (int trial = 0; trial < 3000; ++trial) {
         const size_t n = 1 + rng.below(kKdCountingMax);
         // Coarse positions make shared bounds likely; some stay on the faces.
-        const std::vector<SpatialRef> refs = lattice_refs(rng, node, n, 8, 0.0f, trial % 7 == 0);
+        const SpatialRefs refs = lattice_refs(rng, node, n, 8, 0.0f, trial % 7 == 0);
         config.empty_bonus = trial % 2 ? 0.2f : 0.0f;
         KdPlane swept;
         sweep_kd_sah(refs, node, config, los, his, scratch, [&](int a, float s, size_t, size_t, double cost) {
@@ -373,7 +373,7 @@ TEST(KdTree, SweepVisitsEveryBoundInsideOnceWithItsCounts) {
     for (int trial = 0; trial < 300; ++trial) {
         const size_t n = trial == 0 ? 3000 : 1 + rng.below(trial % 3 == 0 ? 400 : 40);
         const uint32_t steps = trial % 2 ? 16 : 1u << 20;
-        const std::vector<SpatialRef> refs = lattice_refs(rng, node, n, steps, 0.5f, false);
+        const SpatialRefs refs = lattice_refs(rng, node, n, steps, 0.5f, false);
         for (int a = 0; a < 3; ++a) {
             std::vector<float> expected;
             for (const SpatialRef& r : refs)

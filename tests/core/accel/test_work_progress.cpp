@@ -9,6 +9,7 @@
 
 #include "accel/accel_test_support.h"
 #include "core/accel/factory.h"
+#include "core/accel/spatial_refs.h"
 #include "core/geometry/scene.h"
 #include "core/util/work_progress.h"
 
@@ -45,6 +46,32 @@ TEST(WorkProgress, EveryBuildCountsItsStageToTheEnd) {
         EXPECT_NEAR(progress.fraction(), 1.0, 1e-6) << to_string(type);
         EXPECT_FALSE(progress.cancelled());
     }
+}
+
+TEST(WorkProgress, ANodeCountsItsOwnPartAndHandsOnTheRest) {
+    // count_part: how the top of a KD tree or octree, and every BSP split, moves the
+    // bar before any leaf exists; what it hands on adds up to the node's units.
+    WorkProgress shared;
+    shared.start_stage(PartitionProgress::kTotal);
+    {
+        PartitionProgress progress(&shared);
+        const uint64_t rest = progress.count_part(PartitionProgress::kTotal, kTopParts);
+        EXPECT_EQ(rest, PartitionProgress::kTotal - PartitionProgress::kTotal / kTopParts);
+        progress.flush();
+        EXPECT_DOUBLE_EQ(shared.fraction(), 1.0 / double(kTopParts));
+        const uint64_t half = PartitionProgress::share_of(rest, 1, 2);
+        progress.leaf_done(half);
+        progress.leaf_done(rest - half);
+    }
+    EXPECT_DOUBLE_EQ(shared.fraction(), 1.0);
+    // A subtree built again counts nothing, but still hands on the rest.
+    WorkProgress again;
+    again.start_stage(PartitionProgress::kTotal);
+    {
+        PartitionProgress progress(&again, false);
+        EXPECT_EQ(progress.count_part(1000, 4), 750u);
+    }
+    EXPECT_EQ(again.fraction(), 0.0);
 }
 
 TEST(WorkProgress, ACancelledBuildStopsAndSaysSo) {
