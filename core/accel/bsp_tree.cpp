@@ -450,7 +450,7 @@ Expected<BspTree> build_bsp_tree(const Mesh& mesh, const BspConfig& config, Work
                     .not_split_why = "the cheapest plane on a sample of their triangles separated none of them",
                     .budget_hit = counts.budget_hit,
                     .max_duplication = config.max_duplication},
-                   start);
+                   start, shared_progress);
     return tree;
 }
 

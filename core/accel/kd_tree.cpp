@@ -288,7 +288,7 @@ Expected<KdTree> build_kd_tree(const Mesh& mesh, const KdConfig& config, WorkPro
                     .not_split_why = "no axis' middle plane separates their triangles",
                     .budget_hit = counts.budget_hit,
                     .max_duplication = config.max_duplication},
-                   start);
+                   start, shared_progress);
     return tree;
 }
 

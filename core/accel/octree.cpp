@@ -171,27 +171,36 @@ Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config, Work
     std::vector<uint32_t> placeholders;
     for (const WorkItem& w : deferred) placeholders.push_back(w.node);
     std::vector<Subtree> subtrees(deferred.size());
-    // A subtree built again was counted already: its second build only checks for a cancel.
-    auto build_shares = [&](const std::vector<size_t>& which, double budget_left, bool count_progress) {
+    auto build_shares = [&](const std::vector<size_t>& which, double budget_left) {
         double refs = 0;
         for (size_t k : which) refs += double(deferred[k].refs.size());
         tbb::parallel_for(size_t(0), which.size(), [&](size_t i) {
             const WorkItem& item = deferred[which[i]];
             const double share = budget_left * double(item.refs.size()) / std::max(refs, 1.0);
-            PartitionProgress progress(shared_progress, count_progress);
+            PartitionProgress progress(shared_progress);
             subtrees[which[i]] = build_subtree(mesh, config, pad, item, std::max(share, 1.0), 0, nullptr, progress);
         });
     };
     std::vector<size_t> all(deferred.size());
     for (size_t k = 0; k < all.size(); ++k) all[k] = k;
-    build_shares(all, std::max(0.0, budget - double(top.prim_ids.size())), true);
+    build_shares(all, std::max(0.0, budget - double(top.prim_ids.size())));
     std::vector<size_t> again;
     double used = double(top.prim_ids.size());
+    uint64_t again_units = 0;
     for (size_t k = 0; k < subtrees.size(); ++k) {
-        if (subtrees[k].counts.budget_hit) again.push_back(k);
-        else used += double(subtrees[k].prim_ids.size());
+        if (subtrees[k].counts.budget_hit) {
+            again.push_back(k);
+            again_units += deferred[k].progress_units;
+        } else {
+            used += double(subtrees[k].prim_ids.size());
+        }
     }
-    if (!again.empty() && !cancelled(shared_progress)) build_shares(again, std::max(0.0, budget - used), false);
+    if (!again.empty() && !cancelled(shared_progress)) {
+        // A stage of its own, so that the bar does not wait at the end meanwhile (at
+        // 10M triangles this is seconds): each subtree counts its units again.
+        start_stage(shared_progress, again_units, "again, the parts over their share of the reference budget");
+        build_shares(again, std::max(0.0, budget - used));
+    }
     if (cancelled(shared_progress)) return WorkProgress::cancelled_error();
     tree.splice_all(placeholders, subtrees);
     for (const Subtree& sub : subtrees) {
@@ -208,7 +217,7 @@ Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config, Work
                     .not_split_why = "every non-empty octant would hold all of their triangles",
                     .budget_hit = counts.budget_hit,
                     .max_duplication = config.max_duplication},
-                   start);
+                   start, shared_progress);
     return tree;
 }
 

@@ -78,15 +78,13 @@ void split_reference(const SpatialRef& ref, const Mesh& mesh, const Aabb& cell, 
 class PartitionProgress {
 public:
     static constexpr uint64_t kTotal = uint64_t(1) << 40;
-    /// `counts` false: only cancellation is checked (work counted already, redone).
-    explicit PartitionProgress(WorkProgress* shared, bool counts = true) : shared_(shared), counts_(counts) {}
+    explicit PartitionProgress(WorkProgress* shared) : shared_(shared) {}
     ~PartitionProgress() { flush(); }
     PartitionProgress(const PartitionProgress&) = delete;
     PartitionProgress& operator=(const PartitionProgress&) = delete;
 
     bool cancelled() const { return accelviz::cancelled(shared_); }
     void leaf_done(uint64_t units) {
-        if (!counts_) return;
         tally_ += units;
         if (tally_ >= kTotal / 1024) flush();
     }
@@ -111,7 +109,6 @@ public:
 
 private:
     WorkProgress* shared_;
-    bool counts_;
     uint64_t tally_ = 0;
 };
 
@@ -267,9 +264,13 @@ struct PartitionTree {
     }
 
     /// A build's last step, once nodes and prim_ids are final: the triangles copied
-    /// into leaf order, a note for each thing that stopped the splitting, the stats.
-    void end_build(const Mesh& mesh, const SplitStops& stops, std::chrono::steady_clock::time_point start) {
-        triangles = make_triangles(mesh, prim_ids);
+    /// into leaf order (a stage of `progress` of its own: one triangle per reference,
+    /// seconds at ten million triangles), a note for each thing that stopped the
+    /// splitting, the stats.
+    void end_build(const Mesh& mesh, const SplitStops& stops, std::chrono::steady_clock::time_point start,
+                   WorkProgress* progress) {
+        start_stage(progress, prim_ids.size(), "putting the triangles in leaf order");
+        triangles = make_triangles(mesh, prim_ids, progress);
         add_split_notes(stops, build_stats.notes);
         finish_stats(start);
     }

@@ -41,17 +41,20 @@ void Mesh::add_triangle(Vec3 a, Vec3 b, Vec3 c) {
     indices.push_back({base, base + 1, base + 2});
 }
 
-TriangleArray make_triangles(const Mesh& mesh, std::span<const uint32_t> order) {
-    TriangleArray tris;
-    fill_triangles(mesh, order, tris);
+TriangleArray make_triangles(const Mesh& mesh, std::span<const uint32_t> order, WorkProgress* progress) {
+    // Made at its final size with its pages touched by all threads (gigabytes for a big
+    // KD tree or octree), then filled.
+    TriangleArray tris = make_prefaulted<TriangleArray>(order.empty() ? mesh.triangle_count() : order.size());
+    fill_triangles(mesh, order, tris, progress);
     return tris;
 }
 
-void fill_triangles(const Mesh& mesh, std::span<const uint32_t> order, TriangleArray& tris) {
+void fill_triangles(const Mesh& mesh, std::span<const uint32_t> order, TriangleArray& tris, WorkProgress* progress) {
     tris.resize(order.empty() ? mesh.triangle_count() : order.size());
     if (order.empty()) {
         tbb::parallel_for(tbb::blocked_range<size_t>(0, tris.size(), 1 << 16), [&](const tbb::blocked_range<size_t>& range) {
             for (size_t i = range.begin(); i < range.end(); ++i) tris[i] = mesh.triangle(i);
+            advance(progress, range.size());
         });
         return;
     }
@@ -68,6 +71,7 @@ void fill_triangles(const Mesh& mesh, std::span<const uint32_t> order, TriangleA
                 for (uint32_t corner : mesh.indices[order[k + kCornersAhead]]) prefetch(&mesh.positions[corner]);
             tris[k] = mesh.triangle(order[k]);
         }
+        advance(progress, range.size());
     });
 }
 

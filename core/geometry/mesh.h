@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/geometry/triangle.h"
+#include "core/util/work_progress.h"
 
 namespace accelviz {
 
@@ -54,10 +55,12 @@ inline bool within_max_coordinate(Vec3d p) {
 
 /// The triangles of a mesh in intersection form: triangles[k] is triangle order[k]
 /// (a structure's leaf order, so that a leaf's triangles lie next to each other in
-/// memory), or triangle k when `order` is empty. Filled in parallel.
-TriangleArray make_triangles(const Mesh& mesh, std::span<const uint32_t> order = {});
+/// memory), or triangle k when `order` is empty. Filled in parallel; `progress` (may be
+/// null) advances by one unit per triangle (at ten million references this is seconds).
+TriangleArray make_triangles(const Mesh& mesh, std::span<const uint32_t> order = {}, WorkProgress* progress = nullptr);
 /// The same into `out`, reusing its memory: a refit copies the moved triangles every frame.
-void fill_triangles(const Mesh& mesh, std::span<const uint32_t> order, TriangleArray& out);
+void fill_triangles(const Mesh& mesh, std::span<const uint32_t> order, TriangleArray& out,
+                    WorkProgress* progress = nullptr);
 
 /// The same triangles as corners (the watertight test's form): corners[k] is
 /// triangle order[k], or triangle k when `order` is empty (a structure's leaf

@@ -4,7 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <atomic>
 #include <fstream>
+#include <set>
+#include <string>
 #include <thread>
 
 #include "accel/accel_test_support.h"
@@ -64,14 +67,36 @@ TEST(WorkProgress, ANodeCountsItsOwnPartAndHandsOnTheRest) {
         progress.leaf_done(rest - half);
     }
     EXPECT_DOUBLE_EQ(shared.fraction(), 1.0);
-    // A subtree built again counts nothing, but still hands on the rest.
-    WorkProgress again;
-    again.start_stage(PartitionProgress::kTotal);
-    {
-        PartitionProgress progress(&again, false);
-        EXPECT_EQ(progress.count_part(1000, 4), 750u);
-    }
-    EXPECT_EQ(again.fraction(), 0.0);
+}
+
+TEST(WorkProgress, TheLongPartsOfATreeBuildAreStagesTheWindowNames) {
+    // Subtrees that ran out of their share of the reference budget are built again, and
+    // the triangles are copied into leaf order, each in a stage of its own, named (the
+    // bar would otherwise wait at its end meanwhile: seconds at ten million triangles).
+    // Watched from another thread, as the window does.
+    const Mesh mesh = soup(200000);
+    AccelConfig config = config_of(AccelType::Octree);
+    config.octree.max_duplication = 1.5;
+    WorkProgress progress;
+    std::atomic<bool> done{false};
+    std::set<std::string> labels;
+    std::thread watcher([&] {
+        while (!done.load()) {
+            if (const char* label = progress.stage_label()) labels.insert(label);
+            std::this_thread::yield();
+        }
+    });
+    const auto built = build_accelerator(mesh, config, &progress);
+    done = true;
+    watcher.join();
+    ASSERT_TRUE(built) << built.error();
+    ASSERT_NE((*built)->stats()["notes"].dump().find("reference budget"), std::string::npos);
+    bool again = false;
+    for (const std::string& label : labels) again |= label.find("reference budget") != std::string::npos;
+    EXPECT_TRUE(again);
+    ASSERT_NE(progress.stage_label(), nullptr);
+    EXPECT_EQ(std::string(progress.stage_label()), "putting the triangles in leaf order");
+    EXPECT_NEAR(progress.fraction(), 1.0, 1e-6);
 }
 
 TEST(WorkProgress, ACancelledBuildStopsAndSaysSo) {
