@@ -440,6 +440,7 @@ Expected<BspTree> build_bsp_tree(const Mesh& mesh, const BspConfig& config, Work
                         units - back_units});
         work.push_back({first, item.depth + 1, item.cell.side(*best, true, cap), std::move(back), back_units});
     }
+    progress.flush();  // the tree's stage ends here; the leaf-order copy is the next
     counts.write_to(st);
     tree.end_build(mesh,
                    {.parts = "nodes",

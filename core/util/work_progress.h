@@ -22,6 +22,8 @@ public:
     /// (a string literal, or null): what the stage does when its caller's own name for
     /// the work does not say it, e.g. "writing the cache copy" inside a load.
     void start_stage(uint64_t total, const char* label = nullptr) {
+        if (done_.load(std::memory_order_relaxed) < total_.load(std::memory_order_relaxed))
+            left_short_.store(true, std::memory_order_relaxed);
         done_.store(0, std::memory_order_relaxed);
         total_.store(total, std::memory_order_relaxed);
         label_.store(label, std::memory_order_relaxed);
@@ -37,6 +39,9 @@ public:
         if (total == 0) return 0.0;
         return std::min(1.0, double(done_.load(std::memory_order_relaxed)) / double(total));
     }
+    /// Whether every stage before the current one counted up to its total before the
+    /// next began (work that counts right moves the bar to its end at every stage).
+    bool earlier_stages_finished() const { return !left_short_.load(std::memory_order_relaxed); }
     void cancel() { cancelled_.store(true, std::memory_order_relaxed); }
     bool cancelled() const { return cancelled_.load(std::memory_order_relaxed); }
 
@@ -48,6 +53,7 @@ private:
     std::atomic<uint64_t> total_{0};
     std::atomic<const char*> label_{nullptr};
     std::atomic<bool> cancelled_{false};
+    std::atomic<bool> left_short_{false};
 };
 
 /// The null-tolerant forms the builders call.

@@ -45,8 +45,10 @@ TEST(WorkProgress, EveryBuildCountsItsStageToTheEnd) {
         WorkProgress progress;
         const auto built = build_accelerator(mesh, config_of(type), &progress);
         ASSERT_TRUE(built) << built.error();
-        // The units add up to the total whatever the duplication (KD tree, octree).
+        // The units add up to the total whatever the duplication (KD tree, octree), in
+        // the last stage and in those before it (the trees' own, before the leaf-order copy).
         EXPECT_NEAR(progress.fraction(), 1.0, 1e-6) << to_string(type);
+        EXPECT_TRUE(progress.earlier_stages_finished()) << to_string(type);
         EXPECT_FALSE(progress.cancelled());
     }
 }
@@ -97,6 +99,7 @@ TEST(WorkProgress, TheLongPartsOfATreeBuildAreStagesTheWindowNames) {
     ASSERT_NE(progress.stage_label(), nullptr);
     EXPECT_EQ(std::string(progress.stage_label()), "putting the triangles in leaf order");
     EXPECT_NEAR(progress.fraction(), 1.0, 1e-6);
+    EXPECT_TRUE(progress.earlier_stages_finished());
 }
 
 TEST(WorkProgress, ACancelledBuildStopsAndSaysSo) {
