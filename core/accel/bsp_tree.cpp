@@ -303,6 +303,8 @@ Score score(const std::vector<Piece>& pieces, const std::vector<Aabb>& piece_bou
 /// A split counts this part of its node's progress units at once (count_part): a
 /// tree some dozens of levels deep does about that share of its work per level.
 constexpr uint64_t kSplitParts = 16;
+/// A node of millions of pieces takes seconds: its loops ask for a cancel this often.
+constexpr size_t kPiecesPerCancelCheck = 16384;
 
 struct WorkItem {
     uint32_t node;
@@ -335,7 +337,7 @@ Expected<BspTree> build_bsp_tree(const Mesh& mesh, const BspConfig& config, Work
 
     std::vector<Piece> root = make_prefaulted<std::vector<Piece>>(st.triangles);
     for (uint32_t t = 0; t < st.triangles; ++t) {
-        if (t % 16384 == 0 && progress.cancelled()) return WorkProgress::cancelled_error();
+        if (t % kPiecesPerCancelCheck == 0 && progress.cancelled()) return WorkProgress::cancelled_error();
         root[t].tri = t;
         root[t].count = 3;
         for (int k = 0; k < 3; ++k) root[t].v[size_t(k)] = mesh.vertex(t, k);
@@ -358,7 +360,7 @@ Expected<BspTree> build_bsp_tree(const Mesh& mesh, const BspConfig& config, Work
             std::vector<Aabb> piece_bounds = make_prefaulted<std::vector<Aabb>>(n);
             Aabb content;
             for (size_t i = 0; i < n; ++i) {
-                if (i % 16384 == 0 && progress.cancelled()) return WorkProgress::cancelled_error();
+                if (i % kPiecesPerCancelCheck == 0 && progress.cancelled()) return WorkProgress::cancelled_error();
                 piece_bounds[i] = bounds_of(item.pieces[i]);
                 content.grow(piece_bounds[i]);
             }
@@ -395,8 +397,7 @@ Expected<BspTree> build_bsp_tree(const Mesh& mesh, const BspConfig& config, Work
         std::vector<Piece> back, front;
         if (best) {
             for (size_t i = 0; i < n; ++i) {
-                // A node of millions of pieces takes seconds: a cancel is heard within it.
-                if (i % 16384 == 0 && progress.cancelled()) return WorkProgress::cancelled_error();
+                if (i % kPiecesPerCancelCheck == 0 && progress.cancelled()) return WorkProgress::cancelled_error();
                 const Piece& p = item.pieces[i];
                 const Sides sd = sides_of(p, *best, pad);
                 if (sd.back)

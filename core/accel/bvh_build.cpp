@@ -422,7 +422,7 @@ Expected<Bvh> build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecor
     };
 
     if (n > 0) {
-        PrimRefs refs(n);
+        PrimRefs refs = make_prefaulted<PrimRefs>(n);
         tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n, kParallelChunk), [&](const tbb::blocked_range<uint32_t>& r) {
             for (uint32_t i = r.begin(); i < r.end(); ++i)
                 refs[i] = make_prim_ref(mesh.vertex(i, 0), mesh.vertex(i, 1), mesh.vertex(i, 2), i);

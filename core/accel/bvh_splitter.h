@@ -123,8 +123,8 @@ struct PrimRef {
     Vec3 centroid() const { return center; }
 };
 static_assert(offsetof(PrimRef, center) % 16 == 0, "the centroid is read as four aligned floats (with the id: see load_xyz)");
-/// Made at their final size and filled in parallel: their pages are touched in parallel too.
-using PrimRefs = std::vector<PrimRef, PrefaultedArrayAllocator<PrimRef>>;
+/// Made at their final size (make_prefaulted) and filled in parallel.
+using PrimRefs = std::vector<PrimRef, LargeArrayAllocator<PrimRef>>;
 
 /// The lecture splits by "the position of the primitive's centroid" (重心): the
 /// mean of the three corners, summed in corner order.

@@ -54,12 +54,13 @@ inline bool goes_above(const SpatialRef& r, int axis, float s) { return r.box.hi
 /// reference's box. below = #{lo < s}, above = #{hi > s} (a reference lying in the
 /// plane goes below); cost(s) = C_trav + C_isect · (A_below·N_below + A_above·N_above) / A,
 /// times (1 - empty_bonus) when one side is empty. `los`, `his`, `scratch`: reused buffers.
-/// `stop()` true (asked between the sorts and every 65,536 candidates) ends the sweep
+/// `stop()` true (asked first, between the sorts and every 65,536 candidates) ends the sweep
 /// early: a node of millions of references sweeps for a good part of a second.
 template <class Visit, class Stop>
 void sweep_kd_sah_axis(const SpatialRefs& refs, const Aabb& box, const KdConfig& c, int a,
                        std::vector<float>& los, std::vector<float>& his, SortScratch& scratch, Visit&& visit,
                        Stop&& stop) {
+    if (stop()) return;
     const size_t n = refs.size();
     const double node_area = kd_area(box);
     const double cross_section = kd_cross_section(box, a), perimeter_half = kd_perimeter_half(box, a);

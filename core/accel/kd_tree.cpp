@@ -62,7 +62,6 @@ KdPlane best_sah_plane(const SpatialRefs& refs, const Aabb& box, const KdConfig&
     }
     std::array<KdPlane, 3> per_axis;
     tbb::parallel_for(0, 3, [&](int a) {
-        if (progress.cancelled()) return;  // no plane: the caller checks before its next node
         std::vector<float> axis_los, axis_his;
         SortScratch axis_scratch;
         KdPlane& axis_best = per_axis[size_t(a)];

@@ -86,43 +86,20 @@ private:
 void touch_pages_in_parallel(void* p, size_t bytes);
 
 /// A vector of `n` value-initialized elements whose pages all threads touch first
-/// (touch_pages_in_parallel), as PrefaultedArrayAllocator does, for a vector type of
-/// another allocator made at its final size that would otherwise fault in hundreds of
-/// megabytes on one thread (the space-partitioning builds' roots at ten million triangles).
+/// (touch_pages_in_parallel), before the vector value-initializes them on one. A fresh
+/// page costs the kernel a zeroing and, on a virtual machine whose host takes freed
+/// memory back, a fault on the host as well; an array of hundreds of megabytes that is
+/// then filled in parallel (the BVH build's records, the space-partitioning builds'
+/// root references, a big tree's leaf-ordered triangles) would pay those serially
+/// (measured: docs/performance.md). Only for arrays made at their final size.
 template <class Vector>
 Vector make_prefaulted(size_t n) {
     Vector v;
     v.reserve(n);
     const size_t bytes = n * sizeof(typename Vector::value_type);
-    if (bytes >= (size_t(2) << 20)) touch_pages_in_parallel(v.data(), bytes);
+    if (bytes >= LargeArrayAllocator<char>::kHugePage) touch_pages_in_parallel(v.data(), bytes);
     v.resize(n);
     return v;
 }
-
-/// LargeArrayAllocator whose big blocks are first written by all threads
-/// (touch_pages_in_parallel) before the vector value-initializes them on one. A fresh
-/// page costs the kernel a zeroing and, on a virtual machine whose host takes freed
-/// memory back, a fault on the host as well; an array that is then filled in
-/// parallel paid those serially in its constructor (the BVH build's 500 MB of
-/// records at 10M triangles, on a two-core virtual machine: the first build of a
-/// process went from 3.7-3.8 s to 2.7-2.8 s with them touched in parallel).
-/// Only for arrays allocated at their final size: a vector growing by doubling
-/// would have capacity touched that it never uses.
-template <class T>
-struct PrefaultedArrayAllocator : LargeArrayAllocator<T> {
-    template <class U>
-    struct rebind {
-        using other = PrefaultedArrayAllocator<U>;
-    };
-    PrefaultedArrayAllocator() = default;
-    template <class U>
-    PrefaultedArrayAllocator(const PrefaultedArrayAllocator<U>&) {}
-
-    T* allocate(size_t n) {
-        T* p = LargeArrayAllocator<T>::allocate(n);
-        if (n * sizeof(T) >= LargeArrayAllocator<T>::kHugePage) touch_pages_in_parallel(p, n * sizeof(T));
-        return p;
-    }
-};
 
 }  // namespace accelviz

@@ -47,9 +47,10 @@ TEST(LargeArray, PrefaultedVectorsHoldTheirValuesAtEverySize) {
     // Below and above the huge-page size, and sizes that end inside a 4 KiB page: the
     // pages are written before the elements are made, never beyond the block.
     for (size_t count : {size_t(1), size_t(1000), size_t(524'288), size_t(524'289), size_t(3'000'001)}) {
-        std::vector<uint32_t, PrefaultedArrayAllocator<uint32_t>> ids(count, 7u);
-        EXPECT_EQ(ids.front(), 7u);
-        EXPECT_EQ(ids.back(), 7u);
+        auto ids = make_prefaulted<std::vector<uint32_t, LargeArrayAllocator<uint32_t>>>(count);
+        ASSERT_EQ(ids.size(), count);
+        EXPECT_EQ(ids.front(), 0u);
+        EXPECT_EQ(ids.back(), 0u);
         if (count * sizeof(uint32_t) >= LargeArrayAllocator<uint32_t>::kHugePage) {
             EXPECT_EQ(address(ids.data()) % LargeArrayAllocator<uint32_t>::kHugePage, 0u);
         }
