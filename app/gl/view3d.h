@@ -21,6 +21,7 @@ struct ViewRect {
     int x = 0, y = 0, width = 0, height = 0;
     bool empty() const { return width <= 0 || height <= 0; }
     bool contains(double px, double py) const { return px >= x && py >= y && px < x + width && py < y + height; }
+    bool operator==(const ViewRect&) const = default;
 };
 
 /// Everything a draw in the 3D view needs: camera, rectangle, clip planes.

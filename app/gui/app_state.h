@@ -114,6 +114,8 @@ struct ViewSettings {
     bool slice = false;
     int slice_axis = 2;
     float slice_at = 0.5f;
+
+    bool operator==(const ViewSettings&) const = default;
 };
 
 /// What of the current structure the 3D view draws over the mesh.

@@ -662,6 +662,21 @@ FrameLayout draw_scene(AppState& state, Renderer& renderer, Session& session, co
     if (session.scene && state.camera && !layout.gl_view.empty()) {
         session.upload_to_gpu(state.overlay);  // the panels may have changed the overlay
         out.view = make_view3d(*state.camera, layout.gl_view, session.scene->bounds);
+        // A still view drawn from the settings alone: the picture kept from the last
+        // frame, if nothing it was drawn from has changed (ViewCache).
+        const bool build_step_3d = session.build_stepper.shows_3d(state);
+        const bool keepable = !split && !stepping && !plan.nearest && !build_step_3d && !state.view.slice && !plan.moving;
+        ViewCache::Key key;
+        if (keepable) {
+            key = {input.width, input.height, layout.gl_view, *state.camera, state.view, state.overlay, state.light,
+                   session.scene_generation, plan.mesh_ray_cast,
+                   plan.mesh_picture ? session.surface_cast.shown() : std::nullopt};
+            if (session.view_cache.draw(key, renderer)) {
+                session.view_drawn_in_full = false;
+                out.scene_drawn = true;
+                return out;
+            }
+        }
         renderer.begin_view(out.view);
         renderer.set_line_width(state.view.line_width);
         // While a ray or a nearest-point search is stepped, the step's own boxes replace
@@ -679,7 +694,6 @@ FrameLayout draw_scene(AppState& state, Renderer& renderer, Session& session, co
         };
         MeshStyle mesh_style;
         mesh_style.opacity = state.overlay.mesh_opacity;
-        const bool build_step_3d = session.build_stepper.shows_3d(state);
         const bool gl_depth_view = split && state.view.left_view == LeftView::OpenGlDepth;
         if (gl_depth_view) {
             draw_opengl_depth_as_grey(session, renderer, out.view, layout.gl_view);
@@ -728,6 +742,9 @@ FrameLayout draw_scene(AppState& state, Renderer& renderer, Session& session, co
             draw_overlay();
         }
         out.scene_drawn = true;
+        session.view_drawn_in_full = true;
+        if (keepable) session.view_cache.keep(key, renderer, session.last_full_view_frame_ms);
+        else session.view_cache.forget();
         if (split && session.gpu_cast_shown && session.gpu_cast.texture())
             renderer.draw_image(*session.gpu_cast.texture(), layout.ray_view);
         else if (split && session.ray_cast.texture())
@@ -756,6 +773,7 @@ void take_screenshot(Renderer& renderer, Session& session, const FrameInput& inp
 
 FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, const FrameInput& input) {
     // 1. Work finished on the loader thread, and files dropped on the window.
+    if (session.view_drawn_in_full) session.last_full_view_frame_ms = input.frame_ms;
     session.take_finished_load(state);
     for (const std::string& path : input.dropped_paths) {
         if (looks_like_structure_file(path)) session.use_structure_file(state, path);  // a tree (a student's)

@@ -29,6 +29,7 @@
 #include "app/gui/stepper_panel.h"
 #include "app/gui/structure_overlay.h"
 #include "app/gui/ui_style.h"
+#include "app/gui/view_cache.h"
 
 namespace accelviz {
 
@@ -91,6 +92,11 @@ struct Session {
     uint64_t last_scene_generation = 0;  ///< a new scene (a moving scene's next time) counts as motion too
     std::chrono::steady_clock::time_point camera_moved_at{};
     bool camera_moving = false;  ///< this frame's view is drawn lighter
+
+    /// The 3D view's last still picture, drawn again while nothing it shows changes.
+    ViewCache view_cache;
+    bool view_drawn_in_full = false;  ///< the last frame drew the 3D view itself (not the kept picture)
+    double last_full_view_frame_ms = 0;  ///< the time of the last frame that did (0: unknown)
 
     /// "Draw with: ray cast": the 3D view's mesh from the CPU ray caster.
     SurfaceCast surface_cast;

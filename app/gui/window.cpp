@@ -213,6 +213,7 @@ public:
         j["mesh"] = {{"drawn_by", session.mesh_ray_cast ? "raycast" : "raster"},
                      {"cast_divisor", session.mesh_ray_cast && cast ? cast->divisor : 0},
                      {"quarter_pictures", session.surface_cast.quarter_pictures_shown()}};
+        j["view_cache_hits"] = session.view_cache.hits();  // frames that drew the 3D view's kept picture
         j["lecture"] = {{"on", session.lecture.on}, {"caption", session.lecture.caption}, {"blank", session.lecture.blank},
                         {"preset", session.presets.current()}, {"font_size", ImGui::GetFontSize()}};
         j["message"] = session.message;

@@ -1,0 +1,142 @@
+// The 3D view's kept picture (ViewCache): a frame drawn from it is the frame a full
+// draw gives, pixel for pixel; a change to what the view shows draws it again; and a
+// view that draws from more than the key holds (a stepper, the split view) is never
+// drawn from it.
+#include <gtest/gtest.h>
+
+#include "app/gui/headless.h"
+#include "app/gui/session.h"
+#include "core/geometry/scene.h"
+
+namespace accelviz {
+namespace {
+
+struct CachedApp {
+    std::unique_ptr<HeadlessApp> app;
+    AppState state;
+};
+
+/// A headless window on the teapot with its BVH's boxes, keeping every full draw
+/// (the window keeps only slow ones: see ViewCache::kWorthKeepingMs). With `state`,
+/// that state's camera and settings (not the scene's default view).
+CachedApp open_teapot(const AppState* state = nullptr) {
+    CachedApp out;
+    auto app = HeadlessApp::create(320, 240);
+    EXPECT_TRUE(app) << app.error();
+    if (!app) return out;
+    out.app = std::move(*app);
+    if (state) {
+        out.state = *state;
+    } else {
+        out.state.scene = "builtin:teapot?n=4";
+        out.state.view.draw_with = DrawWith::Raster;
+    }
+    auto loaded = load_and_build(out.state.scene, out.state.accel);
+    EXPECT_TRUE(loaded) << loaded.error();
+    if (!loaded) return out;
+    out.app->session().set_scene(out.state, *loaded, /*keep_camera=*/state != nullptr);
+    out.app->session().view_cache.worth_keeping_ms = 0;
+    return out;
+}
+
+Image draw(CachedApp& c, bool draw_ui = true) {
+    FrameInput input;
+    input.draw_ui = draw_ui;
+    c.app->draw(c.state, input);
+    return c.app->read_colour();
+}
+
+/// The frame a window that never keeps a picture draws for `state` after `frames`
+/// frames. (Made after the cached app is gone: one headless app at a time.)
+Image fresh_frame(const AppState& state, int frames, bool draw_ui) {
+    CachedApp fresh = open_teapot(&state);
+    if (!fresh.app) return {};
+    fresh.app->session().view_cache.worth_keeping_ms = 1e30;
+    Image out;
+    for (int i = 0; i < frames; ++i) out = draw(fresh, draw_ui);
+    return out;
+}
+
+TEST(ViewCache, AFrameFromTheKeptPictureIsTheFullFrame) {
+    AppState state;
+    Image full_frame, kept_frame, view_alone, view_alone_kept;
+    {
+        CachedApp c = open_teapot();
+        ASSERT_TRUE(c.app);
+        ViewCache& cache = c.app->session().view_cache;
+        full_frame = draw(c);  // a full draw, kept
+        EXPECT_EQ(cache.hits(), 0u);
+        draw(c);  // nothing changed: from the picture (the panels settle: ImGui sizes a window one frame late)
+        EXPECT_EQ(cache.hits(), 1u);
+        kept_frame = draw(c);
+        EXPECT_EQ(cache.hits(), 2u);
+        // The 3D view alone, over the whole frame: another rectangle, drawn again, then kept.
+        view_alone = draw(c, false);
+        EXPECT_EQ(cache.hits(), 2u);
+        view_alone_kept = draw(c, false);
+        EXPECT_EQ(cache.hits(), 3u);
+        state = c.state;
+    }
+    EXPECT_EQ(kept_frame.pixels, fresh_frame(state, 3, true).pixels);
+    EXPECT_EQ(view_alone.pixels, view_alone_kept.pixels);
+    EXPECT_EQ(view_alone_kept.pixels, fresh_frame(state, 1, false).pixels);
+}
+
+TEST(ViewCache, WhatTheViewShowsChangingDrawsItAgain) {
+    struct Change {
+        const char* what;
+        AppState state;
+        Image drawn, kept;
+    };
+    std::vector<Change> changes;
+    Image before;
+    {
+        CachedApp c = open_teapot();
+        ASSERT_TRUE(c.app);
+        ViewCache& cache = c.app->session().view_cache;
+        before = draw(c, false);
+        draw(c, false);
+        ASSERT_EQ(cache.hits(), 1u);
+        auto change = [&](const char* what) {
+            const uint64_t hits = cache.hits();
+            Change ch{what, c.state, draw(c, false), {}};
+            EXPECT_EQ(cache.hits(), hits) << what << ": drawn in full";
+            ch.kept = draw(c, false);
+            EXPECT_EQ(cache.hits(), hits + 1) << what << ": then kept";
+            changes.push_back(std::move(ch));
+        };
+        c.state.overlay.level_max = 2;
+        change("overlay levels");
+        c.state.view.background = Rgb{200, 40, 40};
+        change("background");
+        c.state.camera->eye = c.state.camera->eye * 1.3;
+        change("camera");
+        c.state.view.draw_with = DrawWith::RayCast;
+        change("draw with");
+    }
+    const Image* previous = &before;
+    for (const Change& ch : changes) {
+        EXPECT_NE(ch.drawn.pixels, previous->pixels) << ch.what << " changes the picture";
+        EXPECT_EQ(ch.kept.pixels, ch.drawn.pixels) << ch.what;
+        EXPECT_EQ(ch.drawn.pixels, fresh_frame(ch.state, 1, false).pixels) << ch.what;
+        previous = &ch.drawn;
+    }
+}
+
+TEST(ViewCache, AViewDrawnFromMoreThanTheSettingsIsNeverKept) {
+    CachedApp c = open_teapot();
+    ASSERT_TRUE(c.app);
+    ViewCache& cache = c.app->session().view_cache;
+    c.state.view.mode = ViewMode::Split;
+    draw(c);
+    draw(c);
+    EXPECT_EQ(cache.hits(), 0u) << "split view";
+    c.state.view.mode = ViewMode::View3D;
+    c.state.view.slice = true;
+    draw(c);
+    draw(c);
+    EXPECT_EQ(cache.hits(), 0u) << "inside/outside slice";
+}
+
+}  // namespace
+}  // namespace accelviz
