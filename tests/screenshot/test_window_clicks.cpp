@@ -621,6 +621,19 @@ TEST(WindowClicks, DrawWithRayCastCastsTheMeshAQuarterWhileMovingAndAllWhenStill
     });
 }
 
+TEST(WindowClicks, AStillViewOfEveryBoxIsRedrawnFromItsPictureWhileTheMouseMovesOverAPanel) {
+    // 200,000 BVH boxes (the window's budget), a frame of hundreds of ms on a software
+    // renderer: the view is kept once drawn, and the frames each mouse move brings draw
+    // that picture (the pictures' exactness: ViewCache in test_view_cache.cpp).
+    Window w;
+    w.start("builtin:soup?n=200000");
+    const json settled = w.wait_for("the view drawn and kept", [](const json& s) { return !s["busy"].get<bool>(); });
+    const uint64_t before = settled["view_cache_hits"];
+    for (int i = 0; i < 4; ++i) w.move_to(60, 200 + 30 * i);  // over the sidebar
+    w.wait_for("frames drawn from the kept picture",
+               [&](const json& s) { return s["view_cache_hits"].get<uint64_t>() > before; });
+}
+
 TEST(WindowClicks, DraggingTheLeafSizeSliderRebuildsOnRelease) {
     Window w;
     w.start("builtin:teapot");
