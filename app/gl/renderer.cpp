@@ -64,10 +64,7 @@ void MeshBuffer::upload(const Mesh& mesh) {
 
 BoxBuffer::BoxBuffer() {
     gl.BindVertexArray(vertex_array_.id());
-    gl.BindBuffer(GL_ARRAY_BUFFER, instances_.id());
-    float_attribute(0, 3, GL_FLOAT, GL_FALSE, sizeof(BoxInstance), offsetof(BoxInstance, lo), 1);
-    float_attribute(1, 3, GL_FLOAT, GL_FALSE, sizeof(BoxInstance), offsetof(BoxInstance, hi), 1);
-    float_attribute(2, 4, GL_UNSIGNED_BYTE, GL_TRUE, sizeof(BoxInstance), offsetof(BoxInstance, colour), 1);
+    point_instances_at(0);
     // Corner c has bit 0: x, bit 1: y, bit 2: z at the box's hi side.
     static constexpr uint8_t kEdges[24] = {0, 1, 2, 3, 4, 5, 6, 7,   // edges along x
                                            0, 2, 1, 3, 4, 6, 5, 7,   // along y
@@ -75,6 +72,14 @@ BoxBuffer::BoxBuffer() {
     gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, edge_indices_.id());  // recorded in the vertex array
     gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, sizeof kEdges, kEdges, GL_STATIC_DRAW);
     gl.BindVertexArray(0);
+}
+
+void BoxBuffer::point_instances_at(size_t first) const {
+    const size_t base = first * sizeof(BoxInstance);
+    gl.BindBuffer(GL_ARRAY_BUFFER, instances_.id());
+    float_attribute(0, 3, GL_FLOAT, GL_FALSE, sizeof(BoxInstance), base + offsetof(BoxInstance, lo), 1);
+    float_attribute(1, 3, GL_FLOAT, GL_FALSE, sizeof(BoxInstance), base + offsetof(BoxInstance, hi), 1);
+    float_attribute(2, 4, GL_UNSIGNED_BYTE, GL_TRUE, sizeof(BoxInstance), base + offsetof(BoxInstance, colour), 1);
 }
 
 void BoxBuffer::upload(const std::vector<BoxInstance>& boxes) {
@@ -214,16 +219,21 @@ void Renderer::use_line_program(bool boxes) {
     gl.Uniform1f(program.uniform("line_width"), line_width_);
 }
 
-void Renderer::draw_boxes(const BoxBuffer& boxes, size_t count) {
-    count = std::min(count, boxes.size());
+void Renderer::draw_boxes(const BoxBuffer& boxes, size_t count, size_t first) {
+    if (first >= boxes.size()) return;
+    count = std::min(count, boxes.size() - first);
     if (count == 0) return;
     use_line_program(/*boxes=*/true);
     // The depth buffer keeps the mesh alone (read back as the raster depth).
     set_translucent_state();
     if (!boxes.translucent_) gl.Disable(GL_BLEND);  // opaque boxes: measurably faster on llvmpipe
     gl.BindVertexArray(boxes.vertex_array_.id());
+    // From box `first` on: the instance attributes point that far into the buffer (GL
+    // 3.3 has no base instance), and back to its start after.
+    if (first > 0) boxes.point_instances_at(first);
     // 12 edges per box, every box at once.
     gl.DrawElementsInstanced(GL_LINES, 24, GL_UNSIGNED_BYTE, nullptr, GLsizei(count));
+    if (first > 0) boxes.point_instances_at(0);
     gl.BindVertexArray(0);
     gl.DepthMask(GL_TRUE);
 }
@@ -263,6 +273,21 @@ void Renderer::draw_image(const Texture& texture, const ViewRect& rect) {
     const float top = 1.0f - 2.0f * rect.y / frame_height_;
     const float bottom = 1.0f - 2.0f * (rect.y + rect.height) / frame_height_;
     gl.Uniform4f(image_program_.uniform("rect"), left, top, right, bottom);
+    gl.Uniform1i(image_program_.uniform("image"), 0);
+    gl.ActiveTexture(GL_TEXTURE0);
+    gl.BindTexture(GL_TEXTURE_2D, texture.id());
+    gl.BindVertexArray(empty_vertex_array_.id());
+    gl.DrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    gl.BindVertexArray(0);
+}
+
+void Renderer::draw_image_in_view(const Texture& texture) {
+    if (texture.empty() || view_.rect.empty()) return;
+    set_gl_viewport(view_.rect);
+    gl.Disable(GL_DEPTH_TEST);  // no test, and so no depth written
+    gl.Disable(GL_BLEND);
+    image_program_.use();
+    gl.Uniform4f(image_program_.uniform("rect"), -1.0f, 1.0f, 1.0f, -1.0f);  // the whole view
     gl.Uniform1i(image_program_.uniform("image"), 0);
     gl.ActiveTexture(GL_TEXTURE0);
     gl.BindTexture(GL_TEXTURE_2D, texture.id());

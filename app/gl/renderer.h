@@ -69,6 +69,8 @@ public:
 
 private:
     friend class Renderer;
+    /// The vertex array's instance attributes read from box `first` on (its array bound).
+    void point_instances_at(size_t first) const;
     GlVertexArray vertex_array_;
     GlBuffer instances_;
     GlBuffer edge_indices_;  ///< the 24 corner indices of the 12 edges, shared by every instance
@@ -127,8 +129,8 @@ public:
     /// buffer holds the mesh alone (the window's raster depth, read back and
     /// compared with the ray caster). They are drawn slightly towards the eye (a
     /// constant NDC depth bias), so edges lying on a surface are not hidden by it.
-    /// `count`: the first `count` boxes only (SIZE_MAX: all).
-    void draw_boxes(const BoxBuffer& boxes, size_t count = SIZE_MAX);
+    /// `count`: `count` boxes from box `first` on (SIZE_MAX: to the last), in order.
+    void draw_boxes(const BoxBuffer& boxes, size_t count = SIZE_MAX, size_t first = 0);
     void draw_segments(const ColouredBuffer& segments);
     /// Translucent: blended, tested against depth but not writing it. `count`: the
     /// first `count` quads only (SIZE_MAX: all).
@@ -142,6 +144,9 @@ public:
     void draw_image_with_depth(const Texture& colour, const Texture& depth, float opacity = 1.0f);
     /// A texture stretched over a rectangle of the frame (screen space).
     void draw_image(const Texture& texture, const ViewRect& rect);
+    /// A texture over the current view's rectangle, its colours only: the depth buffer
+    /// keeps what was drawn before (boxes drawn next are still hidden behind the mesh).
+    void draw_image_in_view(const Texture& texture);
     /// Waits until the GPU (or llvmpipe) has drawn everything asked so far (timing).
     void finish();
     /// Dear ImGui's draw lists for this frame (over everything else).

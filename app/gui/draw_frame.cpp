@@ -679,10 +679,26 @@ FrameLayout draw_scene(AppState& state, Renderer& renderer, Session& session, co
         }
         renderer.begin_view(out.view);
         renderer.set_line_width(state.view.line_width);
+        MeshStyle mesh_style;
+        mesh_style.opacity = state.overlay.mesh_opacity;
         // While a ray or a nearest-point search is stepped, the step's own boxes replace
         // the whole structure's.
         const bool overlay = state.overlay.show_structure && !stepping && !plan.nearest;
+        // A slow still view with more boxes than a frame should draw draws them a share
+        // per frame (ViewCache): it starts a picture, or goes on with the one under way.
+        ViewCache& cache = session.view_cache;
+        const size_t boxes_total = overlay ? session.overlay_boxes->size() : 0;
+        const bool goes_on = keepable && cache.goes_on(key);
+        const bool worth_keeping = keepable && cache.worth_keeping(session.last_full_view_frame_ms);
+        const bool in_parts =
+            goes_on || (worth_keeping && mesh_style.opacity >= 1.0f && boxes_total > cache.boxes_per_frame);
+        const size_t first_box = goes_on ? cache.boxes_in_picture() : 0;
+        const size_t box_count = in_parts ? cache.boxes_per_frame : SIZE_MAX;
         auto draw_overlay = [&] {
+            if (goes_on) {  // the picture so far holds the rest
+                renderer.draw_boxes(*session.overlay_boxes, box_count, first_box);
+                return;
+            }
             if (state.view.show_bounds) renderer.draw_boxes(*session.bounds_buffer);
             if (stepping) session.stepper.draw_3d(renderer, state.view.line_width);
             if (plan.nearest) session.nearest.draw_3d(renderer, state.view.line_width);
@@ -690,10 +706,8 @@ FrameLayout draw_scene(AppState& state, Renderer& renderer, Session& session, co
             renderer.draw_quads(*session.overlay_quads,
                                 plan.moving ? session.overlay.moving_quads(Session::kMovingBoxBudget) : SIZE_MAX);
             renderer.draw_boxes(*session.overlay_boxes,
-                                plan.moving ? session.overlay.moving_prefix(Session::kMovingBoxBudget) : SIZE_MAX);
+                                plan.moving ? session.overlay.moving_prefix(Session::kMovingBoxBudget) : box_count);
         };
-        MeshStyle mesh_style;
-        mesh_style.opacity = state.overlay.mesh_opacity;
         const bool gl_depth_view = split && state.view.left_view == LeftView::OpenGlDepth;
         if (gl_depth_view) {
             draw_opengl_depth_as_grey(session, renderer, out.view, layout.gl_view);
@@ -739,12 +753,16 @@ FrameLayout draw_scene(AppState& state, Renderer& renderer, Session& session, co
                 draw_surface();
             }
             if (plan.mesh_ray_cast) session.slice.draw_3d(renderer);
+            // Going on: the mesh was drawn again for its depth; the picture so far over it.
+            if (goes_on) renderer.draw_image_in_view(cache.picture());
             draw_overlay();
         }
         out.scene_drawn = true;
-        session.view_drawn_in_full = true;
-        if (keepable) session.view_cache.keep(key, renderer, session.last_full_view_frame_ms);
-        else session.view_cache.forget();
+        session.view_drawn_in_full = !goes_on;
+        if (goes_on || worth_keeping)
+            cache.keep(key, renderer, in_parts ? std::min(first_box + box_count, boxes_total) : boxes_total, boxes_total);
+        else
+            cache.forget();
         if (split && session.gpu_cast_shown && session.gpu_cast.texture())
             renderer.draw_image(*session.gpu_cast.texture(), layout.ray_view);
         else if (split && session.ray_cast.texture())

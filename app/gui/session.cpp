@@ -112,6 +112,7 @@ std::vector<const char*> Session::pending_work() const {
     if (ray_cast.busy() || ray_cast.has_result()) names.push_back("ray_cast");
     if (surface_cast.refining()) names.push_back("surface_cast");
     if (camera_moving) names.push_back("camera_moving");  // the full view follows once it is still
+    if (view_cache.drawing_on()) names.push_back("view_picture");  // a still view's boxes, a share per frame
     if (build_stepper.busy() || build_stepper.has_result()) names.push_back("build_stepper");
     if (stepper.has_pending_work()) names.push_back("stepper");
     if (comparison.busy() || comparison.has_result()) names.push_back("comparison");

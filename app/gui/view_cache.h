@@ -2,10 +2,18 @@
 /// The 3D view's last picture, kept while nothing it is drawn from changes. The
 /// window draws a few frames after every event (a mouse move over a panel, a
 /// hover), and with a big overlay (a BVH's 77k boxes, a million line segments)
-/// each such frame would redraw every box on a software rasterizer, a third of a
-/// second, for a picture that did not change: the panels would answer the mouse
-/// late. So once a still view is drawn in full, its pixels are read back into a
+/// each such frame would redraw every box on a software rasterizer, hundreds of
+/// milliseconds, for a picture that did not change: the panels would answer the
+/// mouse late. So once a still view is drawn in full, its pixels are read back into a
 /// texture, and later frames with the same inputs draw that texture instead.
+///
+/// Progressive: a still view that is slow to draw and has more boxes than one frame
+/// should draw (kStillBoxesPerFrame) draws them a share per frame: the first frame
+/// the mesh and the first boxes, each next one the mesh again (for its depth), the
+/// picture so far over it (colours only), and the next boxes, until every box is in
+/// the picture. Boxes write no depth and are drawn in the same order as in one
+/// frame, so the finished picture is the one-frame picture, pixel for pixel, and no
+/// frame stops the window for long.
 ///
 /// The key is everything the 3D view is drawn from (its size, camera, the view,
 /// overlay and light settings, the scene and the ray-cast picture shown); a view
@@ -47,24 +55,43 @@ public:
     /// A full draw of the view is kept only if the last one took at least this long:
     /// the read-back (a few ms) would slow down a view that is quick to redraw.
     static constexpr double kWorthKeepingMs = 25.0;
+    /// Boxes a still view draws per frame when it draws them over several: a little
+    /// under the moving camera's budget (Session::kMovingBoxBudget), so that with the
+    /// mesh drawn again and the read-back such a frame takes about as long as one
+    /// while the camera moves (measured: docs/performance.md).
+    static constexpr size_t kStillBoxesPerFrame = 6144;
 
-    /// Draws the kept picture into key.rect if it was drawn from `key`: true, and
-    /// nothing else of the 3D view needs drawing this frame.
+    /// Draws the kept picture into key.rect if it was drawn from `key` and is whole:
+    /// true, and nothing else of the 3D view needs drawing this frame.
     bool draw(const Key& key, Renderer& renderer);
-    /// After a full draw of the view from `key`: keeps its pixels if the last full
-    /// draw took `last_full_ms` >= the threshold (tests lower it), else forgets.
-    void keep(const Key& key, Renderer& renderer, double last_full_ms);
-    /// The view is drawn from something the key does not hold: forget the picture.
+    /// The picture of `key` is under way (some of its boxes drawn): it goes on from
+    /// box boxes_in_picture(), over picture().
+    bool goes_on(const Key& key) const { return key_ && *key_ == key && boxes_in_picture_ < boxes_total_; }
+    /// A picture is under way (the window keeps drawing frames until it is whole).
+    bool drawing_on() const { return key_ && boxes_in_picture_ < boxes_total_; }
+    size_t boxes_in_picture() const { return boxes_in_picture_; }
+    const Texture& picture() const { return *picture_; }
+    /// Whether a full draw of a still view would be kept, its last full draw having
+    /// taken `last_full_ms`.
+    bool worth_keeping(double last_full_ms) const { return last_full_ms >= worth_keeping_ms; }
+    /// After a draw of the view from `key` holding its first `boxes` of `boxes_total`
+    /// overlay boxes: keeps its pixels.
+    void keep(const Key& key, Renderer& renderer, size_t boxes, size_t boxes_total);
+    /// The view is drawn from something the key does not hold, or is not worth
+    /// keeping: forget the picture.
     void forget() { key_.reset(); }
 
-    /// How many frames drew the kept picture (what a test checks to know it was used).
+    /// How many frames drew the whole kept picture (what a test checks to know it was used).
     uint64_t hits() const { return hits_; }
-    /// The threshold keep() uses (tests set 0: keep every full draw).
+    /// The threshold worth_keeping() uses (tests set 0: keep every full draw).
     double worth_keeping_ms = kWorthKeepingMs;
+    /// Boxes per frame of a progressive picture (tests set fewer).
+    size_t boxes_per_frame = kStillBoxesPerFrame;
 
 private:
     std::optional<Key> key_;
     std::unique_ptr<Texture> picture_;  ///< made by the first keep(), with GL current
+    size_t boxes_in_picture_ = 0, boxes_total_ = 0;
     uint64_t hits_ = 0;
 };
 

@@ -333,7 +333,9 @@ int run_window(AppState state, const std::string& preset_path, bool lecture, boo
             uint64_t events_seen = 0;
             bool was_working = false;
             while (!(*window)->should_close()) {
-                const bool input_held = any_input_held() || KeyboardTrickle::pending();
+                // A still view drawn a share per frame goes on at once, as while a key is held.
+                const bool input_held =
+                    any_input_held() || KeyboardTrickle::pending() || session.view_cache.drawing_on();
                 const bool working = session.has_pending_work();
                 (*window)->process_events(frames_to_draw > 0 || input_held ? 0.0 : working ? 0.1 : 0.5);
                 // Events, and work finishing, are followed by a few frames: ImGui

@@ -123,6 +123,37 @@ TEST(ViewCache, WhatTheViewShowsChangingDrawsItAgain) {
     }
 }
 
+TEST(ViewCache, ABigStillViewDrawnAShareOfItsBoxesPerFrameEndsAsTheOneFramePicture) {
+    AppState state;
+    Image first_part, finished, from_picture;
+    int parts = 0;
+    size_t boxes = 0;
+    {
+        CachedApp c = open_teapot();
+        ASSERT_TRUE(c.app);
+        ViewCache& cache = c.app->session().view_cache;
+        cache.boxes_per_frame = 100;
+        first_part = draw(c, false);
+        parts = 1;
+        boxes = c.app->session().overlay_boxes->size();
+        while (cache.drawing_on() && parts < 100) {
+            finished = draw(c, false);
+            ++parts;
+        }
+        EXPECT_FALSE(cache.drawing_on());
+        EXPECT_EQ(cache.hits(), 0u) << "every frame so far drew a share of the boxes";
+        from_picture = draw(c, false);
+        EXPECT_EQ(cache.hits(), 1u) << "then the whole picture";
+        state = c.state;
+    }
+    ASSERT_GT(boxes, 500u) << "the teapot's BVH has enough boxes to take several frames";
+    EXPECT_EQ(size_t(parts), (boxes + 99) / 100) << "a frame per 100 boxes";
+    const Image one_frame = fresh_frame(state, 1, false);
+    EXPECT_EQ(finished.pixels, one_frame.pixels) << "the last share completes the one-frame picture";
+    EXPECT_EQ(from_picture.pixels, one_frame.pixels);
+    EXPECT_NE(first_part.pixels, one_frame.pixels) << "the first frame holds only the first boxes";
+}
+
 TEST(ViewCache, AViewDrawnFromMoreThanTheSettingsIsNeverKept) {
     CachedApp c = open_teapot();
     ASSERT_TRUE(c.app);
