@@ -656,6 +656,7 @@ FrameLayout draw_scene(AppState& state, Renderer& renderer, Session& session, co
     out.view_rect = layout.gl_view;
     if (plan.lecture && session.lecture.blank) {
         renderer.begin_frame(input.width, input.height, Rgb{0, 0, 0});
+        session.view_cache.forget();  // no view: no picture under way (the window would keep drawing for it)
         return out;
     }
     renderer.begin_frame(input.width, input.height, state.view.background);
@@ -770,6 +771,8 @@ FrameLayout draw_scene(AppState& state, Renderer& renderer, Session& session, co
         // The left half from the core CPU rasterizer instead of OpenGL's own picture.
         if (split && session.ray_cast.left_texture())
             renderer.draw_image(*session.ray_cast.left_texture(), layout.gl_view);
+    } else {
+        session.view_cache.forget();  // no view (no scene yet, a minimised window)
     }
     return out;
 }

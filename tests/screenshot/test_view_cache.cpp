@@ -154,6 +154,20 @@ TEST(ViewCache, ABigStillViewDrawnAShareOfItsBoxesPerFrameEndsAsTheOneFramePictu
     EXPECT_NE(first_part.pixels, one_frame.pixels) << "the first frame holds only the first boxes";
 }
 
+TEST(ViewCache, APictureUnderWayIsDroppedWhenTheViewGoesAway) {
+    // Else the window, which draws on at once while a picture is under way, would spin.
+    CachedApp c = open_teapot();
+    ASSERT_TRUE(c.app);
+    ViewCache& cache = c.app->session().view_cache;
+    cache.boxes_per_frame = 100;
+    draw(c);
+    ASSERT_TRUE(cache.drawing_on());
+    c.app->session().lecture.on = true;
+    c.app->session().lecture.blank = true;  // lecture mode's black screen (B)
+    draw(c);
+    EXPECT_FALSE(cache.drawing_on());
+}
+
 TEST(ViewCache, AViewDrawnFromMoreThanTheSettingsIsNeverKept) {
     CachedApp c = open_teapot();
     ASSERT_TRUE(c.app);
