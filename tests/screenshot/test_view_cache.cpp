@@ -1,7 +1,7 @@
 // The 3D view's kept picture (ViewCache): a frame drawn from it is the frame a full
-// draw gives, pixel for pixel; a change to what the view shows draws it again; and a
-// view that draws from more than the key holds (a stepper, the split view) is never
-// drawn from it.
+// draw gives, pixel for pixel; a change to what the view shows draws it again; a view
+// drawn a share of its boxes per frame ends as the one-frame picture; and a view that
+// draws from more than the key holds (the split view, the slice) is never drawn from it.
 #include <gtest/gtest.h>
 
 #include "app/gui/headless.h"
