@@ -282,18 +282,8 @@ void Renderer::draw_image(const Texture& texture, const ViewRect& rect) {
 }
 
 void Renderer::draw_image_in_view(const Texture& texture) {
-    if (texture.empty() || view_.rect.empty()) return;
-    set_gl_viewport(view_.rect);
-    gl.Disable(GL_DEPTH_TEST);  // no test, and so no depth written
-    gl.Disable(GL_BLEND);
-    image_program_.use();
-    gl.Uniform4f(image_program_.uniform("rect"), -1.0f, 1.0f, 1.0f, -1.0f);  // the whole view
-    gl.Uniform1i(image_program_.uniform("image"), 0);
-    gl.ActiveTexture(GL_TEXTURE0);
-    gl.BindTexture(GL_TEXTURE_2D, texture.id());
-    gl.BindVertexArray(empty_vertex_array_.id());
-    gl.DrawArrays(GL_TRIANGLE_STRIP, 0, 4);
-    gl.BindVertexArray(0);
+    draw_image(texture, view_.rect);  // no depth test, and so no depth written
+    set_gl_viewport(view_.rect);      // what the view's next draws expect
 }
 
 void Renderer::draw_image_with_depth(const Texture& colour, const Texture& depth, float opacity) {

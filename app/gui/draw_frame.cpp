@@ -673,7 +673,6 @@ FrameLayout draw_scene(AppState& state, Renderer& renderer, Session& session, co
                    session.scene_generation, plan.mesh_ray_cast,
                    plan.mesh_picture ? session.surface_cast.shown() : std::nullopt};
             if (session.view_cache.draw(key, renderer)) {
-                session.view_drawn_in_full = false;
                 out.scene_drawn = true;
                 return out;
             }
@@ -690,7 +689,7 @@ FrameLayout draw_scene(AppState& state, Renderer& renderer, Session& session, co
         ViewCache& cache = session.view_cache;
         const size_t boxes_total = overlay ? session.overlay_boxes->size() : 0;
         const bool goes_on = keepable && cache.goes_on(key);
-        const bool worth_keeping = keepable && cache.worth_keeping(session.last_full_view_frame_ms);
+        const bool worth_keeping = keepable && cache.worth_keeping();
         const bool in_parts =
             goes_on || (worth_keeping && mesh_style.opacity >= 1.0f && boxes_total > cache.boxes_per_frame);
         const size_t first_box = goes_on ? cache.boxes_in_picture() : 0;
@@ -759,7 +758,7 @@ FrameLayout draw_scene(AppState& state, Renderer& renderer, Session& session, co
             draw_overlay();
         }
         out.scene_drawn = true;
-        session.view_drawn_in_full = !goes_on;
+        cache.drew_view(/*in_full=*/!goes_on);
         if (goes_on || worth_keeping)
             cache.keep(key, renderer, in_parts ? std::min(first_box + box_count, boxes_total) : boxes_total, boxes_total);
         else
@@ -794,7 +793,7 @@ void take_screenshot(Renderer& renderer, Session& session, const FrameInput& inp
 
 FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, const FrameInput& input) {
     // 1. Work finished on the loader thread, and files dropped on the window.
-    if (session.view_drawn_in_full) session.last_full_view_frame_ms = input.frame_ms;
+    session.view_cache.start_frame(input.frame_ms);
     session.take_finished_load(state);
     for (const std::string& path : input.dropped_paths) {
         if (looks_like_structure_file(path)) session.use_structure_file(state, path);  // a tree (a student's)

@@ -95,8 +95,6 @@ struct Session {
 
     /// The 3D view's last still picture, drawn again while nothing it shows changes.
     ViewCache view_cache;
-    bool view_drawn_in_full = false;  ///< the last frame drew the 3D view itself (not the kept picture)
-    double last_full_view_frame_ms = 0;  ///< the time of the last frame that did (0: unknown)
 
     /// "Draw with: ray cast": the 3D view's mesh from the CPU ray caster.
     SurfaceCast surface_cast;

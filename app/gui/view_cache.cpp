@@ -5,18 +5,15 @@
 namespace accelviz {
 
 bool ViewCache::draw(const Key& key, Renderer& renderer) {
-    if (!key_ || !(*key_ == key) || boxes_in_picture_ < boxes_total_ || !picture_ || picture_->empty()) return false;
+    if (!holds(key) || drawing_on()) return false;
     // The picture covers the rectangle pixel for pixel (nearest texels, no blending).
     renderer.draw_image(*picture_, key.rect);
+    last_frame_full_ = false;
     ++hits_;
     return true;
 }
 
 void ViewCache::keep(const Key& key, Renderer& renderer, size_t boxes, size_t boxes_total) {
-    if (key.rect.empty()) {
-        key_.reset();
-        return;
-    }
     if (!picture_) picture_ = std::make_unique<Texture>();
     picture_->upload(renderer.read_colour(key.rect));  // nearest: shown 1:1
     key_ = key;

@@ -61,19 +61,25 @@ public:
     /// while the camera moves (measured: docs/performance.md).
     static constexpr size_t kStillBoxesPerFrame = 6144;
 
+    /// A frame begins; the previous one took `previous_frame_ms` (0: unknown). The time
+    /// of a frame that drew the view in full says whether the next full draw is kept.
+    void start_frame(double previous_frame_ms) {
+        if (last_frame_full_) last_full_ms_ = previous_frame_ms;
+    }
     /// Draws the kept picture into key.rect if it was drawn from `key` and is whole:
     /// true, and nothing else of the 3D view needs drawing this frame.
     bool draw(const Key& key, Renderer& renderer);
+    /// The frame drew the view itself: in full, or (false) a share of a picture under way.
+    void drew_view(bool in_full) { last_frame_full_ = in_full; }
     /// The picture of `key` is under way (some of its boxes drawn): it goes on from
     /// box boxes_in_picture(), over picture().
-    bool goes_on(const Key& key) const { return key_ && *key_ == key && boxes_in_picture_ < boxes_total_; }
+    bool goes_on(const Key& key) const { return holds(key) && drawing_on(); }
     /// A picture is under way (the window keeps drawing frames until it is whole).
     bool drawing_on() const { return key_ && boxes_in_picture_ < boxes_total_; }
     size_t boxes_in_picture() const { return boxes_in_picture_; }
     const Texture& picture() const { return *picture_; }
-    /// Whether a full draw of a still view would be kept, its last full draw having
-    /// taken `last_full_ms`.
-    bool worth_keeping(double last_full_ms) const { return last_full_ms >= worth_keeping_ms; }
+    /// Whether a full draw of a still view is kept: the last one was slow.
+    bool worth_keeping() const { return last_full_ms_ >= worth_keeping_ms; }
     /// After a draw of the view from `key` holding its first `boxes` of `boxes_total`
     /// overlay boxes: keeps its pixels.
     void keep(const Key& key, Renderer& renderer, size_t boxes, size_t boxes_total);
@@ -89,9 +95,13 @@ public:
     size_t boxes_per_frame = kStillBoxesPerFrame;
 
 private:
+    bool holds(const Key& key) const { return key_ && *key_ == key; }
+
     std::optional<Key> key_;
     std::unique_ptr<Texture> picture_;  ///< made by the first keep(), with GL current
     size_t boxes_in_picture_ = 0, boxes_total_ = 0;
+    bool last_frame_full_ = false;  ///< the last frame drew the view in full (not from the picture)
+    double last_full_ms_ = 0;       ///< the time of the last frame that did (0: unknown)
     uint64_t hits_ = 0;
 };
 
