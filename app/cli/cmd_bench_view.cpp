@@ -104,6 +104,7 @@ int run_bench_view(const BenchViewOptions& opt) {
     auto app = HeadlessApp::create(opt.width, opt.height);
     if (!app) return fail(app.error());
     Session& session = (*app)->session();
+    (*app)->renderer().prepare_frame_copies();  // as the window does at its start
     const size_t triangles = (*loaded)->mesh->triangle_count();
     session.set_scene(state, std::move(*loaded), !framed_by_window);
     FrameInput input;

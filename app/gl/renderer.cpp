@@ -270,8 +270,9 @@ void Renderer::draw_image(const Texture& texture, const ViewRect& rect) {
     // Rectangle in NDC: x right, y up.
     const float left = 2.0f * rect.x / frame_width_ - 1.0f;
     const float right = 2.0f * (rect.x + rect.width) / frame_width_ - 1.0f;
-    const float top = 1.0f - 2.0f * rect.y / frame_height_;
-    const float bottom = 1.0f - 2.0f * (rect.y + rect.height) / frame_height_;
+    float top = 1.0f - 2.0f * rect.y / frame_height_;
+    float bottom = 1.0f - 2.0f * (rect.y + rect.height) / frame_height_;
+    if (texture.bottom_up()) std::swap(top, bottom);  // its first row at the bottom
     gl.Uniform4f(image_program_.uniform("rect"), left, top, right, bottom);
     gl.Uniform1i(image_program_.uniform("image"), 0);
     gl.ActiveTexture(GL_TEXTURE0);
@@ -281,19 +282,17 @@ void Renderer::draw_image(const Texture& texture, const ViewRect& rect) {
     gl.BindVertexArray(0);
 }
 
-void Renderer::draw_image_in_view(const Texture& texture) {
-    draw_image(texture, view_.rect);  // no depth test, and so no depth written
-    set_gl_viewport(view_.rect);      // what the view's next draws expect
-}
-
-void Renderer::draw_image_with_depth(const Texture& colour, const Texture& depth, float opacity) {
+void Renderer::draw_image_with_depth(const Texture& colour, const Texture& depth, float opacity, bool far_pixels) {
     if (colour.empty() || depth.empty() || view_.rect.empty()) return;
     set_gl_viewport(view_.rect);
     image_depth_program_.use();
-    gl.Uniform4f(image_depth_program_.uniform("rect"), -1.0f, 1.0f, 1.0f, -1.0f);  // the whole view
+    // The whole view; a texture copied from the frame has its first row at the bottom.
+    const float top = colour.bottom_up() ? -1.0f : 1.0f;
+    gl.Uniform4f(image_depth_program_.uniform("rect"), -1.0f, top, 1.0f, -top);
     gl.Uniform1i(image_depth_program_.uniform("image"), 0);
     gl.Uniform1i(image_depth_program_.uniform("depth"), 1);
     gl.Uniform1f(image_depth_program_.uniform("opacity"), opacity);
+    gl.Uniform1i(image_depth_program_.uniform("far_pixels"), far_pixels ? 1 : 0);
     gl.Enable(GL_DEPTH_TEST);
     gl.DepthFunc(GL_ALWAYS);  // the picture is the nearest surface already
     gl.DepthMask(GL_TRUE);
@@ -330,6 +329,17 @@ Image Renderer::read_colour(const ViewRect& rect) const {
         for (int x = 0; x < rect.width; ++x) image.at(x, y) = {row[3 * x], row[3 * x + 1], row[3 * x + 2]};
     }
     return image;
+}
+
+void Renderer::copy_to_texture(const ViewRect& rect, Texture::Content content, Texture& texture) const {
+    texture.copy_from_frame(content, rect.x, gl_row(rect, frame_height_), rect.width, rect.height);
+}
+
+void Renderer::prepare_frame_copies() const {
+    Texture colour, depth;
+    colour.copy_from_frame(Texture::Content::Colour, 0, 0, 1, 1);
+    depth.copy_from_frame(Texture::Content::Depth, 0, 0, 1, 1);
+    gl.Finish();
 }
 
 std::vector<float> Renderer::read_depth(const ViewRect& rect) const {

@@ -140,13 +140,12 @@ public:
     /// the current view's rectangle, `depth` (depth-buffer values, 1 = no hit: left
     /// to the background) written to the z-buffer, so the boxes, segments and quads
     /// drawn after it are hidden behind the surface as behind draw_mesh's.
-    /// `opacity` < 1 blends it like a translucent mesh.
-    void draw_image_with_depth(const Texture& colour, const Texture& depth, float opacity = 1.0f);
+    /// `opacity` < 1 blends it like a translucent mesh. `far_pixels`: the pixels at
+    /// depth 1 are drawn too (a picture of the view read back with its depth).
+    void draw_image_with_depth(const Texture& colour, const Texture& depth, float opacity = 1.0f,
+                               bool far_pixels = false);
     /// A texture stretched over a rectangle of the frame (screen space).
     void draw_image(const Texture& texture, const ViewRect& rect);
-    /// A texture over the current view's rectangle, its colours only: the depth buffer
-    /// keeps what was drawn before (boxes drawn next are still hidden behind the mesh).
-    void draw_image_in_view(const Texture& texture);
     /// Waits until the GPU (or llvmpipe) has drawn everything asked so far (timing).
     void finish();
     /// Dear ImGui's draw lists for this frame (over everything else).
@@ -157,6 +156,14 @@ public:
     /// rectangle of the current frame.
     Image read_colour(const ViewRect& rect) const;
     std::vector<float> read_depth(const ViewRect& rect) const;
+    /// Copies the colour or the depth of a rectangle of the current frame into a
+    /// texture, which draw_image and draw_image_with_depth then show the right way up.
+    void copy_to_texture(const ViewRect& rect, Texture::Content content, Texture& texture) const;
+    /// A software renderer (llvmpipe) compiles its copy of a frame's colour and depth
+    /// into a texture the first time it makes one, tens of milliseconds: a window does
+    /// that once at its start, so that no frame pays it (a still view kept as a
+    /// picture copies itself every frame it is drawn in shares: ViewCache).
+    void prepare_frame_copies() const;
 
 private:
     Renderer() = default;

@@ -16,6 +16,15 @@ public:
     void upload_rgba(const unsigned char* pixels, int width, int height, bool smooth);
     /// Uploads one float per pixel (top row first; a depth image), never filtered.
     void upload_floats(const float* values, int width, int height);
+    /// Copies a rectangle of the frame being drawn (GL's bottom-up rows from `gl_y`)
+    /// without a trip through the CPU: its colours (RGB), or its depth buffer's values
+    /// (`Content::Depth`, read by a shader's sampler as depth-buffer values), never filtered.
+    enum class Content { Colour, Depth };
+    void copy_from_frame(Content content, int x, int gl_y, int width, int height);
+
+    /// Rows stored bottom row first (copied from the frame), not top row first
+    /// (uploaded): whoever draws the texture flips it back.
+    bool bottom_up() const { return bottom_up_; }
 
     GLuint id() const { return texture_.id(); }
     int width() const { return width_; }
@@ -26,6 +35,8 @@ private:
     void upload_pixels(GLenum format, const void* pixels, int width, int height, bool smooth);
     GlTexture texture_;
     int width_ = 0, height_ = 0;
+    bool bottom_up_ = false;
+    bool holds_depth_ = false;  ///< copied from the depth buffer
 };
 
 }  // namespace accelviz

@@ -711,6 +711,10 @@ FrameLayout draw_scene(AppState& state, Renderer& renderer, Session& session, co
         const bool gl_depth_view = split && state.view.left_view == LeftView::OpenGlDepth;
         if (gl_depth_view) {
             draw_opengl_depth_as_grey(session, renderer, out.view, layout.gl_view);
+        } else if (goes_on) {
+            // A picture under way: the picture so far with the mesh's depth, then the next boxes.
+            renderer.draw_image_with_depth(cache.picture(), cache.depth(), 1.0f, /*far_pixels=*/true);
+            draw_overlay();
         } else if (build_step_3d) {
             // The construction stepper's picture replaces the structure overlay
             // (and the scene's bounds: the root's box is the first step's).
@@ -753,8 +757,6 @@ FrameLayout draw_scene(AppState& state, Renderer& renderer, Session& session, co
                 draw_surface();
             }
             if (plan.mesh_ray_cast) session.slice.draw_3d(renderer);
-            // Going on: the mesh was drawn again for its depth; the picture so far over it.
-            if (goes_on) renderer.draw_image_in_view(cache.picture());
             draw_overlay();
         }
         out.scene_drawn = true;

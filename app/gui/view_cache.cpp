@@ -15,7 +15,11 @@ bool ViewCache::draw(const Key& key, Renderer& renderer) {
 
 void ViewCache::keep(const Key& key, Renderer& renderer, size_t boxes, size_t boxes_total) {
     if (!picture_) picture_ = std::make_unique<Texture>();
-    picture_->upload(renderer.read_colour(key.rect));  // nearest: shown 1:1
+    renderer.copy_to_texture(key.rect, Texture::Content::Colour, *picture_);  // nearest: shown 1:1
+    if (boxes < boxes_total && !goes_on(key)) {  // the first share: the depth the next ones draw over
+        if (!depth_) depth_ = std::make_unique<Texture>();
+        renderer.copy_to_texture(key.rect, Texture::Content::Depth, *depth_);
+    }
     key_ = key;
     boxes_in_picture_ = boxes;
     boxes_total_ = boxes_total;

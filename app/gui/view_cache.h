@@ -4,16 +4,16 @@
 /// hover), and with a big overlay (a BVH's 77k boxes, a million line segments)
 /// each such frame would redraw every box on a software rasterizer, hundreds of
 /// milliseconds, for a picture that did not change: the panels would answer the
-/// mouse late. So once a still view is drawn in full, its pixels are read back into a
+/// mouse late. So once a still view is drawn in full, its pixels are copied into a
 /// texture, and later frames with the same inputs draw that texture instead.
 ///
 /// Progressive: a still view that is slow to draw and has more boxes than one frame
 /// should draw (kStillBoxesPerFrame) draws them a share per frame: the first frame
-/// the mesh and the first boxes, each next one the mesh again (for its depth), the
-/// picture so far over it (colours only), and the next boxes, until every box is in
-/// the picture. Boxes write no depth and are drawn in the same order as in one
-/// frame, so the finished picture is the one-frame picture, pixel for pixel, and no
-/// frame stops the window for long.
+/// the mesh and the first boxes, and its depth buffer (the mesh's alone: boxes write
+/// no depth) is kept with the picture; each next frame draws the picture so far
+/// with that depth, then the next boxes, until every box is in the picture. Boxes are
+/// drawn in the same order as in one frame, so the finished picture is the one-frame
+/// picture, pixel for pixel, and no frame stops the window for long.
 ///
 /// The key is everything the 3D view is drawn from (its size, camera, the view,
 /// overlay and light settings, the scene and the ray-cast picture shown); a view
@@ -53,12 +53,12 @@ public:
     };
 
     /// A full draw of the view is kept only if the last one took at least this long:
-    /// the read-back (a few ms) would slow down a view that is quick to redraw.
+    /// the copy (a few ms) would slow down a view that is quick to redraw.
     static constexpr double kWorthKeepingMs = 25.0;
     /// Boxes a still view draws per frame when it draws them over several: a little
-    /// under the moving camera's budget (Session::kMovingBoxBudget), so that with the
-    /// mesh drawn again and the read-back such a frame takes about as long as one
-    /// while the camera moves (measured: docs/performance.md).
+    /// under the moving camera's budget (Session::kMovingBoxBudget), so that the first
+    /// such frame, which draws the mesh too, takes about as long as one while the
+    /// camera moves (measured: docs/performance.md).
     static constexpr size_t kStillBoxesPerFrame = 6144;
 
     /// A frame begins; the previous one took `previous_frame_ms` (0: unknown). The time
@@ -72,16 +72,18 @@ public:
     /// The frame drew the view itself: in full, or (false) a share of a picture under way.
     void drew_view(bool in_full) { last_frame_full_ = in_full; }
     /// The picture of `key` is under way (some of its boxes drawn): it goes on from
-    /// box boxes_in_picture(), over picture().
+    /// box boxes_in_picture(), over picture() with depth().
     bool goes_on(const Key& key) const { return holds(key) && drawing_on(); }
     /// A picture is under way (the window keeps drawing frames until it is whole).
     bool drawing_on() const { return key_ && boxes_in_picture_ < boxes_total_; }
     size_t boxes_in_picture() const { return boxes_in_picture_; }
     const Texture& picture() const { return *picture_; }
+    /// The depth buffer of a picture under way's first frame (depth-buffer values).
+    const Texture& depth() const { return *depth_; }
     /// Whether a full draw of a still view is kept: the last one was slow.
     bool worth_keeping() const { return last_full_ms_ >= worth_keeping_ms; }
     /// After a draw of the view from `key` holding its first `boxes` of `boxes_total`
-    /// overlay boxes: keeps its pixels.
+    /// overlay boxes: keeps its pixels (and, for the first share of several, its depth).
     void keep(const Key& key, Renderer& renderer, size_t boxes, size_t boxes_total);
     /// The view is drawn from something the key does not hold, or is not worth
     /// keeping: forget the picture.
@@ -99,6 +101,7 @@ private:
 
     std::optional<Key> key_;
     std::unique_ptr<Texture> picture_;  ///< made by the first keep(), with GL current
+    std::unique_ptr<Texture> depth_;    ///< made by the first picture drawn in shares
     size_t boxes_in_picture_ = 0, boxes_total_ = 0;
     bool last_frame_full_ = false;  ///< the last frame drew the view in full (not from the picture)
     double last_full_ms_ = 0;       ///< the time of the last frame that did (0: unknown)

@@ -302,6 +302,7 @@ int run_window(AppState state, const std::string& preset_path, bool lecture, boo
             std::cerr << "accelviz: " << renderer.error() << "\n";
             exit_code = 1;
         } else {
+            (*renderer)->prepare_frame_copies();
             // 3. The scene loads on the worker; the window is drawn meanwhile.
             Session session;
             session.loader.on_finished = [] { GlfwWindow::wake_up(); };

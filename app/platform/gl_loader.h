@@ -66,6 +66,7 @@ namespace accelviz {
     X(PFNGLBINDTEXTUREPROC, BindTexture)                            \
     X(PFNGLACTIVETEXTUREPROC, ActiveTexture)                        \
     X(PFNGLTEXIMAGE2DPROC, TexImage2D)                              \
+    X(PFNGLCOPYTEXSUBIMAGE2DPROC, CopyTexSubImage2D)                \
     X(PFNGLTEXPARAMETERIPROC, TexParameteri)                        \
     /* shaders */                                                   \
     X(PFNGLCREATESHADERPROC, CreateShader)                          \
