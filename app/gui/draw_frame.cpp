@@ -703,10 +703,10 @@ FrameLayout draw_scene(AppState& state, Renderer& renderer, Session& session, co
             if (stepping) session.stepper.draw_3d(renderer, state.view.line_width);
             if (plan.nearest) session.nearest.draw_3d(renderer, state.view.line_width);
             if (!overlay) return;
-            renderer.draw_quads(*session.overlay_quads,
-                                plan.moving ? session.overlay.moving_quads(Session::kMovingBoxBudget) : SIZE_MAX);
-            renderer.draw_boxes(*session.overlay_boxes,
-                                plan.moving ? session.overlay.moving_prefix(Session::kMovingBoxBudget) : box_count);
+            const size_t budget = session.moving_boxes.boxes();
+            renderer.draw_quads(*session.overlay_quads, plan.moving ? session.overlay.moving_quads(budget) : SIZE_MAX);
+            renderer.draw_boxes(*session.overlay_boxes, plan.moving ? session.overlay.moving_prefix(budget) : box_count);
+            if (plan.moving) session.moving_boxes.drew_moving();
         };
         const bool gl_depth_view = split && state.view.left_view == LeftView::OpenGlDepth;
         if (gl_depth_view) {
@@ -796,6 +796,7 @@ void take_screenshot(Renderer& renderer, Session& session, const FrameInput& inp
 FrameLayout draw_frame(AppState& state, Renderer& renderer, Session& session, const FrameInput& input) {
     // 1. Work finished on the loader thread, and files dropped on the window.
     session.view_cache.start_frame(input.frame_ms);
+    session.moving_boxes.start_frame(input.frame_ms, session.overlay);
     session.take_finished_load(state);
     for (const std::string& path : input.dropped_paths) {
         if (looks_like_structure_file(path)) session.use_structure_file(state, path);  // a tree (a student's)

@@ -765,7 +765,7 @@ void StatsBar::draw(const AppState& state, const Session& session, double frame_
         // The steppers draw their own boxes in place of the whole structure's.
         const bool stepper_3d = (state.stepper.open && state.stepper.ray) || session.build_stepper.shows_3d(state);
         if (state.overlay.show_structure && !session.overlay.boxes.empty() && !stepper_3d) {
-            const size_t drawn = session.overlay.moving_prefix(Session::kMovingBoxBudget);
+            const size_t drawn = session.overlay.moving_prefix(session.moving_boxes.boxes());
             if (session.camera_moving && drawn < session.overlay.boxes.size())
                 std::snprintf(text, sizeof text, ", %zu of %zu boxes shown while moving", drawn,
                               session.overlay.boxes.size());

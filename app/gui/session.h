@@ -29,6 +29,7 @@
 #include "app/gui/stepper_panel.h"
 #include "app/gui/structure_overlay.h"
 #include "app/gui/ui_style.h"
+#include "app/gui/moving_box_budget.h"
 #include "app/gui/view_cache.h"
 
 namespace accelviz {
@@ -84,10 +85,9 @@ struct Session {
     /// ray-cast mesh's pixels, the overlay's shallow levels only) until the camera
     /// has been still for kCameraStillSeconds.
     static constexpr double kCameraStillSeconds = 0.2;
-    /// While the camera moves, the overlay draws whole shallow levels up to this many
-    /// boxes (13 levels of a binary BVH; llvmpipe on two cores draws them in about 20
-    /// ms, measured); every box once it is still.
-    static constexpr size_t kMovingBoxBudget = 8192;
+    /// While the camera moves, the overlay draws whole shallow levels up to a budget
+    /// that follows the frame time; every box once it is still.
+    MovingBoxBudget moving_boxes;
     CameraParams last_camera;
     uint64_t last_scene_generation = 0;  ///< a new scene (a moving scene's next time) counts as motion too
     std::chrono::steady_clock::time_point camera_moved_at{};

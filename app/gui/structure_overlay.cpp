@@ -501,6 +501,12 @@ size_t StructureOverlay::moving_prefix(size_t budget) const {
     return levels == 0 ? 0 : level_ends[levels - 1];
 }
 
+size_t StructureOverlay::deeper_prefix(size_t budget) const {
+    if (level_ends.empty()) return boxes.size();
+    const size_t levels = moving_levels(budget);
+    return levels < level_ends.size() ? level_ends[levels] : boxes.size();
+}
+
 size_t StructureOverlay::moving_quads(size_t budget) const {
     if (quad_level_ends.empty()) return quads.size();
     const size_t levels = std::min(moving_levels(budget), quad_level_ends.size());

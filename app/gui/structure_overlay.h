@@ -28,6 +28,8 @@ struct StructureOverlay {
     /// The boxes a moving camera draws: whole shallow levels, at most `budget`
     /// boxes (at least the first level with boxes); all of them for the grid.
     size_t moving_prefix(size_t budget) const;
+    /// The boxes of one level more than moving_prefix(budget) (as many if none is left).
+    size_t deeper_prefix(size_t budget) const;
     /// The KD tree's planes of those same levels (quads are in level order too).
     size_t moving_quads(size_t budget) const;
     std::vector<ColouredQuad> quads;

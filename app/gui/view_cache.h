@@ -55,11 +55,12 @@ public:
     /// A full draw of the view is kept only if the last one took at least this long:
     /// the copy (a few ms) would slow down a view that is quick to redraw.
     static constexpr double kWorthKeepingMs = 25.0;
-    /// Boxes a still view draws per frame when it draws them over several: a little
-    /// under the moving camera's budget (Session::kMovingBoxBudget), so that the first
-    /// such frame, which draws the mesh too, takes about as long as one while the
-    /// camera moves (measured: docs/performance.md).
-    static constexpr size_t kStillBoxesPerFrame = 6144;
+    /// Boxes a still view draws per frame when it draws them over several: half the
+    /// moving camera's first budget (MovingBoxBudget::kStartBoxes), so that the first
+    /// such frame, which draws the mesh too, takes no longer than a frame while the
+    /// camera moves on a renderer slow enough to draw a picture in shares (measured:
+    /// docs/performance.md).
+    static constexpr size_t kStillBoxesPerFrame = 4096;
 
     /// A frame begins; the previous one took `previous_frame_ms` (0: unknown). The time
     /// of a frame that drew the view in full says whether the next full draw is kept.
