@@ -339,6 +339,10 @@ double raster_estimate_ms(const Session& session) {
            (session.raster_ms_per_triangle > 0 ? session.raster_ms_per_triangle : 1.0 / kRasterTrianglesPerMs);
 }
 
+/// How often auto measures the rasterized mesh again on the same scene (the view's
+/// size and the machine's load change its time).
+constexpr double kRasterRemeasureSeconds = 1.0;
+
 /// "Auto" switches only to what is this much faster than what draws now (no flicker
 /// between two close times).
 constexpr double kAutoSwitchFactor = 0.8;
@@ -729,17 +733,24 @@ FrameLayout draw_scene(AppState& state, Renderer& renderer, Session& session, co
                                                        mesh_style.opacity);
                     return;
                 }
-                // Auto measures the rasterized mesh (to glFinish) to choose between the two;
-                // the mesh's upload (a new scene's first raster frame) is not part of it.
-                const bool measure = state.view.draw_with == DrawWith::Auto && !input.deterministic;
+                // Auto measures the rasterized mesh (to glFinish) to choose between the two,
+                // on a new scene and then once in kRasterRemeasureSeconds: the two waits
+                // split a software renderer's frame in three passes over the frame, a
+                // quarter of a frame's time spent on every frame otherwise. The mesh's
+                // upload (a new scene's first raster frame) is not part of it.
+                const auto now = std::chrono::steady_clock::now();
+                const bool measure =
+                    state.view.draw_with == DrawWith::Auto && !input.deterministic &&
+                    (session.raster_measured_scene != session.scene_generation ||
+                     std::chrono::duration<double>(now - session.raster_measured_at).count() >= kRasterRemeasureSeconds);
                 const MeshBuffer& mesh = session.mesh_for_raster();
                 if (measure) renderer.finish();
                 const auto start = std::chrono::steady_clock::now();
                 renderer.draw_mesh(mesh, mesh_style);
                 if (!measure) return;
                 renderer.finish();
-                session.raster_mesh_ms =
-                    std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+                session.raster_measured_at = std::chrono::steady_clock::now();
+                session.raster_mesh_ms = std::chrono::duration<double, std::milli>(session.raster_measured_at - start).count();
                 session.raster_measured_scene = session.scene_generation;
                 const size_t triangles = session.scene->mesh->triangle_count();
                 if (triangles >= kRateFromTriangles)

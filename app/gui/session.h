@@ -102,10 +102,11 @@ struct Session {
     /// "ray cast" was refused because a brute-force cast of the view would take minutes.
     bool mesh_ray_cast = false;
     bool brute_force_cast_refused = false;
-    /// "Draw with: auto": the last rasterized mesh's time in ms (to glFinish) and the
-    /// scene generation it was measured on (0: not measured).
+    /// "Draw with: auto": the last rasterized mesh's time in ms (to glFinish), the
+    /// scene generation it was measured on (0: not measured) and when.
     double raster_mesh_ms = 0;
     uint64_t raster_measured_scene = 0;
+    std::chrono::steady_clock::time_point raster_measured_at{};
     double raster_ms_per_triangle = 0;  ///< from the last measurement, for a scene not yet measured
 
     /// The construction stepper: the recorded BVH build and the SAH chart of the step shown.
