@@ -153,7 +153,7 @@ int run_bench_view(const BenchViewOptions& opt) {
     const double median = quantile(frame_ms, 0.5), p90 = quantile(frame_ms, 0.9),
                  worst = *std::max_element(frame_ms.begin(), frame_ms.end());
     const size_t boxes = session.overlay.boxes.size();
-    auto shown = [&](size_t moving) { return state.overlay.show_structure && frame_ms.size() > 0 ? moving : 0; };
+    auto shown = [&](size_t moving) { return state.overlay.show_structure ? moving : 0; };
     const uint64_t peak = peak_memory_bytes();
 
     if (opt.json) {
@@ -192,7 +192,7 @@ int run_bench_view(const BenchViewOptions& opt) {
     std::printf("load+build %.1f ms\n", load_and_build_ms);
     std::printf("frames     %d while orbiting once: median %.1f ms (%.1f frames/s), 90%% %.1f ms, worst %.1f ms\n",
                 opt.frames, median, median > 0 ? 1000.0 / median : 0.0, p90, worst);
-    if (state.overlay.show_structure)
+    if (state.overlay.show_structure && boxes > 0)
         std::printf("boxes      %zu while moving at the end (%zu to %zu: the budget follows the frame time)\n",
                     last_moving_boxes, fewest_moving_boxes, most_moving_boxes);
     std::printf("draw with  %s: the mesh ray cast by the CPU in %d of %d frames\n",

@@ -134,6 +134,11 @@ Expected<std::unique_ptr<Renderer>> Renderer::create() {
     auto imgui = ImGuiRenderer::create();
     if (!imgui) return Error{imgui.error()};
     r->imgui_ = std::move(*imgui);
+    // A multisampled frame (antialiasing a driver may force) cannot be copied into a
+    // texture (glCopyTexSubImage2D: GL_INVALID_OPERATION).
+    GLint sample_buffers = 0;
+    gl.GetIntegerv(GL_SAMPLE_BUFFERS, &sample_buffers);
+    r->frame_copies_work_ = sample_buffers == 0;
     return r;
 }
 
@@ -336,6 +341,7 @@ void Renderer::copy_to_texture(const ViewRect& rect, Texture::Content content, T
 }
 
 void Renderer::prepare_frame_copies() const {
+    if (!frame_copies_work_) return;
     Texture colour, depth;
     colour.copy_from_frame(Texture::Content::Colour, 0, 0, 1, 1);
     depth.copy_from_frame(Texture::Content::Depth, 0, 0, 1, 1);

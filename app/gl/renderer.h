@@ -157,8 +157,11 @@ public:
     Image read_colour(const ViewRect& rect) const;
     std::vector<float> read_depth(const ViewRect& rect) const;
     /// Copies the colour or the depth of a rectangle of the current frame into a
-    /// texture, which draw_image and draw_image_with_depth then show the right way up.
+    /// texture, which draw_image and draw_image_with_depth then show the right way up
+    /// (both textures of the latter copied, or both uploaded). Only where
+    /// frame_copies_work(): not from a multisampled frame.
     void copy_to_texture(const ViewRect& rect, Texture::Content content, Texture& texture) const;
+    bool frame_copies_work() const { return frame_copies_work_; }
     /// A software renderer (llvmpipe) compiles its copy of a frame's colour and depth
     /// into a texture the first time it makes one, tens of milliseconds: a window does
     /// that once at its start, so that no frame pays it (a still view kept as a
@@ -167,6 +170,7 @@ public:
 
 private:
     Renderer() = default;
+    bool frame_copies_work_ = true;  ///< the frame is not multisampled (create())
     void set_gl_viewport(const ViewRect& rect);
     void use_view_program(const ShaderProgram& program);
 

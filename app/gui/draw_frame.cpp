@@ -670,7 +670,8 @@ FrameLayout draw_scene(AppState& state, Renderer& renderer, Session& session, co
         // A still view drawn from the settings alone: the picture kept from the last
         // frame, if nothing it was drawn from has changed (ViewCache).
         const bool build_step_3d = session.build_stepper.shows_3d(state);
-        const bool keepable = !split && !stepping && !plan.nearest && !build_step_3d && !state.view.slice && !plan.moving;
+        const bool keepable = !split && !stepping && !plan.nearest && !build_step_3d && !state.view.slice &&
+                              !plan.moving && renderer.frame_copies_work();
         ViewCache::Key key;
         if (keepable) {
             key = {input.width, input.height, layout.gl_view, *state.camera, state.view, state.overlay, state.light,

@@ -5,7 +5,16 @@
 namespace accelviz {
 
 void MovingBoxBudget::start_frame(double previous_frame_ms, const StructureOverlay& overlay) {
-    if (!drew_moving_ || previous_frame_ms <= 0) {  // a still frame between: start counting again
+    // Another overlay (a new scene or structure, other levels shown) starts again from
+    // kStartBoxes: a level learned on one tree is not the same number of boxes on
+    // another, and a budget grown on a small scene would stall a big one's first frames.
+    if (overlay.boxes.size() != overlay_boxes_) {
+        *this = MovingBoxBudget{};
+        overlay_boxes_ = overlay.boxes.size();
+    }
+    // A still frame between starts the counting again; an overlay without levels (a
+    // grid: every cell is drawn) has no budget to follow.
+    if (!drew_moving_ || previous_frame_ms <= 0 || overlay.level_ends.empty()) {
         drew_moving_ = false;
         slow_frames_ = fast_frames_ = 0;
         return;

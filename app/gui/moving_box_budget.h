@@ -13,7 +13,8 @@
 /// settles instead of swinging between two levels. A level given up is taken again
 /// when the frames have got faster in proportion (the machine was busy for a while):
 /// its slow time, scaled by how much faster the frames are now than just after it was
-/// given up, fits with a tenth to spare.
+/// given up, fits with a tenth to spare. The frame time is the whole frame's, the swap
+/// included: a software renderer draws most of a frame when it is swapped.
 
 #include <cstddef>
 
@@ -47,6 +48,7 @@ private:
     size_t given_up_ = 0;              ///< the boxes of the level last given up (0: none)
     double given_up_ms_ = 0;           ///< the frame time that gave it up
     double after_giving_up_ms_ = 0;    ///< the first frame's time without it (0: not yet drawn)
+    size_t overlay_boxes_ = 0;         ///< the boxes of the overlay it follows (another one starts again)
 };
 
 }  // namespace accelviz

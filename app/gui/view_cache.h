@@ -18,9 +18,10 @@
 /// The key is everything the 3D view is drawn from (its size, camera, the view,
 /// overlay and light settings, the scene and the ray-cast picture shown); a view
 /// that draws from anything else (a stepper, the slice, the split view, a moving
-/// camera) is never kept. The copy restores the colour only: nothing after the 3D
-/// view reads its depth in a window frame (headless renders, which do, keep no
-/// picture unless a test asks for it).
+/// camera) is never kept. A whole picture is drawn back as colours only: nothing
+/// after the 3D view reads its depth in a window frame (headless renders, which do,
+/// keep no picture unless a test asks for it); only a picture under way is drawn
+/// with its depth, for the boxes still to come.
 
 #include <cstdint>
 #include <memory>
