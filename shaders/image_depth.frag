@@ -3,7 +3,7 @@
 // written to the z-buffer (the hit distances converted to depth-buffer values on
 // the CPU), so the overlay drawn after it is hidden behind the surface exactly as
 // behind the rasterized mesh. Pixels whose ray hit nothing (depth 1) are left to
-// the background, unless `far_pixels` is set (a picture of the whole view read back,
+// the background, unless `far_pixels` is set (a picture of the whole view copied,
 // whose background and what was drawn over it are part of the picture).
 // `opacity` < 1: the x-ray view, blended like the mesh.
 in vec2 texcoord;

@@ -141,7 +141,7 @@ public:
     /// to the background) written to the z-buffer, so the boxes, segments and quads
     /// drawn after it are hidden behind the surface as behind draw_mesh's.
     /// `opacity` < 1 blends it like a translucent mesh. `far_pixels`: the pixels at
-    /// depth 1 are drawn too (a picture of the view read back with its depth).
+    /// depth 1 are drawn too (a picture of the view copied with its depth).
     void draw_image_with_depth(const Texture& colour, const Texture& depth, float opacity = 1.0f,
                                bool far_pixels = false);
     /// A texture stretched over a rectangle of the frame (screen space).
