@@ -693,15 +693,10 @@ FrameLayout draw_scene(AppState& state, Renderer& renderer, Session& session, co
         // per frame (ViewCache): it starts a picture, or goes on with the one under way.
         ViewCache& cache = session.view_cache;
         const size_t boxes_total = overlay ? session.overlay_boxes->size() : 0;
-        const bool goes_on = keepable && cache.goes_on(key);
-        const bool worth_keeping = keepable && cache.worth_keeping();
-        const bool in_parts =
-            goes_on || (worth_keeping && mesh_style.opacity >= 1.0f && boxes_total > cache.boxes_per_frame);
-        const size_t first_box = goes_on ? cache.boxes_in_picture() : 0;
-        const size_t box_count = in_parts ? cache.boxes_per_frame : SIZE_MAX;
+        const ViewCache::Share share = cache.plan_frame(key, keepable, boxes_total, mesh_style.opacity >= 1.0f);
         auto draw_overlay = [&] {
-            if (goes_on) {  // the picture so far holds the rest
-                renderer.draw_boxes(*session.overlay_boxes, box_count, first_box);
+            if (share.goes_on) {  // the picture so far holds the rest
+                renderer.draw_boxes(*session.overlay_boxes, share.count, share.first);
                 return;
             }
             if (state.view.show_bounds) renderer.draw_boxes(*session.bounds_buffer);
@@ -710,13 +705,13 @@ FrameLayout draw_scene(AppState& state, Renderer& renderer, Session& session, co
             if (!overlay) return;
             const size_t budget = session.moving_boxes.boxes();
             renderer.draw_quads(*session.overlay_quads, plan.moving ? session.overlay.moving_quads(budget) : SIZE_MAX);
-            renderer.draw_boxes(*session.overlay_boxes, plan.moving ? session.overlay.moving_prefix(budget) : box_count);
+            renderer.draw_boxes(*session.overlay_boxes, plan.moving ? session.overlay.moving_prefix(budget) : share.count);
             if (plan.moving) session.moving_boxes.drew_moving();
         };
         const bool gl_depth_view = split && state.view.left_view == LeftView::OpenGlDepth;
         if (gl_depth_view) {
             draw_opengl_depth_as_grey(session, renderer, out.view, layout.gl_view);
-        } else if (goes_on) {
+        } else if (share.goes_on) {
             // A picture under way: the picture so far with the mesh's depth, then the next boxes.
             renderer.draw_image_with_depth(cache.picture(), cache.depth(), 1.0f, /*far_pixels=*/true);
             draw_overlay();
@@ -772,11 +767,7 @@ FrameLayout draw_scene(AppState& state, Renderer& renderer, Session& session, co
             draw_overlay();
         }
         out.scene_drawn = true;
-        cache.drew_view(/*in_full=*/!goes_on);
-        if (goes_on || worth_keeping)
-            cache.keep(key, renderer, in_parts ? std::min(first_box + box_count, boxes_total) : boxes_total, boxes_total);
-        else
-            cache.forget();
+        cache.finish_frame(key, share, boxes_total, renderer);
         if (split && session.gpu_cast_shown && session.gpu_cast.texture())
             renderer.draw_image(*session.gpu_cast.texture(), layout.ray_view);
         else if (split && session.ray_cast.texture())

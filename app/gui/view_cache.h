@@ -71,29 +71,34 @@ public:
     /// Draws the kept picture into key.rect if it was drawn from `key` and is whole:
     /// true, and nothing else of the 3D view needs drawing this frame.
     bool draw(const Key& key, Renderer& renderer);
-    /// The frame drew the view itself: in full, or (false) a share of a picture under way.
-    void drew_view(bool in_full) { last_frame_full_ = in_full; }
-    /// The picture of `key` is under way (some of its boxes drawn): it goes on from
-    /// box boxes_in_picture(), over picture() with depth().
-    bool goes_on(const Key& key) const { return holds(key) && drawing_on(); }
+
+    /// What a frame that draws the view itself draws of its overlay boxes.
+    struct Share {
+        bool goes_on = false;     ///< a picture under way: picture() with depth(), then the boxes below
+        bool keep = false;        ///< the view drawn this frame is kept (finish_frame)
+        size_t first = 0;         ///< the first overlay box this frame draws
+        size_t count = SIZE_MAX;  ///< how many (SIZE_MAX: all the rest)
+    };
+    /// A frame draws the view from `key` (`keepable`: from the key alone), with
+    /// `boxes_total` overlay boxes over a mesh that hides what lies behind it (`opaque`;
+    /// an x-ray view is drawn in one frame): it goes on with the picture under way,
+    /// starts one in shares, draws the view in full and keeps it, or only draws it.
+    Share plan_frame(const Key& key, bool keepable, size_t boxes_total, bool opaque) const;
+    /// After the view is drawn as `share` said: keeps its pixels (and, for the first of
+    /// several shares, its depth), or forgets the picture.
+    void finish_frame(const Key& key, const Share& share, size_t boxes_total, Renderer& renderer);
     /// A picture is under way (the window keeps drawing frames until it is whole).
     bool drawing_on() const { return key_ && boxes_in_picture_ < boxes_total_; }
-    size_t boxes_in_picture() const { return boxes_in_picture_; }
     const Texture& picture() const { return *picture_; }
     /// The depth buffer of a picture under way's first frame (depth-buffer values).
     const Texture& depth() const { return *depth_; }
-    /// Whether a full draw of a still view is kept: the last one was slow.
-    bool worth_keeping() const { return last_full_ms_ >= worth_keeping_ms; }
-    /// After a draw of the view from `key` holding its first `boxes` of `boxes_total`
-    /// overlay boxes: keeps its pixels (and, for the first share of several, its depth).
-    void keep(const Key& key, Renderer& renderer, size_t boxes, size_t boxes_total);
-    /// The view is drawn from something the key does not hold, or is not worth
-    /// keeping: forget the picture.
+    /// The view is drawn from something the key does not hold, or not drawn: forget
+    /// the picture.
     void forget() { key_.reset(); }
 
     /// How many frames drew the whole kept picture (what a test checks to know it was used).
     uint64_t hits() const { return hits_; }
-    /// The threshold worth_keeping() uses (tests set 0: keep every full draw).
+    /// A full draw is kept if the last one took this long (tests set 0: keep every one).
     double worth_keeping_ms = kWorthKeepingMs;
     /// Boxes per frame of a progressive picture (tests set fewer).
     size_t boxes_per_frame = kStillBoxesPerFrame;
