@@ -24,6 +24,7 @@ KdSahChart kd_sah_chart(const Mesh& mesh, const KdTree& tree, uint32_t node, con
     // The references down the path, as the build cut them.
     const float pad = tree.build_stats.padding;
     SpatialRefs refs = root_references(mesh, pad), next;
+    const CornerTriples triangles = corner_triples(mesh);
     Aabb cell = tree.bounds;
     for (size_t k = 0; k + 1 < path.size(); ++k) {
         const KdNode& p = tree.nodes[path[k]];
@@ -33,7 +34,7 @@ KdSahChart kd_sah_chart(const Mesh& mesh, const KdTree& tree, uint32_t node, con
         planes[p.axis()] = p.split();
         ChildRefs parts;
         for (const SpatialRef& r : refs) {
-            split_reference(r, mesh, cell, planes, 1u << p.axis(), pad, tree.build_config.clip, parts);
+            split_reference(r, triangles, cell, planes, 1u << p.axis(), pad, part_rule(tree.build_config.clip, true), parts);
             for (int k = 0; k < parts.count; ++k)
                 if ((parts.child[k] != 0) != lower) next.push_back(parts.ref[k]);
         }

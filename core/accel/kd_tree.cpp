@@ -80,7 +80,7 @@ KdPlane best_sah_plane(const SpatialRefs& refs, const Aabb& box, const KdConfig&
 /// The references of the node `box` split at s on axis a (split_reference): those
 /// reaching the lower child appended to `below`, those reaching the upper one to `above`,
 /// in the node's order (big nodes in parallel chunks: split_in_order).
-void split_references(const SpatialRefs& refs, int a, float s, const Aabb& box, const Mesh& mesh,
+void split_references(const SpatialRefs& refs, int a, float s, const Aabb& box, const CornerTriples& triangles,
                       float pad, ClipMode clip, const PartitionProgress& progress, SpatialRefs& below,
                       SpatialRefs& above) {
     std::array<SpatialRefs, 2> sides = {std::move(below), std::move(above)};
@@ -91,7 +91,7 @@ void split_references(const SpatialRefs& refs, int a, float s, const Aabb& box, 
         planes[a] = s;
         ChildRefs parts;
         for (size_t i = begin; i < end; ++i) {
-            split_reference(refs[i], mesh, box, planes, 1u << a, pad, clip, parts);
+            split_reference(refs[i], triangles, box, planes, 1u << a, pad, part_rule(clip, true), parts);
             for (int k = 0; k < parts.count; ++k) to[parts.child[k] == 0 ? 0 : 1].push_back(parts.ref[k]);
         }
     });
@@ -118,7 +118,7 @@ struct Subtree {
 
 /// The fixed inputs of every node's decision.
 struct BuildContext {
-    const Mesh& mesh;
+    const CornerTriples& triangles;
     const KdConfig& config;
     float pad;
     double root_area;
@@ -174,7 +174,7 @@ Subtree build_subtree(const BuildContext& ctx, WorkItem root, double budget, siz
                 const float s = config.builder == KdBuilder::Sah ? plane.position : item.box.center()[a];
                 below.clear();
                 above.clear();
-                split_references(item.refs, a, s, item.box, ctx.mesh, ctx.pad, config.clip, progress, below, above);
+                split_references(item.refs, a, s, item.box, ctx.triangles, ctx.pad, config.clip, progress, below, above);
                 plane.axis = a;
                 plane.position = s;
                 const bool separates = (below.size() < n || above.size() < n) && s > item.box.lo[a] && s < item.box.hi[a];
@@ -234,7 +234,8 @@ Expected<KdTree> build_kd_tree(const Mesh& mesh, const KdConfig& config, WorkPro
     st.depth_limit = uint32_t(depth_limit);
     const float pad = tree.begin_build(mesh, config, start);
     if (st.triangles == 0) return tree;
-    const BuildContext ctx{mesh, config, pad, kd_area(tree.bounds), depth_limit};
+    const CornerTriples triangles = corner_triples(mesh);
+    const BuildContext ctx{triangles, config, pad, kd_area(tree.bounds), depth_limit};
     const double budget = config.max_duplication * st.triangles;
     SubtreeCounts counts;  // the whole tree's: the top's and every subtree's
 

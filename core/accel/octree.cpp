@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <span>
 #include <sstream>
 
 #include <tbb/parallel_for.h>
 
+#include "core/geometry/morton_order.h"
 #include "core/geometry/triangle_box.h"
 
 namespace accelviz {
@@ -41,102 +43,128 @@ using OctantRefs = std::array<SpatialRefs, 8>;
 /// The references of a cell split among its octants (cut at `centre`, split_reference):
 /// each appended to the list of every octant it reaches, in the cell's order (big
 /// cells in parallel chunks: split_in_order).
-void split_references(const SpatialRefs& refs, const Aabb& box, Vec3 centre, const Mesh& mesh, float pad,
-                      ClipMode clip, const PartitionProgress& progress, OctantRefs& children) {
+void split_references(std::span<const SpatialRef> refs, const Aabb& box, Vec3 centre, const CornerTriples& triangles,
+                      float pad, ClipMode clip, const PartitionProgress& progress, OctantRefs& children) {
+    const PartRule rule = part_rule(clip, false);
     split_in_order(refs.size(), children, progress, [&](size_t begin, size_t end, OctantRefs& to) {
         ChildRefs parts;
         for (size_t i = begin; i < end; ++i) {
-            split_reference(refs[i], mesh, box, centre, 7u, pad, clip, parts);
+            const SpatialRef& ref = refs[i];
+            // Most references lie on one side of all three planes: their octant takes
+            // them as they are (their box already lies within it: SpatialRef).
+            int octant = 0;
+            bool straddles = false;
+            for (int a = 0; a < 3; ++a) {
+                const bool above = ref.box.hi[a] > centre[a];
+                straddles |= above && ref.box.lo[a] < centre[a];
+                octant |= int(above) << a;
+            }
+            if (!straddles) {
+                to[size_t(octant)].push_back(ref);
+                continue;
+            }
+            split_reference(ref, triangles, box, centre, 7u, pad, rule, parts);
             for (int k = 0; k < parts.count; ++k) to[parts.child[k]].push_back(parts.ref[k]);
         }
     });
 }
 
-/// Builds the subtree of `root` depth first over an explicit work stack. Cells whose
-/// reference count is below `defer_below` (other than the root) are left as
-/// placeholders and handed to `deferred` (their node index is local), so that they
-/// can be built separately and spliced in. `budget`: the most references this
-/// subtree may hold.
-Subtree build_subtree(const Mesh& mesh, const OctreeConfig& config, float pad, WorkItem root, double budget,
-                      size_t defer_below, std::vector<WorkItem>* deferred, PartitionProgress& progress) {
-    Subtree out;
-    uint64_t live_refs = root.refs.size();  // references in leaves + in pending work
-    std::vector<WorkItem> work;
-    root.node = 0;
-    out.nodes.emplace_back();
-    work.push_back(std::move(root));
-    OctantRefs children;
-    bool is_root = true;
-    while (!work.empty()) {
-        if (progress.cancelled()) return out;  // the caller drops the unfinished tree
-        WorkItem item = std::move(work.back());
-        work.pop_back();
-        const size_t n = item.refs.size();
-        if (deferred && !is_root && n < defer_below) {
-            item.progress_units = progress.count_part(item.progress_units, kTopParts);
-            deferred->push_back(std::move(item));
-            continue;
+/// Builds one subtree depth first, octant 0 first. A cell's octants' references are
+/// split into the eight lists kept for its depth, and each octant is built from its
+/// list in place: the lists of depths below are the only others in use meanwhile, so
+/// no cell allocates or copies a list of its own once the lists have grown.
+class SubtreeBuilder {
+public:
+    /// Cells whose reference count is below `defer_below` (other than the root) are left
+    /// as placeholders and handed to `deferred` (their node index is local), so that they
+    /// can be built separately and spliced in (nullptr: none). `budget`: the most
+    /// references this subtree may hold.
+    SubtreeBuilder(const CornerTriples& triangles, const OctreeConfig& config, float pad, double budget,
+                   size_t defer_below, std::vector<WorkItem>* deferred, PartitionProgress& progress)
+        : triangles_(triangles), config_(config), pad_(pad), budget_(budget), defer_below_(defer_below),
+          deferred_(deferred), progress_(progress), lists_(size_t(config.max_depth) + 1) {}
+
+    /// The subtree of `root`; unfinished if the progress was cancelled (the caller drops it).
+    Subtree build(const WorkItem& root) {
+        live_refs_ = root.refs.size();
+        out_.nodes.emplace_back();
+        build_cell(0, root.depth, root.box, root.refs, root.progress_units, true);
+        return std::move(out_);
+    }
+
+private:
+    void build_cell(uint32_t node, uint32_t depth, const Aabb& box, std::span<const SpatialRef> refs, uint64_t units,
+                    bool is_root) {
+        if (progress_.cancelled()) return;
+        const size_t n = refs.size();
+        if (deferred_ && !is_root && n < defer_below_) {
+            units = progress_.count_part(units, kTopParts);
+            deferred_->push_back({node, depth, box, SpatialRefs(refs.begin(), refs.end()), units});
+            return;
         }
-        is_root = false;
-        const Vec3 centre = item.box.center();
-        bool split = n > size_t(config.leaf_size) && int(item.depth) < config.max_depth;
+        const Vec3 centre = box.center();
+        bool split = n > size_t(config_.leaf_size) && int(depth) < config_.max_depth;
         for (int a = 0; a < 3 && split; ++a)
-            if (!(centre[a] > item.box.lo[a] && centre[a] < item.box.hi[a])) split = false;  // cell too thin to cut
+            if (!(centre[a] > box.lo[a] && centre[a] < box.hi[a])) split = false;  // cell too thin to cut
+        OctantRefs* children = split ? &lists_[depth] : nullptr;
         if (split) {
-            for (auto& c : children) c.clear();
-            split_references(item.refs, item.box, centre, mesh, pad, config.clip, progress, children);
-            if (progress.cancelled()) return out;  // the lists may be short: dropped, as the whole tree
+            for (auto& c : *children) c.clear();
+            split_references(refs, box, centre, triangles_, pad_, config_.clip, progress_, *children);
+            if (progress_.cancelled()) return;  // the lists may be short: dropped, as the whole tree
             // No progress: the triangles all reach every non-empty octant (two or more),
             // so cutting only copies them. (All of them in one octant is progress:
             // the cell shrinks around them.)
             size_t total = 0, non_empty = 0;
             bool all_full = true;
-            for (const auto& c : children) {
+            for (const auto& c : *children) {
                 total += c.size();
                 if (!c.empty()) ++non_empty;
                 if (!c.empty() && c.size() < n) all_full = false;
             }
             if (all_full && non_empty >= 2) {
                 split = false;
-                ++out.counts.no_progress;
-            } else if (double(live_refs) + double(total) - double(n) > budget) {
+                ++out_.counts.no_progress;
+            } else if (double(live_refs_) + double(total) - double(n) > budget_) {
                 split = false;
-                out.counts.budget_hit = true;
+                out_.counts.budget_hit = true;
             } else {
-                live_refs = uint64_t(int64_t(live_refs) + int64_t(total) - int64_t(n));
+                live_refs_ = uint64_t(int64_t(live_refs_) + int64_t(total) - int64_t(n));
             }
         }
         if (!split) {
-            OctreeNode& leaf = out.nodes[item.node];
-            leaf = OctreeNode{centre, uint32_t(out.prim_ids.size()), uint32_t(n), true};
-            for (const SpatialRef& r : item.refs) out.prim_ids.push_back(r.tri);
-            out.counts.add_leaf(n, item.depth, config.max_depth, config.leaf_size);
-            progress.leaf_done(item.progress_units);
-            continue;
+            out_.nodes[node] = OctreeNode{centre, uint32_t(out_.prim_ids.size()), uint32_t(n), true};
+            for (const SpatialRef& r : refs) out_.prim_ids.push_back(r.tri);
+            out_.counts.add_leaf(n, depth, config_.max_depth, config_.leaf_size);
+            progress_.leaf_done(units);
+            return;
         }
-        const uint32_t first = uint32_t(out.nodes.size());
-        out.nodes[item.node] = OctreeNode{centre, first, 0, false};
-        out.nodes.resize(out.nodes.size() + 8);
-        // Octant 7 pushed first, so octant 0 is built first: depth-first order. Each
-        // octant's references are copied out at their size: the eight scratch lists
-        // keep their capacity for the next cell. Octant 7 gets the progress units
-        // the others leave.
+        const uint32_t first = uint32_t(out_.nodes.size());
+        out_.nodes[node] = OctreeNode{centre, first, 0, false};
+        out_.nodes.resize(out_.nodes.size() + 8);
+        // Each octant gets its share of the progress units; octant 7 what the others leave.
         size_t all_refs = 0;
-        for (const auto& c : children) all_refs += c.size();
-        uint64_t units_left = item.progress_units;
-        for (int o = 7; o >= 0; --o) {
-            const SpatialRefs& refs = children[size_t(o)];
-            const uint64_t units = o == 7 ? 0 : PartitionProgress::share_of(item.progress_units, refs.size(), all_refs);
-            units_left -= units;
-            work.push_back({first + uint32_t(o), item.depth + 1, octant_box(item.box, centre, o),
-                            SpatialRefs(refs.begin(), refs.end()), units});
+        for (const auto& c : *children) all_refs += c.size();
+        uint64_t units_left = units;
+        for (int o = 0; o < 8; ++o) {
+            const SpatialRefs& part = (*children)[size_t(o)];
+            const uint64_t share = o == 7 ? units_left : PartitionProgress::share_of(units, part.size(), all_refs);
+            units_left -= share;
+            build_cell(first + uint32_t(o), depth + 1, octant_box(box, centre, o), part, share, false);
+            if (progress_.cancelled()) return;
         }
-        work[work.size() - 8].progress_units = units_left;
-        item.refs = {};
     }
-    return out;
-}
 
+    const CornerTriples& triangles_;
+    const OctreeConfig& config_;
+    float pad_;
+    double budget_;
+    size_t defer_below_;
+    std::vector<WorkItem>* deferred_;
+    PartitionProgress& progress_;
+    std::vector<OctantRefs> lists_;  ///< by depth: the octants' lists of the cell being built there
+    uint64_t live_refs_ = 0;         ///< references in leaves + in cells not yet built
+    Subtree out_;
+};
 
 }  // namespace
 
@@ -161,9 +189,13 @@ Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config, Work
     const size_t defer_below = std::max<size_t>(4096, st.triangles / 64);
     start_stage(shared_progress, PartitionProgress::kTotal);
     PartitionProgress top_progress(shared_progress);
-    const Subtree top = build_subtree(mesh, config, pad,
-                                      WorkItem{0, 0, tree.bounds, root_references(mesh, pad), PartitionProgress::kTotal},
-                                      budget, defer_below, &deferred, top_progress);
+    // The references name the triangles by their place in Morton order, whose corners
+    // they read side by side (a cell's straddlers then lie near each other in memory,
+    // whatever the file's order); the leaves get the mesh's ids back at the end.
+    const std::vector<uint32_t> order = morton_order(mesh, tree.bounds);
+    const CornerTriples triangles = corner_triples(mesh, order);
+    const Subtree top = SubtreeBuilder(triangles, config, pad, budget, defer_below, &deferred, top_progress)
+                            .build({0, 0, tree.bounds, root_references(triangles, pad), PartitionProgress::kTotal});
     top_progress.flush();
     tree.nodes.assign(top.nodes.begin(), top.nodes.end());
     tree.prim_ids.assign(top.prim_ids.begin(), top.prim_ids.end());
@@ -178,7 +210,8 @@ Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config, Work
             const WorkItem& item = deferred[which[i]];
             const double share = budget_left * double(item.refs.size()) / std::max(refs, 1.0);
             PartitionProgress progress(shared_progress);
-            subtrees[which[i]] = build_subtree(mesh, config, pad, item, std::max(share, 1.0), 0, nullptr, progress);
+            subtrees[which[i]] =
+                SubtreeBuilder(triangles, config, pad, std::max(share, 1.0), 0, nullptr, progress).build(item);
         });
     };
     std::vector<size_t> all(deferred.size());
@@ -217,7 +250,7 @@ Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config, Work
                     .not_split_why = "every non-empty octant would hold all of their triangles",
                     .budget_hit = counts.budget_hit,
                     .max_duplication = config.max_duplication},
-                   start, shared_progress);
+                   start, shared_progress, order);
     return tree;
 }
 

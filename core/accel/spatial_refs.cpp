@@ -1,5 +1,6 @@
 #include "core/accel/spatial_refs.h"
 
+#include <optional>
 #include <sstream>
 
 #include <tbb/blocked_range.h>
@@ -8,6 +9,11 @@
 #include "core/geometry/triangle_box.h"
 
 namespace accelviz {
+
+PartRule part_rule(ClipMode mode, bool tight_boxes) {
+    if (mode == ClipMode::Box) return PartRule::BoxOverlap;
+    return tight_boxes ? PartRule::Clipped : PartRule::Touching;
+}
 
 std::string_view to_string(ClipMode mode) { return mode == ClipMode::Box ? "box" : "exact"; }
 
@@ -28,6 +34,29 @@ SpatialRefs root_references(const Mesh& mesh, float pad) {
         for (size_t t = r.begin(); t < r.end(); ++t) refs[t] = {uint32_t(t), padded(mesh.triangle_bounds(uint32_t(t)), pad)};
     });
     return refs;
+}
+
+SpatialRefs root_references(const CornerTriples& triples, float pad) {
+    SpatialRefs refs = make_prefaulted<SpatialRefs>(triples.size());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, refs.size(), kRefsToShareOut), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t t = r.begin(); t < r.end(); ++t) {
+            const auto& p = triples[t];
+            refs[t] = {uint32_t(t), padded(triangle_box(p[0], p[1], p[2]), pad)};
+        }
+    });
+    return refs;
+}
+
+CornerTriples corner_triples(const Mesh& mesh, std::span<const uint32_t> order) {
+    CornerTriples triples = make_prefaulted<CornerTriples>(mesh.triangle_count());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, triples.size(), kRefsToShareOut),
+                      [&](const tbb::blocked_range<size_t>& r) {
+                          for (size_t k = r.begin(); k < r.end(); ++k) {
+                              const size_t t = order.empty() ? k : order[k];
+                              for (int c = 0; c < 3; ++c) triples[k][c] = mesh.vertex(t, c);
+                          }
+                      });
+    return triples;
 }
 
 namespace {
@@ -53,8 +82,8 @@ Aabb part_bounds(const ClippedPolygon& in_cell, const int cuts[3], int cut_count
 
 }  // namespace
 
-void split_reference(const SpatialRef& ref, const Mesh& mesh, const Aabb& cell, Vec3 planes, unsigned axes,
-                     float pad, ClipMode mode, ChildRefs& out) {
+void split_reference(const SpatialRef& ref, const CornerTriples& triangles, const Aabb& cell, Vec3 planes, unsigned axes,
+                     float pad, PartRule rule, ChildRefs& out) {
     // The sides of each cut axis the reference's box reaches (0 below, 1 above), and
     // the axes where it reaches both.
     int lo_side[3] = {0, 0, 0}, hi_side[3] = {0, 0, 0};
@@ -70,6 +99,8 @@ void split_reference(const SpatialRef& ref, const Mesh& mesh, const Aabb& cell, 
     out.count = 0;
     ClippedPolygon in_cell;  // the triangle clipped to the padded cell, once it is needed
     bool have_polygon = false;
+    const std::array<Vec3, 3>& corners = triangles[ref.tri];
+    std::optional<TriangleAxes> triangle;  // its separating axes, once they are needed
     for (int z = lo_side[2]; z <= hi_side[2]; ++z)
         for (int y = lo_side[1]; y <= hi_side[1]; ++y)
             for (int x = lo_side[0]; x <= hi_side[0]; ++x) {
@@ -80,17 +111,26 @@ void split_reference(const SpatialRef& ref, const Mesh& mesh, const Aabb& cell, 
                     if (o >> a & 1) child.lo[a] = planes[a];
                     else child.hi[a] = planes[a];
                 }
-                // The reference's box is its part grown by pad, so it fits in child grown
-                // by 2·pad exactly when the part fits in child grown by pad: nothing to clip.
+                // The reference's box holds its part grown by pad, so if it fits in child
+                // grown by 2·pad, the part lies in child grown by pad: nothing to clip or test.
                 const Aabb limit = padded(child, 2 * pad);
                 Aabb box = ref.box;
                 if (!limit.contains(ref.box)) {
-                    if (mode == ClipMode::Box) {
+                    if (rule == PartRule::BoxOverlap) {
+                        box = intersection(ref.box, limit);
+                    } else if (rule == PartRule::Touching) {
+                        // A child holding a corner is reached (a straddler's most often:
+                        // one cut axis and a triangle inside the cell reach both sides
+                        // with a corner); the separating axes decide the others.
+                        const Aabb reach = padded(child, pad);
+                        if (!reach.contains(corners[0]) && !reach.contains(corners[1]) && !reach.contains(corners[2])) {
+                            if (!triangle) triangle.emplace(corners[0], corners[1], corners[2]);
+                            if (!triangle->overlaps(reach)) continue;
+                        }
                         box = intersection(ref.box, limit);
                     } else {
                         if (!have_polygon) {
-                            in_cell = ClippedPolygon::of_triangle(mesh.vertex(ref.tri, 0), mesh.vertex(ref.tri, 1),
-                                                                  mesh.vertex(ref.tri, 2));
+                            in_cell = ClippedPolygon::of_triangle(corners[0], corners[1], corners[2]);
                             in_cell.clip_to(padded(cell, pad));
                             have_polygon = true;
                         }

@@ -9,11 +9,13 @@
 #include <chrono>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "core/geometry/mesh.h"
@@ -34,10 +36,12 @@ std::optional<ClipMode> parse_clip_mode(std::string_view name);
 const std::vector<std::string>& clip_mode_names();  ///< "box", "exact"
 
 /// A triangle in a node under construction.
-/// Invariant: `box` is the bounds of (triangle ∩ (node box grown by pad)),
-/// grown by pad again. So, for a split plane s on axis a, the triangle comes
-/// within pad of the lower child iff box.lo[a] < s, of the upper iff box.hi[a] > s
-/// (both: it straddles). See reference_padding() for why the margin exists.
+/// Invariant: `box` contains the bounds of (triangle ∩ (node box grown by pad)),
+/// grown by pad again, and lies within the node box grown by 2·pad (PartRule says how
+/// tight it is). So, for a split plane s on axis a, the triangle comes within pad of
+/// the lower child only if box.lo[a] < s, of the upper only if box.hi[a] > s (both:
+/// it straddles); with the tight box (the bounds exactly), also if. See
+/// reference_padding() for why the margin exists.
 struct SpatialRef {
     uint32_t tri;
     Aabb box;
@@ -48,8 +52,31 @@ struct SpatialRef {
 /// faults instead of tens of thousands.
 using SpatialRefs = std::vector<SpatialRef, LargeArrayAllocator<SpatialRef>>;
 
+/// Each triangle's three corners side by side, in the mesh's order (36 bytes a
+/// triangle): what split_reference reads of a straddling triangle, one load where the
+/// mesh takes an index triple and then three scattered positions (the first was a
+/// tenth of the octree's build: docs/performance.md).
+/// triples[k] is triangle order[k], or triangle k when `order` is empty.
+using CornerTriples = std::vector<std::array<Vec3, 3>, LargeArrayAllocator<std::array<Vec3, 3>>>;
+CornerTriples corner_triples(const Mesh& mesh, std::span<const uint32_t> order = {});
+
 /// The references of a whole mesh in its root box `root` (the scene box grown by pad).
 SpatialRefs root_references(const Mesh& mesh, float pad);
+/// The same for the triangles of `triples`: reference k is triples[k].
+SpatialRefs root_references(const CornerTriples& triples, float pad);
+
+/// How split_reference finds the children a reference straddling a split goes to, and
+/// its box in each. The KD tree's SAH places its planes at the boxes' sides, so it needs
+/// each part's tight box; the octree's planes are its cells' centres, so it needs only
+/// which cells a triangle is in.
+enum class PartRule : uint8_t {
+    BoxOverlap,  ///< ClipMode::Box: each child the box reaches; there, box ∩ child
+    Clipped,     ///< ClipMode::Exact, tight boxes: the triangle clipped to each child; there, the part's bounds
+    Touching,    ///< ClipMode::Exact, loose boxes: each child the triangle comes within pad of (TriangleAxes); there, box ∩ child
+};
+/// The rule for `mode`, with or without the parts' tight boxes.
+PartRule part_rule(ClipMode mode, bool tight_boxes);
+
 
 /// What split_reference gives: the reference's part in each child it reaches, in
 /// increasing child index.
@@ -64,11 +91,13 @@ struct ChildRefs {
 /// octree all three). Child o lies above planes[a] iff bit a of o is set. A reference
 /// reaches the children its box reaches (below iff lo < plane or not hi > plane, above
 /// iff hi > plane: see SpatialRef), and in each its box is cut down to that child per
-/// `mode`; a child the triangle does not come within pad of (possible with Exact: the
-/// box reaches it, the triangle does not) gets nothing. With Exact, the triangle is
-/// clipped to the cell once and that polygon cut at the planes for each child.
-void split_reference(const SpatialRef& ref, const Mesh& mesh, const Aabb& cell, Vec3 planes, unsigned axes,
-                     float pad, ClipMode mode, ChildRefs& out);
+/// `rule`; a child the triangle does not come within pad of (possible with Clipped and
+/// Touching: the box reaches it, the triangle does not) gets nothing. With Clipped, the
+/// triangle is clipped to the cell once and that polygon cut at the planes for each
+/// child; with Touching, it is tested against each child's padded box, its axes
+/// shared. Clipped and Touching give the same children (up to rounding well inside pad).
+void split_reference(const SpatialRef& ref, const CornerTriples& triangles, const Aabb& cell, Vec3 planes, unsigned axes,
+                     float pad, PartRule rule, ChildRefs& out);
 
 /// A space-partitioning build's progress, counted so that it adds up whatever the
 /// references' duplication: the root holds kTotal units, a split hands a node's
@@ -263,12 +292,15 @@ struct PartitionTree {
         return build_stats.padding;
     }
 
-    /// A build's last step, once nodes and prim_ids are final: the triangles copied
+    /// A build's last step, once nodes and prim_ids are final (prim_ids naming the
+    /// triangles by their place in `order` if it is given: they become the mesh's ids
+    /// first): the triangles copied
     /// into leaf order (a stage of `progress` of its own: one triangle per reference,
     /// seconds at ten million triangles), a note for each thing that stopped the
     /// splitting, the stats.
     void end_build(const Mesh& mesh, const SplitStops& stops, std::chrono::steady_clock::time_point start,
-                   WorkProgress* progress) {
+                   WorkProgress* progress, std::span<const uint32_t> order = {}) {
+        if (!order.empty()) to_mesh_ids(order);
         start_stage(progress, prim_ids.size(), "putting the triangles in leaf order");
         triangles = make_triangles(mesh, prim_ids, progress);
         add_split_notes(stops, build_stats.notes);
@@ -292,6 +324,14 @@ struct PartitionTree {
     }
 
 private:
+    /// prim_ids[k] = order[prim_ids[k]], in parallel.
+    void to_mesh_ids(std::span<const uint32_t> order) {
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, prim_ids.size(), size_t(1) << 16),
+                          [&](const tbb::blocked_range<size_t>& r) {
+                              for (size_t k = r.begin(); k < r.end(); ++k) prim_ids[k] = order[prim_ids[k]];
+                          });
+    }
+
     // A node's first child or first reference: a field of the octree's and BSP tree's
     // nodes, packed into the KD tree's (methods).
     static uint32_t first_of(const Node& n) {

@@ -19,6 +19,24 @@ namespace accelviz {
 /// normal separates nothing, the remaining axes still do.
 bool triangle_overlaps_box(Vec3 p0, Vec3 p1, Vec3 p2, const Aabb& box);
 
+/// triangle_overlaps_box for one triangle against many boxes (an octree cell's
+/// octants): the ten axes that do not depend on the box (the triangle's normal and
+/// the nine box axis × edge crosses) and the triangle's extent along each are worked
+/// out once; a box then costs its centre's and half-size's projections on them.
+/// Absolute coordinates, in double: its answers may differ from
+/// triangle_overlaps_box's only for boxes within ~1e-15 of the scene's size of
+/// touching, which the callers' padding (reference_padding) covers many times over.
+class TriangleAxes {
+public:
+    TriangleAxes(Vec3 p0, Vec3 p1, Vec3 p2);
+    bool overlaps(const Aabb& box) const;
+
+private:
+    double axis_[10][3];
+    double lo_[10], hi_[10];  ///< the triangle's extent along each axis
+    double box_lo_[3], box_hi_[3];  ///< its bounds (the three box normals)
+};
+
 /// Bounds of triangle ∩ box: the triangle polygon is clipped against the six
 /// planes of the box (Sutherland–Hodgman) and the remaining polygon's bounds are
 /// rounded outwards to float. Empty Aabb if the triangle misses the box. For a

@@ -2,9 +2,11 @@
 // children: against the triangle clipped to each child on its own.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/accel/spatial_refs.h"
+#include "core/geometry/morton_order.h"
 #include "core/geometry/triangle_box.h"
 #include "core/util/random.h"
 
@@ -64,9 +66,9 @@ Aabb child_box(const Aabb& cell, Vec3 planes, unsigned axes, int o) {
 }
 
 /// Checks split_reference against clipping the triangle to each child on its own.
-void expect_parts_match_own_clips(const Case& c, Vec3 planes, unsigned axes, ClipMode mode, int& clipped) {
+void expect_parts_match_own_clips(const Case& c, Vec3 planes, unsigned axes, PartRule rule, int& clipped) {
     ChildRefs parts;
-    split_reference(c.ref, c.mesh, c.cell, planes, axes, c.pad, mode, parts);
+    split_reference(c.ref, corner_triples(c.mesh), c.cell, planes, axes, c.pad, rule, parts);
     int k = 0;
     for (int o = 0; o < 8; ++o) {
         if (o & ~int(axes)) continue;
@@ -83,13 +85,16 @@ void expect_parts_match_own_clips(const Case& c, Vec3 planes, unsigned axes, Cli
             const Aabb limit = padded(child, 2 * c.pad);
             if (limit.contains(c.ref.box)) {
                 expected = c.ref.box;
-            } else if (mode == ClipMode::Box) {
+            } else if (rule == PartRule::BoxOverlap) {
                 expected = intersection(c.ref.box, limit);
             } else {
                 ++clipped;
                 const Aabb own = clip_triangle_to_box(c.mesh.positions[0], c.mesh.positions[1], c.mesh.positions[2],
                                                       padded(child, c.pad));
-                if (!own.empty()) expected = intersection(padded(own, c.pad), c.ref.box);
+                // Touching: the same children, each with the box cut to it.
+                if (!own.empty())
+                    expected = rule == PartRule::Clipped ? intersection(padded(own, c.pad), c.ref.box)
+                                                         : intersection(c.ref.box, limit);
             }
             if (expected && expected->empty()) expected.reset();
         }
@@ -109,7 +114,7 @@ void expect_parts_match_own_clips(const Case& c, Vec3 planes, unsigned axes, Cli
 }
 
 /// Random cases from `seed`, each split at the planes `split(case, i)` gives on `axes(i)`,
-/// with both clip modes. Returns how many parts exact clipping had to cut.
+/// by every rule. Returns how many parts the exact rules had to decide.
 template <class Planes, class Axes>
 int check_random_cases(uint64_t seed, Planes&& split, Axes&& axes) {
     Rng rng(seed);
@@ -119,8 +124,8 @@ int check_random_cases(uint64_t seed, Planes&& split, Axes&& axes) {
         if (!c.valid) continue;
         ++cases;
         const Vec3 planes = split(c, i, rng);
-        for (ClipMode mode : {ClipMode::Exact, ClipMode::Box})
-            expect_parts_match_own_clips(c, planes, axes(i), mode, clipped);
+        for (PartRule rule : {PartRule::Clipped, PartRule::Touching, PartRule::BoxOverlap})
+            expect_parts_match_own_clips(c, planes, axes(i), rule, clipped);
     }
     EXPECT_GT(cases, 2000);
     return clipped;
@@ -135,13 +140,13 @@ TEST(SplitReference, KdSplitMatchesClippingEachSideOnItsOwn) {
             return planes;
         },
         [](int i) { return 1u << (i % 3); });
-    EXPECT_GT(clipped, 1000) << "most cases cut the triangle";
+    EXPECT_GT(clipped, 2000) << "most cases cut the triangle";
 }
 
 TEST(SplitReference, OctantSplitMatchesClippingEachOctantOnItsOwn) {
     const int clipped = check_random_cases(
         12, [](const Case& c, int, Rng&) { return c.cell.center(); }, [](int) { return 7u; });
-    EXPECT_GT(clipped, 4000) << "most cases cut the triangle into several octants";
+    EXPECT_GT(clipped, 8000) << "most cases cut the triangle into several octants";
 }
 
 TEST(SplitReference, AReferenceInsideOneChildIsKeptWhole) {
@@ -152,11 +157,85 @@ TEST(SplitReference, AReferenceInsideOneChildIsKeptWhole) {
     const float pad = reference_padding(cell);
     const SpatialRef ref{0, padded(mesh.triangle_bounds(0), pad)};
     ChildRefs parts;
-    split_reference(ref, mesh, cell, cell.center(), 7u, pad, ClipMode::Exact, parts);
-    ASSERT_EQ(parts.count, 1);
-    EXPECT_EQ(parts.child[0], 0);
-    EXPECT_EQ(parts.ref[0].box.lo, ref.box.lo);
-    EXPECT_EQ(parts.ref[0].box.hi, ref.box.hi);
+    for (PartRule rule : {PartRule::Clipped, PartRule::Touching, PartRule::BoxOverlap}) {
+        split_reference(ref, corner_triples(mesh), cell, cell.center(), 7u, pad, rule, parts);
+        ASSERT_EQ(parts.count, 1);
+        EXPECT_EQ(parts.child[0], 0);
+        EXPECT_EQ(parts.ref[0].box.lo, ref.box.lo);
+        EXPECT_EQ(parts.ref[0].box.hi, ref.box.hi);
+    }
+}
+
+}  // namespace
+
+namespace {
+
+TEST(TriangleAxes, AnswersAsTheSeparatingAxisTestOnRandomBoxes) {
+    // One triangle against many boxes, as an octree tests its octants: the answers of the
+    // shared axes must be triangle_overlaps_box's. Boxes near and around the triangle,
+    // flat triangles and segments among them.
+    Rng rng(21);
+    int overlaps = 0, separate = 0;
+    for (int i = 0; i < 3000; ++i) {
+        Vec3 p[3];
+        for (auto& v : p) v = {rng.uniform(-5.0f, 5.0f), rng.uniform(-5.0f, 5.0f), rng.uniform(-5.0f, 5.0f)};
+        if (i % 10 == 0) p[2] = p[1];          // a segment
+        if (i % 10 == 1) p[2][i % 3] = p[0][i % 3] = p[1][i % 3];  // in an axis plane
+        const TriangleAxes axes(p[0], p[1], p[2]);
+        for (int b = 0; b < 8; ++b) {
+            // A small box about a point near the triangle (a point of it moved a little):
+            // most boxes then lie near touching it, on either side.
+            const float u = rng.uniform(0.0f, 1.0f), v = rng.uniform(0.0f, 1.0f - u);
+            const Vec3 on = p[0] + (p[1] - p[0]) * u + (p[2] - p[0]) * v;
+            Vec3 lo, hi;
+            for (int a = 0; a < 3; ++a) {
+                const float x = on[a] + rng.uniform(-0.5f, 0.5f);
+                lo[a] = x - rng.uniform(0.0f, 0.4f);
+                hi[a] = x + rng.uniform(0.0f, 0.4f);
+            }
+            const Aabb box{lo, hi};
+            const bool expected = triangle_overlaps_box(p[0], p[1], p[2], box);
+            ASSERT_EQ(axes.overlaps(box), expected) << "triangle " << i << " box " << b;
+            (expected ? overlaps : separate)++;
+        }
+    }
+    EXPECT_GT(overlaps, 2000);
+    EXPECT_GT(separate, 2000);
+}
+
+TEST(MortonOrder, APermutationInCodeOrderTiesById) {
+    Mesh mesh;
+    Rng rng(5);
+    for (int i = 0; i < 5000; ++i) {
+        const Vec3 c{rng.uniform(0.0f, 1.0f), rng.uniform(0.0f, 1.0f), rng.uniform(0.0f, 1.0f)};
+        const Vec3 d{0.001f, 0.0f, 0.0f};
+        mesh.add_triangle(c, c + d, c + Vec3{0.0f, 0.001f, 0.0f});
+        if (i % 7 == 0) mesh.add_triangle(c, c + d, c + Vec3{0.0f, 0.0f, 0.001f});  // the same centre cell
+    }
+    const Aabb bounds = mesh.bounds();
+    const std::vector<uint32_t> order = morton_order(mesh, bounds);
+    ASSERT_EQ(order.size(), mesh.triangle_count());
+    std::vector<char> seen(order.size(), 0);
+    for (uint32_t t : order) {
+        ASSERT_LT(t, order.size());
+        ASSERT_FALSE(seen[t]) << "triangle " << t << " twice";
+        seen[t] = 1;
+    }
+    const auto code = [&](uint32_t t) {
+        const Vec3 c = mesh.triangle_bounds(t).center();
+        uint32_t cell[3];
+        for (int a = 0; a < 3; ++a)
+            cell[a] = std::min(1023u, uint32_t((c[a] - bounds.lo[a]) / (bounds.hi[a] - bounds.lo[a]) * 1024.0f));
+        return morton_code(cell[0], cell[1], cell[2]);
+    };
+    for (size_t k = 1; k < order.size(); ++k) {
+        const uint32_t a = code(order[k - 1]), b = code(order[k]);
+        ASSERT_TRUE(a < b || (a == b && order[k - 1] < order[k])) << "at " << k;
+    }
+    EXPECT_EQ(morton_code(1, 0, 0), 1u);
+    EXPECT_EQ(morton_code(0, 1, 0), 2u);
+    EXPECT_EQ(morton_code(0, 0, 1), 4u);
+    EXPECT_EQ(morton_code(1023, 1023, 1023), (1u << 30) - 1);
 }
 
 }  // namespace
