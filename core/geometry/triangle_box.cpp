@@ -83,18 +83,20 @@ TriangleAxes::TriangleAxes(Vec3 p0, Vec3 p1, Vec3 p2) {
     const double zero[3] = {0, 0, 0};
     const V3d v[3] = {sub(p0, zero), sub(p1, zero), sub(p2, zero)};
     const V3d edges[3] = {sub(v[1], v[0]), sub(v[2], v[1]), sub(v[0], v[2])};
-    V3d axes[10];
+    V3d axes[kAxes] = {};
     axes[0] = cross(edges[0], edges[1]);
     for (int a = 0; a < 3; ++a) {
         V3d unit{{0, 0, 0}};
         unit.v[a] = 1;
         for (int e = 0; e < 3; ++e) axes[1 + 3 * a + e] = cross(unit, edges[e]);
     }
-    for (int k = 0; k < 10; ++k) {
+    for (int k = 0; k < kAxes; ++k) {
         const double q0 = dot(axes[k], v[0]), q1 = dot(axes[k], v[1]), q2 = dot(axes[k], v[2]);
         lo_[k] = std::min(q0, std::min(q1, q2));
         hi_[k] = std::max(q0, std::max(q1, q2));
-        for (int a = 0; a < 3; ++a) axis_[k][a] = axes[k][a];
+        x_[k] = axes[k][0];
+        y_[k] = axes[k][1];
+        z_[k] = axes[k][2];
     }
     for (int a = 0; a < 3; ++a) {
         box_lo_[a] = std::min(v[0][a], std::min(v[1][a], v[2][a]));
@@ -110,13 +112,13 @@ bool TriangleAxes::overlaps(const Aabb& box) const {
         centre[a] = 0.5 * (double(box.lo[a]) + box.hi[a]);
         half[a] = 0.5 * (double(box.hi[a]) - box.lo[a]);
     }
-    for (int k = 0; k < 10; ++k) {  // 4-13, as in triangle_overlaps_box
-        const double* n = axis_[k];
-        const double c = n[0] * centre[0] + n[1] * centre[1] + n[2] * centre[2];
-        const double radius = half[0] * std::fabs(n[0]) + half[1] * std::fabs(n[1]) + half[2] * std::fabs(n[2]);
-        if (lo_[k] - c > radius || hi_[k] - c < -radius) return false;
+    int separated = 0;
+    for (int k = 0; k < kAxes; ++k) {  // 4-13, as in triangle_overlaps_box
+        const double c = x_[k] * centre[0] + y_[k] * centre[1] + z_[k] * centre[2];
+        const double radius = half[0] * std::fabs(x_[k]) + half[1] * std::fabs(y_[k]) + half[2] * std::fabs(z_[k]);
+        separated |= int(lo_[k] - c > radius) | int(hi_[k] - c < -radius);
     }
-    return true;
+    return separated == 0;
 }
 
 ClippedPolygon ClippedPolygon::of_triangle(Vec3 p0, Vec3 p1, Vec3 p2) {

@@ -32,9 +32,12 @@ public:
     bool overlaps(const Aabb& box) const;
 
 private:
-    double axis_[10][3];
-    double lo_[10], hi_[10];  ///< the triangle's extent along each axis
-    double box_lo_[3], box_hi_[3];  ///< its bounds (the three box normals)
+    /// Ten axes and two zero ones (which separate nothing) for whole vector registers:
+    /// the box test runs over all twelve without a branch.
+    static constexpr int kAxes = 12;
+    double x_[kAxes], y_[kAxes], z_[kAxes];  ///< the axes, by component
+    double lo_[kAxes], hi_[kAxes];           ///< the triangle's extent along each
+    double box_lo_[3], box_hi_[3];           ///< its bounds (the three box normals)
 };
 
 /// Bounds of triangle ∩ box: the triangle polygon is clipped against the six
