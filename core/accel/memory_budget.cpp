@@ -86,8 +86,10 @@ uint64_t fixed_build_bytes(const AccelConfig& config, uint64_t triangles) {
             // grid's triangles are by id, not per reference.
             return (grid_cells_bound(config.grid, triangles) + 1) * sizeof(uint32_t) + triangles * sizeof(uint32_t) +
                    copy;
-        case AccelType::Kd:
+        case AccelType::Kd: return triangles * sizeof(CornerTriples::value_type);  // the corners the splits read
         case AccelType::Octree:
+            // The same in Morton order, and that order (to give the leaves the mesh's ids).
+            return triangles * (sizeof(CornerTriples::value_type) + sizeof(uint32_t));
         case AccelType::Bsp: return 0;  // all per reference
     }
     return copy;
