@@ -107,21 +107,21 @@ Expected<std::shared_ptr<const Accelerator>> build_accelerator(const Mesh& mesh,
             auto tree = build_kd_tree(mesh, kd_config_of(config), progress);
             if (!tree) return Error{tree.error()};
             with_note(tree->build_stats);
-            use_triangle_test(*tree, config.triangle_test, mesh, tree->prim_ids);
+            use_triangle_test(*tree, config.triangle_test, mesh, tree->triangle_order());
             return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<KdTree>>(std::move(*tree)));
         }
         case AccelType::Octree: {
             auto tree = build_octree(mesh, octree_config_of(config), progress);
             if (!tree) return Error{tree.error()};
             with_note(tree->build_stats);
-            use_triangle_test(*tree, config.triangle_test, mesh, tree->prim_ids);
+            use_triangle_test(*tree, config.triangle_test, mesh, tree->triangle_order());
             return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<Octree>>(std::move(*tree)));
         }
         case AccelType::Bsp: {
             auto tree = build_bsp_tree(mesh, bsp_config_of(config), progress);
             if (!tree) return Error{tree.error()};
             with_note(tree->build_stats);
-            use_triangle_test(*tree, config.triangle_test, mesh, tree->prim_ids);
+            use_triangle_test(*tree, config.triangle_test, mesh, tree->triangle_order());
             return std::shared_ptr<const Accelerator>(std::make_shared<AcceleratorFor<BspTree>>(std::move(*tree)));
         }
     }

@@ -44,6 +44,10 @@ std::optional<Error> validate(const OctreeConfig& config);
 /// nodes[first + o] for octant o = x_high | y_high << 1 | z_high << 2 of the
 /// cell cut at `centre` (the centre of its box).
 struct OctreeNode {
+    /// The tree keeps one copy of each triangle (PartitionTree): its leaves reference a
+    /// triangle 6.5 times on a scan, against 1.6 times in the KD tree.
+    static constexpr bool kOneCopyPerTriangle = true;
+
     Vec3 centre;
     uint32_t first = 0;
     uint32_t count = 0;
@@ -157,7 +161,7 @@ Hit Octree::front_to_back(const Ray& ray, Observer& obs) const {
             walk.visit(cur, obs);
             n = &nodes[cur.node];
         }
-        if (n->is_leaf() && walk.test_leaf(cur, n->first, n->count, prim_ids.data(), hits, obs)) break;
+        if (n->is_leaf() && walk.template test_leaf<kOneCopyPerTriangle>(cur, n->first, n->count, prim_ids.data(), slots.data(), hits, obs)) break;
     } while (walk.pop_next(hits, cur, obs));
     return hits.done(obs);
 }

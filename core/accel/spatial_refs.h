@@ -257,17 +257,32 @@ constexpr size_t node_lead_bytes() {
     else return 0;
 }
 
+/// Whether a tree keeps one copy of each triangle (Node::kOneCopyPerTriangle: the
+/// octree's) rather than one per reference in leaf order.
+template <class Node>
+constexpr bool one_copy_per_triangle() {
+    if constexpr (requires { Node::kOneCopyPerTriangle; }) return Node::kOneCopyPerTriangle;
+    else return false;
+}
+
 /// The arrays of a space-partitioning tree (KD tree, octree, BSP tree) and what it was built
 /// with. The nodes and ids are on huge pages, as the BVH's (large_array.h): a ray's
 /// walk reads a few nodes scattered over the whole array. Invariants of both: nodes[0]
 /// is the root and `bounds` its box (the scene's box grown by the reference padding);
 /// nodes is empty iff the mesh has no triangles; triangles[k] is triangle prim_ids[k]
-/// (leaf order: a copy, so that a leaf's triangles are contiguous in memory).
+/// (leaf order: a copy, so that a leaf's triangles are contiguous in memory), or with
+/// kOneCopyPerTriangle triangles[slots[k]] is (one copy of each triangle, in the build's
+/// order, copy_order: a tree that holds each triangle several times, as the octree
+/// does, 6.5 times on a scan, keeps one copy instead of one per reference).
 template <class Node, class Config, class Stats>
 struct PartitionTree {
+    static constexpr bool kOneCopyPerTriangle = one_copy_per_triangle<Node>();
+
     Aabb bounds;
     std::vector<Node, LargeArrayAllocator<Node, node_lead_bytes<Node>()>> nodes;
     std::vector<uint32_t, LargeArrayAllocator<uint32_t>> prim_ids;
+    std::vector<uint32_t, LargeArrayAllocator<uint32_t>> slots;  ///< kOneCopyPerTriangle: where prim_ids[k] is in triangles
+    std::vector<uint32_t> copy_order;                              ///< kOneCopyPerTriangle: triangles[j] is triangle copy_order[j]
     TriangleArray triangles;
     CornerArray corners;  ///< the same, as corners; only when triangle_test is watertight
     Config build_config;
@@ -294,17 +309,32 @@ struct PartitionTree {
 
     /// A build's last step, once nodes and prim_ids are final (prim_ids naming the
     /// triangles by their place in `order` if it is given: they become the mesh's ids
-    /// first): the triangles copied
-    /// into leaf order (a stage of `progress` of its own: one triangle per reference,
-    /// seconds at ten million triangles), a note for each thing that stopped the
-    /// splitting, the stats.
+    /// first): the triangles copied, into leaf order or by id (a stage of `progress` of
+    /// its own: seconds at ten million triangles), a note for each thing that stopped
+    /// the splitting, the stats.
     void end_build(const Mesh& mesh, const SplitStops& stops, std::chrono::steady_clock::time_point start,
                    WorkProgress* progress, std::span<const uint32_t> order = {}) {
-        if (!order.empty()) to_mesh_ids(order);
-        start_stage(progress, prim_ids.size(), "putting the triangles in leaf order");
-        triangles = make_triangles(mesh, prim_ids, progress);
+        if constexpr (kOneCopyPerTriangle) {
+            // prim_ids are the triangles' places in `order` still: where their one copy goes.
+            slots.assign(prim_ids.begin(), prim_ids.end());
+            copy_order.assign(order.begin(), order.end());
+            if (!order.empty()) to_mesh_ids(order);
+            start_stage(progress, mesh.triangle_count(), "copying the triangles");
+            triangles = make_triangles(mesh, copy_order, progress);
+        } else {
+            if (!order.empty()) to_mesh_ids(order);
+            start_stage(progress, prim_ids.size(), "putting the triangles in leaf order");
+            triangles = make_triangles(mesh, prim_ids, progress);
+        }
         add_split_notes(stops, build_stats.notes);
         finish_stats(start);
+    }
+
+    /// The order of `triangles`, as make_triangles and make_corners take it: leaf order
+    /// (prim_ids) or copy_order.
+    std::span<const uint32_t> triangle_order() const {
+        if constexpr (kOneCopyPerTriangle) return copy_order;
+        else return prim_ids;
     }
 
     /// Appends the subtrees built on their own (each with `nodes`, its root at nodes[0],
@@ -362,8 +392,8 @@ private:
         st.nodes = uint32_t(nodes.size());
         st.references = prim_ids.size();
         st.duplication = st.triangles ? double(st.references) / st.triangles : 0.0;
-        st.memory_bytes = nodes.size() * sizeof(Node) + prim_ids.size() * sizeof(uint32_t) +
-                          triangles.size() * sizeof(Triangle);
+        st.memory_bytes = nodes.size() * sizeof(Node) + (prim_ids.size() + slots.size()) * sizeof(uint32_t) +
+                          copy_order.size() * sizeof(uint32_t) + triangles.size() * sizeof(Triangle);
         st.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     }
 };

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstring>
 
 #include "accel/space_partition_support.h"
 #include "core/accel/octree.h"
@@ -174,6 +175,23 @@ TEST(Octree, TheTreeDoesNotDependOnTheTrianglesOrderInTheFile) {
         std::sort(in_a.begin(), in_a.end());
         std::sort(in_b.begin(), in_b.end());
         ASSERT_EQ(in_a, in_b) << "leaf " << i;
+    }
+}
+
+}  // namespace
+
+namespace {
+
+TEST(Octree, KeepsOneCopyOfEachTriangleThatEveryReferenceFinds) {
+    const Mesh& mesh = scene_case("builtin:soup?n=3000&seed=4", 1).mesh;
+    const Octree t = build(mesh, OctreeConfig{});
+    ASSERT_EQ(t.triangles.size(), mesh.triangle_count());
+    ASSERT_EQ(t.slots.size(), t.prim_ids.size());
+    ASSERT_GT(t.prim_ids.size(), mesh.triangle_count() * 3 / 2) << "triangles in several cells";
+    for (size_t k = 0; k < t.prim_ids.size(); ++k) {
+        const Triangle expected = mesh.triangle(t.prim_ids[k]);
+        const Triangle& got = t.triangles[t.slots[k]];
+        ASSERT_EQ(std::memcmp(&expected, &got, sizeof(Triangle)), 0) << "reference " << k;
     }
 }
 
