@@ -73,7 +73,7 @@ TEST(WorkProgress, ANodeCountsItsOwnPartAndHandsOnTheRest) {
 
 TEST(WorkProgress, TheLongPartsOfATreeBuildAreStagesTheWindowNames) {
     // Subtrees that ran out of their share of the reference budget are built again, and
-    // the triangles are copied into leaf order, each in a stage of its own, named (the
+    // the triangles are copied (the octree: one copy each), each in a stage of its own, named (the
     // bar would otherwise wait at its end meanwhile: seconds at ten million triangles).
     // Watched from another thread, as the window does.
     const Mesh mesh = soup(200000);
@@ -97,7 +97,7 @@ TEST(WorkProgress, TheLongPartsOfATreeBuildAreStagesTheWindowNames) {
     for (const std::string& label : labels) again |= label.find("reference budget") != std::string::npos;
     EXPECT_TRUE(again);
     ASSERT_NE(progress.stage_label(), nullptr);
-    EXPECT_EQ(std::string(progress.stage_label()), "putting the triangles in leaf order");
+    EXPECT_EQ(std::string(progress.stage_label()), "copying the triangles");  // one per triangle: the octree's
     EXPECT_NEAR(progress.fraction(), 1.0, 1e-6);
     EXPECT_TRUE(progress.earlier_stages_finished());
 }
