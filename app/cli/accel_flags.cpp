@@ -104,7 +104,7 @@ void add_accel_flags(CLI::App& command, AccelConfig& config) {
         ->capture_default_str();
     command.add_option_function<std::string>(
                "--kd-clip", [&config](const std::string& v) { config.kd.clip = config.octree.clip = *parse_clip_mode(v); },
-               "kd/octree: a straddling triangle's box per side: box intersection or exact polygon clipping (box|exact, default exact)")
+               "kd/octree: where a straddling triangle goes: exact (only the sides it reaches; the KD tree clips it to each) or box (every side its box reaches) (box|exact, default exact)")
         ->check(CLI::IsMember(clip_mode_names()));
     command.add_option("--octree-max-depth", config.octree.max_depth, "octree: max depth")
         ->check(whole_number(1, kOctreeMaxDepth))

@@ -26,10 +26,11 @@
 
 namespace accelviz {
 
-/// How a straddling triangle's box is cut down to a child.
+/// Which children a straddling triangle goes to, and its box there (the user's choice;
+/// PartRule is how each tree carries it out).
 enum class ClipMode : uint8_t {
-    Box,    ///< box ∩ child box: cheap, keeps corners the triangle never reaches
-    Exact,  ///< the triangle polygon clipped to the child, then its bounds ("perfect splits", Wald & Havran 2006)
+    Box,    ///< every child its box reaches, with box ∩ child: cheap, keeps corners the triangle never reaches
+    Exact,  ///< only the children the triangle reaches; the KD tree also gets each part's bounds ("perfect splits", Wald & Havran 2006)
 };
 std::string_view to_string(ClipMode mode);
 std::optional<ClipMode> parse_clip_mode(std::string_view name);
