@@ -157,7 +157,7 @@ Hit BspTree::front_to_back(const Ray& ray, Observer& obs) const {
             walk.visit(cur, obs);
             n = &nodes[cur.node];
         }
-        if (walk.template test_leaf<kOneCopyPerTriangle>(cur, n->first, n->count, prim_ids.data(), slots.data(), hits, obs)) break;
+        if (walk.template test_leaf<kOneCopyPerTriangle>(cur, n->first, n->count, prim_ids.data(), copy_index.data(), hits, obs)) break;
     } while (walk.pop_next(hits, cur, obs));
     return hits.done(obs);
 }

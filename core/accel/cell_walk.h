@@ -54,19 +54,19 @@ struct CellWalk {
     }
 
     /// `cur` is a leaf holding the triangles prim_ids[first, first + count), at
-    /// triangles[first, first + count) (leaf order) or, kSlots, at triangles[slots[k]]
-    /// (PartitionTree): they are tested, a hit counting only inside [cur.t_min,
-    /// cur.t_max] (closest hit; any-hit: the first hit anywhere on the ray ends the
-    /// leaf). True when no deferred part can hold a closer hit, or any-hit found one
-    /// (the walk may stop).
-    template <bool kSlots, class Hits, class Observer>
+    /// triangles[first, first + count) (leaf order) or, kViaCopyIndex, at
+    /// triangles[copy_index[k]] (PartitionTree): they are tested, a hit counting only
+    /// inside [cur.t_min, cur.t_max] (closest hit; any-hit: the first hit anywhere on the
+    /// ray ends the leaf). True when no deferred part can hold a closer hit, or any-hit
+    /// found one (the walk may stop).
+    template <bool kViaCopyIndex, class Hits, class Observer>
     static bool test_leaf(const Entry& cur, uint32_t first, uint32_t count, const uint32_t* prim_ids,
-                          const uint32_t* slots, Hits& hits, Observer& obs) {
+                          const uint32_t* copy_index, Hits& hits, Observer& obs) {
         obs.on({.kind = EventKind::Leaf, .node = cur.node, .first = first, .count = count, .t_enter = cur.t_min,
                 .t_exit = cur.t_max});
         hits.enter(cur.t_max, obs);
         for (uint32_t k = first; k < first + count && !hits.found_any(); ++k)
-            hits.test(kSlots ? slots[k] : k, prim_ids[k], obs);
+            hits.test(kViaCopyIndex ? copy_index[k] : k, prim_ids[k], obs);
         return hits.can_stop();
     }
 

@@ -22,7 +22,8 @@ Config with_shared_flags(Config own, const AccelConfig& config, int Config::*lea
     return own;
 }
 /// The triangle test a built structure runs; the watertight test also needs the
-/// corners, in the structure's order (`order`: leaf order, or empty for by id).
+/// corners, in the structure's order (`order`: leaf order, the octree's copy_order, or
+/// empty for by id).
 template <class Structure>
 void use_triangle_test(Structure& s, TriangleTestKind test, const Mesh& mesh, std::span<const uint32_t> order) {
     s.triangle_test = test;

@@ -188,7 +188,7 @@ Hit KdTree::front_to_back(const Ray& ray, Observer& obs) const {
             n = &nodes[cur.node];
         }
         // A leaf: its triangles, with the in-cell rule; then the next deferred subtree.
-        if (walk.template test_leaf<kOneCopyPerTriangle>(cur, n->first(), n->count(), prim_ids.data(), slots.data(), hits, obs)) break;
+        if (walk.template test_leaf<kOneCopyPerTriangle>(cur, n->first(), n->count(), prim_ids.data(), copy_index.data(), hits, obs)) break;
     } while (walk.pop_next(hits, cur, obs));
     return hits.done(obs);
 }

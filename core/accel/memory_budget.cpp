@@ -14,7 +14,8 @@ namespace accelviz {
 
 namespace {
 
-/// The leaf-order triangle copy every structure keeps, and its corners with the watertight test.
+/// One triangle of the copy every structure keeps (per triangle or per reference), and
+/// its corners with the watertight test.
 uint64_t triangle_copy_bytes(const AccelConfig& config) {
     return sizeof(Triangle) + (config.triangle_test == TriangleTestKind::Watertight ? sizeof(TriangleCorners) : 0);
 }
@@ -105,9 +106,10 @@ uint64_t bytes_per_reference(const AccelConfig& config) {
         case AccelType::Octree:
             // A reference under construction (SpatialRef), its leaf's id in the
             // subtree and in the spliced tree, then the KD tree's triangle copy or the
-            // octree's slot (its one copy per triangle is counted above), and an
+            // octree's copy index (its one copy per triangle is counted above), and an
             // allowance of 24 bytes for nodes and the splits' scratch (measured peaks:
-            // 69-74 bytes per reference in all, docs/performance.md).
+            // KD tree 69-74 bytes per reference in all; octree, 871k, 2026-12-07: 331 MB
+            // for 5.7M references, against this estimate's 408 MB; docs/performance.md).
             return sizeof(SpatialRef) + 2 * sizeof(uint32_t) +
                    (config.type == AccelType::Kd ? triangle_copy_bytes(config) : sizeof(uint32_t)) + 24;
         case AccelType::Bsp:

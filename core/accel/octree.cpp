@@ -71,8 +71,11 @@ void split_references(std::span<const SpatialRef> refs, const Aabb& box, Vec3 ce
 
 /// Builds one subtree depth first, octant 0 first. A cell's octants' references are
 /// split into the eight lists kept for its depth, and each octant is built from its
-/// list in place: the lists of depths below are the only others in use meanwhile, so
-/// no cell allocates or copies a list of its own once the lists have grown.
+/// list in place: the lists of its ancestors' depths are the only others in use
+/// meanwhile, so no cell allocates a list of its own once the lists have grown (a cell
+/// handed on to be built separately gets a copy). A list of more than kKeepRefs
+/// references is freed once its cell has split: where most triangles stay in one
+/// octant for several levels, kept lists would hold the scene's references once per level.
 class SubtreeBuilder {
 public:
     /// Cells whose reference count is below `defer_below` (other than the root) are left
@@ -85,7 +88,7 @@ public:
           deferred_(deferred), progress_(progress), lists_(size_t(config.max_depth) + 1) {}
 
     /// The subtree of `root`; unfinished if the progress was cancelled (the caller drops it).
-    Subtree build(const WorkItem& root) {
+    Subtree build(WorkItem root) {
         live_refs_ = root.refs.size();
         out_.nodes.emplace_back();
         build_cell(0, root.depth, root.box, root.refs, root.progress_units, true);
@@ -93,8 +96,9 @@ public:
     }
 
 private:
-    void build_cell(uint32_t node, uint32_t depth, const Aabb& box, std::span<const SpatialRef> refs, uint64_t units,
-                    bool is_root) {
+    static constexpr size_t kKeepRefs = size_t(1) << 18;
+
+    void build_cell(uint32_t node, uint32_t depth, const Aabb& box, SpatialRefs& refs, uint64_t units, bool is_root) {
         if (progress_.cancelled()) return;
         const size_t n = refs.size();
         if (deferred_ && !is_root && n < defer_below_) {
@@ -129,6 +133,7 @@ private:
                 out_.counts.budget_hit = true;
             } else {
                 live_refs_ = uint64_t(int64_t(live_refs_) + int64_t(total) - int64_t(n));
+                if (is_root || refs.capacity() > kKeepRefs) SpatialRefs().swap(refs);  // split: not read again
             }
         }
         if (!split) {
@@ -146,7 +151,7 @@ private:
         for (const auto& c : *children) all_refs += c.size();
         uint64_t units_left = units;
         for (int o = 0; o < 8; ++o) {
-            const SpatialRefs& part = (*children)[size_t(o)];
+            SpatialRefs& part = (*children)[size_t(o)];
             const uint64_t share = o == 7 ? units_left : PartitionProgress::share_of(units, part.size(), all_refs);
             units_left -= share;
             build_cell(first + uint32_t(o), depth + 1, octant_box(box, centre, o), part, share, false);
@@ -192,8 +197,8 @@ Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config, Work
     // The references name the triangles by their place in Morton order, whose corners
     // they read side by side (a cell's straddlers then lie near each other in memory,
     // whatever the file's order); the leaves get the mesh's ids back at the end.
-    const std::vector<uint32_t> order = morton_order(mesh, tree.bounds);
-    const CornerTriples triangles = corner_triples(mesh, order);
+    std::vector<uint32_t> order = morton_order(mesh, tree.bounds);
+    CornerTriples triangles = corner_triples(mesh, order);
     const Subtree top = SubtreeBuilder(triangles, config, pad, budget, defer_below, &deferred, top_progress)
                             .build({0, 0, tree.bounds, root_references(triangles, pad), PartitionProgress::kTotal});
     top_progress.flush();
@@ -239,6 +244,10 @@ Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config, Work
     for (const Subtree& sub : subtrees) {
         counts.add(sub.counts);
     }
+    // Freed before the triangle copy, which would otherwise come on top of them.
+    std::vector<WorkItem>().swap(deferred);
+    std::vector<Subtree>().swap(subtrees);
+    CornerTriples().swap(triangles);
 
     counts.write_to(st);
     tree.end_build(mesh,
@@ -250,7 +259,7 @@ Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config, Work
                     .not_split_why = "every non-empty octant would hold all of their triangles",
                     .budget_hit = counts.budget_hit,
                     .max_duplication = config.max_duplication},
-                   start, shared_progress, order);
+                   start, shared_progress, std::move(order));
     return tree;
 }
 

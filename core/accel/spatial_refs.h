@@ -39,10 +39,10 @@ const std::vector<std::string>& clip_mode_names();  ///< "box", "exact"
 /// A triangle in a node under construction.
 /// Invariant: `box` contains the bounds of (triangle ∩ (node box grown by pad)),
 /// grown by pad again, and lies within the node box grown by 2·pad (PartRule says how
-/// tight it is). So, for a split plane s on axis a, the triangle comes within pad of
-/// the lower child only if box.lo[a] < s, of the upper only if box.hi[a] > s (both:
-/// it straddles); with the tight box (the bounds exactly), also if. See
-/// reference_padding() for why the margin exists.
+/// tight it is). So, for a split plane s on axis a, the triangle can come within pad
+/// of the lower child only if box.lo[a] < s, of the upper only if box.hi[a] > s (both:
+/// it straddles). With the tight box (PartRule::Clipped) these are "if and only if".
+/// See reference_padding() for why the margin exists.
 struct SpatialRef {
     uint32_t tri;
     Aabb box;
@@ -53,11 +53,11 @@ struct SpatialRef {
 /// faults instead of tens of thousands.
 using SpatialRefs = std::vector<SpatialRef, LargeArrayAllocator<SpatialRef>>;
 
-/// Each triangle's three corners side by side, in the mesh's order (36 bytes a
-/// triangle): what split_reference reads of a straddling triangle, one load where the
-/// mesh takes an index triple and then three scattered positions (the first was a
-/// tenth of the octree's build: docs/performance.md).
-/// triples[k] is triangle order[k], or triangle k when `order` is empty.
+/// Each triangle's three corners side by side (36 bytes a triangle): what
+/// split_reference reads of a straddling triangle, one load where the mesh takes an
+/// index triple and then three scattered positions (docs/performance.md: waiting for
+/// the index triple was a tenth of the octree's build). triples[k] is triangle
+/// order[k], or triangle k when `order` is empty.
 using CornerTriples = std::vector<std::array<Vec3, 3>, LargeArrayAllocator<std::array<Vec3, 3>>>;
 CornerTriples corner_triples(const Mesh& mesh, std::span<const uint32_t> order = {});
 
@@ -71,9 +71,9 @@ SpatialRefs root_references(const CornerTriples& triples, float pad);
 /// each part's tight box; the octree's planes are its cells' centres, so it needs only
 /// which cells a triangle is in.
 enum class PartRule : uint8_t {
-    BoxOverlap,  ///< ClipMode::Box: each child the box reaches; there, box ∩ child
+    BoxOverlap,  ///< ClipMode::Box: each child the box reaches; there, box ∩ (child grown by 2·pad)
     Clipped,     ///< ClipMode::Exact, tight boxes: the triangle clipped to each child; there, the part's bounds
-    Touching,    ///< ClipMode::Exact, loose boxes: each child the triangle comes within pad of (TriangleAxes); there, box ∩ child
+    Touching,    ///< ClipMode::Exact, loose boxes: each child the triangle comes within pad of (TriangleAxes); there, box ∩ (child grown by 2·pad)
 };
 /// The rule for `mode`, with or without the parts' tight boxes.
 PartRule part_rule(ClipMode mode, bool tight_boxes);
@@ -191,7 +191,7 @@ struct PartitionStats {
     double duplication = 0;              ///< references / triangles
     uint32_t max_leaf_size = 0;
     float padding = 0;                   ///< the references' safety margin (reference_padding)
-    uint64_t memory_bytes = 0;           ///< nodes + prim_ids + leaf-ordered triangles
+    uint64_t memory_bytes = 0;           ///< nodes + prim_ids + the triangle copy (+ copy_index, copy_order)
     double build_ms = 0;
     std::vector<std::string> notes;
 };
@@ -268,13 +268,14 @@ constexpr bool one_copy_per_triangle() {
 
 /// The arrays of a space-partitioning tree (KD tree, octree, BSP tree) and what it was built
 /// with. The nodes and ids are on huge pages, as the BVH's (large_array.h): a ray's
-/// walk reads a few nodes scattered over the whole array. Invariants of both: nodes[0]
+/// walk reads a few nodes scattered over the whole array. Invariants of all three: nodes[0]
 /// is the root and `bounds` its box (the scene's box grown by the reference padding);
 /// nodes is empty iff the mesh has no triangles; triangles[k] is triangle prim_ids[k]
-/// (leaf order: a copy, so that a leaf's triangles are contiguous in memory), or with
-/// kOneCopyPerTriangle triangles[slots[k]] is (one copy of each triangle, in the build's
-/// order, copy_order: a tree that holds each triangle several times, as the octree
-/// does, 6.5 times on a scan, keeps one copy instead of one per reference).
+/// (leaf order: a copy per reference, so that a leaf's triangles are contiguous in
+/// memory), or with kOneCopyPerTriangle triangles[copy_index[k]] is triangle
+/// prim_ids[k] (one copy of each triangle, in the build's order copy_order: a tree that
+/// holds each triangle many times, as the octree does, keeps one copy instead of one
+/// per reference).
 template <class Node, class Config, class Stats>
 struct PartitionTree {
     static constexpr bool kOneCopyPerTriangle = one_copy_per_triangle<Node>();
@@ -282,7 +283,7 @@ struct PartitionTree {
     Aabb bounds;
     std::vector<Node, LargeArrayAllocator<Node, node_lead_bytes<Node>()>> nodes;
     std::vector<uint32_t, LargeArrayAllocator<uint32_t>> prim_ids;
-    std::vector<uint32_t, LargeArrayAllocator<uint32_t>> slots;  ///< kOneCopyPerTriangle: where prim_ids[k] is in triangles
+    std::vector<uint32_t, LargeArrayAllocator<uint32_t>> copy_index;  ///< kOneCopyPerTriangle: where prim_ids[k] is in triangles
     std::vector<uint32_t> copy_order;                              ///< kOneCopyPerTriangle: triangles[j] is triangle copy_order[j]
     TriangleArray triangles;
     CornerArray corners;  ///< the same, as corners; only when triangle_test is watertight
@@ -314,12 +315,12 @@ struct PartitionTree {
     /// its own: seconds at ten million triangles), a note for each thing that stopped
     /// the splitting, the stats.
     void end_build(const Mesh& mesh, const SplitStops& stops, std::chrono::steady_clock::time_point start,
-                   WorkProgress* progress, std::span<const uint32_t> order = {}) {
+                   WorkProgress* progress, std::vector<uint32_t> order = {}) {
         if constexpr (kOneCopyPerTriangle) {
             // prim_ids are the triangles' places in `order` still: where their one copy goes.
-            slots.assign(prim_ids.begin(), prim_ids.end());
-            copy_order.assign(order.begin(), order.end());
-            if (!order.empty()) to_mesh_ids(order);
+            copy_index.assign(prim_ids.begin(), prim_ids.end());
+            copy_order = std::move(order);
+            if (!copy_order.empty()) to_mesh_ids(copy_order);
             start_stage(progress, mesh.triangle_count(), "copying the triangles");
             triangles = make_triangles(mesh, copy_order, progress);
         } else {
@@ -393,7 +394,7 @@ private:
         st.nodes = uint32_t(nodes.size());
         st.references = prim_ids.size();
         st.duplication = st.triangles ? double(st.references) / st.triangles : 0.0;
-        st.memory_bytes = nodes.size() * sizeof(Node) + (prim_ids.size() + slots.size()) * sizeof(uint32_t) +
+        st.memory_bytes = nodes.size() * sizeof(Node) + (prim_ids.size() + copy_index.size()) * sizeof(uint32_t) +
                           copy_order.size() * sizeof(uint32_t) + triangles.size() * sizeof(Triangle);
         st.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     }

@@ -24,8 +24,9 @@ bool triangle_overlaps_box(Vec3 p0, Vec3 p1, Vec3 p2, const Aabb& box);
 /// the nine box axis × edge crosses) and the triangle's extent along each are worked
 /// out once; a box then costs its centre's and half-size's projections on them.
 /// Absolute coordinates, in double: its answers may differ from
-/// triangle_overlaps_box's only for boxes within ~1e-15 of the scene's size of
-/// touching, which the callers' padding (reference_padding) covers many times over.
+/// triangle_overlaps_box's only for boxes within ~1e-15 of the coordinates' magnitude
+/// of touching, which the callers' padding (reference_padding, 2^-14 of that
+/// magnitude) covers many times over.
 class TriangleAxes {
 public:
     TriangleAxes(Vec3 p0, Vec3 p1, Vec3 p2);

@@ -182,15 +182,43 @@ TEST(Octree, TheTreeDoesNotDependOnTheTrianglesOrderInTheFile) {
 
 namespace {
 
+TEST(Octree, ABigTreeHoldsEveryTriangleInEveryLeafItComesNear) {
+    // 20,000 triangles: the top splits its references in parallel chunks and hands
+    // subtrees on to be built separately (StructureInvariants' 500 do neither).
+    const Mesh& mesh = scene_case("builtin:soup?n=20000&seed=5", 1).mesh;
+    std::vector<Aabb> boxes(mesh.triangle_count());
+    for (uint32_t tri = 0; tri < mesh.triangle_count(); ++tri) boxes[tri] = mesh.triangle_bounds(tri);
+    for (const auto& [label, config] : configs()) {
+        if (config.leaf_size == 1) continue;
+        const Octree t = build(mesh, config);
+        const float margin = 0.5f * t.build_stats.padding;
+        size_t missing = 0, leaves = 0;
+        std::vector<uint32_t> here(mesh.triangle_count(), 0);
+        for_each_node(t, [&](uint32_t node, const Aabb& box, uint32_t) {
+            const OctreeNode& n = t.nodes[node];
+            if (!n.is_leaf()) return;
+            ++leaves;
+            for (uint32_t k = n.first; k < n.first + n.count; ++k) here[t.prim_ids[k]] = uint32_t(leaves);
+            const Aabb near = padded(box, margin);
+            for (uint32_t tri = 0; tri < mesh.triangle_count(); ++tri)
+                if (here[tri] != leaves && !intersection(boxes[tri], near).empty() &&
+                    triangle_overlaps_box(mesh.vertex(tri, 0), mesh.vertex(tri, 1), mesh.vertex(tri, 2), near))
+                    ++missing;
+        });
+        EXPECT_EQ(missing, 0u) << label;
+        EXPECT_GT(leaves, 1000u) << label;
+    }
+}
+
 TEST(Octree, KeepsOneCopyOfEachTriangleThatEveryReferenceFinds) {
-    const Mesh& mesh = scene_case("builtin:soup?n=3000&seed=4", 1).mesh;
+    const Mesh& mesh = scene_case("builtin:soup?n=20000&seed=4", 1).mesh;
     const Octree t = build(mesh, OctreeConfig{});
     ASSERT_EQ(t.triangles.size(), mesh.triangle_count());
-    ASSERT_EQ(t.slots.size(), t.prim_ids.size());
+    ASSERT_EQ(t.copy_index.size(), t.prim_ids.size());
     ASSERT_GT(t.prim_ids.size(), mesh.triangle_count() * 3 / 2) << "triangles in several cells";
     for (size_t k = 0; k < t.prim_ids.size(); ++k) {
         const Triangle expected = mesh.triangle(t.prim_ids[k]);
-        const Triangle& got = t.triangles[t.slots[k]];
+        const Triangle& got = t.triangles[t.copy_index[k]];
         ASSERT_EQ(std::memcmp(&expected, &got, sizeof(Triangle)), 0) << "reference " << k;
     }
 }
