@@ -51,7 +51,7 @@ void split_references(std::span<const SpatialRef> refs, const Aabb& box, Vec3 ce
         for (size_t i = begin; i < end; ++i) {
             const SpatialRef& ref = refs[i];
             // Most references lie on one side of all three planes: their octant takes
-            // them as they are (their box already lies within it: SpatialRef).
+            // them as they are (their box already lies within it grown by 2·pad: SpatialRef).
             int octant = 0;
             bool straddles = false;
             for (int a = 0; a < 3; ++a) {
