@@ -113,16 +113,18 @@ TEST(WorkProgress, ACancelledBuildStopsAndSaysSo) {
 }
 
 TEST(WorkProgress, ABuildCancelledWhileRunningStops) {
-    // The KD tree over 200k triangles takes about a second here: cancelled once a
-    // tenth is done, it must give up rather than finish.
+    // The KD tree and the octree over 200k triangles take a few tenths of a second or
+    // more here: cancelled once a tenth is done, each must give up rather than finish.
     const Mesh mesh = soup(200000);
-    WorkProgress progress;
-    Expected<std::shared_ptr<const Accelerator>> built = Error{"not run"};
-    std::thread worker([&] { built = build_accelerator(mesh, config_of(AccelType::Kd), &progress); });
-    while (progress.fraction() < 0.1) std::this_thread::yield();
-    progress.cancel();
-    worker.join();
-    EXPECT_TRUE(is_cancelled(built)) << (built ? "built" : built.error());
+    for (AccelType type : {AccelType::Kd, AccelType::Octree}) {
+        WorkProgress progress;
+        Expected<std::shared_ptr<const Accelerator>> built = Error{"not run"};
+        std::thread worker([&] { built = build_accelerator(mesh, config_of(type), &progress); });
+        while (progress.fraction() < 0.1) std::this_thread::yield();
+        progress.cancel();
+        worker.join();
+        EXPECT_TRUE(is_cancelled(built)) << to_string(type) << ": " << (built ? "built" : built.error());
+    }
 }
 
 TEST(WorkProgress, WatchingABuildDoesNotChangeIt) {
