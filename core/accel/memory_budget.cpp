@@ -89,9 +89,10 @@ uint64_t fixed_build_bytes(const AccelConfig& config, uint64_t triangles) {
                    copy;
         case AccelType::Kd: return triangles * sizeof(CornerTriples::value_type);  // the corners the splits read
         case AccelType::Octree:
-            // The same in Morton order, that order (the tree keeps it: copy_order), and
-            // the triangle copy, one per triangle (PartitionTree's kOneCopyPerTriangle).
-            return triangles * (sizeof(CornerTriples::value_type) + sizeof(uint32_t)) + copy;
+            // The same in Morton order, each triangle's padded box, that order (the tree
+            // keeps it: copy_order), and the triangle copy, one per triangle
+            // (PartitionTree's kOneCopyPerTriangle).
+            return triangles * (sizeof(CornerTriples::value_type) + sizeof(Aabb) + sizeof(uint32_t)) + copy;
         case AccelType::Bsp: return 0;  // all per reference
     }
     return copy;
@@ -104,14 +105,14 @@ uint64_t bytes_per_reference(const AccelConfig& config) {
         case AccelType::Grid: return 2 * sizeof(uint32_t);  // the first pass's cell id, the list entry
         case AccelType::Kd:
         case AccelType::Octree:
-            // A reference under construction (SpatialRef), its leaf's id in the
-            // subtree and in the spliced tree, then the KD tree's triangle copy or the
-            // octree's copy index (its one copy per triangle is counted above), and an
-            // allowance of 24 bytes for nodes and the splits' scratch (measured peaks:
-            // KD tree 69-74 bytes per reference in all; octree, 871k, 2026-12-07: 331 MB
-            // for 5.7M references, against this estimate's 408 MB; docs/performance.md).
-            return sizeof(SpatialRef) + 2 * sizeof(uint32_t) +
-                   (config.type == AccelType::Kd ? triangle_copy_bytes(config) : sizeof(uint32_t)) + 24;
+            // A reference under construction (the KD tree's SpatialRef, the octree's
+            // Morton place), its leaf's id in the subtree and in the spliced tree, then
+            // the KD tree's triangle copy or the octree's copy index (its one copy per
+            // triangle is counted above), and an allowance of 24 bytes for nodes and the
+            // splits' scratch (measured peaks: docs/performance.md).
+            return config.type == AccelType::Kd
+                       ? sizeof(SpatialRef) + 2 * sizeof(uint32_t) + triangle_copy_bytes(config) + 24
+                       : sizeof(uint32_t) + 2 * sizeof(uint32_t) + sizeof(uint32_t) + 24;
         case AccelType::Bsp:
             // A piece under construction (a polygon of up to 9 corners, 116 bytes), its
             // leaf id, its triangle copy and the same allowance for nodes.

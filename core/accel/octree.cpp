@@ -6,6 +6,7 @@
 #include <span>
 #include <sstream>
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "core/geometry/morton_order.h"
@@ -22,11 +23,23 @@ std::optional<Error> validate(const OctreeConfig& c) {
 
 namespace {
 
+/// The octree's references under construction: the triangles' places in Morton order
+/// (CornerTriples), 4 bytes each. A reference's box (SpatialRef) is not stored: under
+/// the octree's rules (PartRule::Touching and BoxOverlap) it is the triangle's padded
+/// box cut down, level by level, to each cell grown by 2·pad, and since each cell lies
+/// within its parent those cuts come to one: the padded box ∩ the cell's box grown by
+/// 2·pad (box_in_cell), the same floats. The lists copied from level to level are then a
+/// seventh of SpatialRefs' size.
+using OctreeRefs = std::vector<uint32_t, LargeArrayAllocator<uint32_t>>;
+using OctantRefs = std::array<OctreeRefs, 8>;
+/// Each triangle's box grown by pad (a root reference's box), by Morton place.
+using RefBoxes = std::vector<Aabb, LargeArrayAllocator<Aabb>>;
+
 struct WorkItem {
     uint32_t node;
     uint32_t depth;
     Aabb box;
-    SpatialRefs refs;
+    OctreeRefs refs;
     uint64_t progress_units;  ///< its part of PartitionProgress::kTotal
 };
 
@@ -38,18 +51,27 @@ struct Subtree {
     SubtreeCounts counts;
 };
 
-using OctantRefs = std::array<SpatialRefs, 8>;
+/// What the octree's build reads of its triangles, by Morton place.
+struct OctreeInput {
+    const CornerTriples& triangles;  ///< the corners, for the straddlers' tests
+    const RefBoxes& boxes;           ///< each triangle's box grown by pad
+    float pad;
+
+    /// Reference `tri`'s box in a cell whose box grown by 2·pad is `limit` (see OctreeRefs).
+    Aabb box_in_cell(uint32_t tri, const Aabb& limit) const { return intersection(boxes[tri], limit); }
+};
 
 /// The references of a cell split among its octants (cut at `centre`, split_reference):
 /// each appended to the list of every octant it reaches, in the cell's order (big
 /// cells in parallel chunks: split_in_order).
-void split_references(std::span<const SpatialRef> refs, const Aabb& box, Vec3 centre, const CornerTriples& triangles,
-                      float pad, ClipMode clip, const PartitionProgress& progress, OctantRefs& children) {
+void split_references(std::span<const uint32_t> refs, const Aabb& box, Vec3 centre, const OctreeInput& in,
+                      ClipMode clip, const PartitionProgress& progress, OctantRefs& children) {
     const PartRule rule = part_rule(clip, false);
+    const Aabb limit = padded(box, 2 * in.pad);
     split_in_order(refs.size(), children, progress, [&](size_t begin, size_t end, OctantRefs& to) {
         ChildRefs parts;
         for (size_t i = begin; i < end; ++i) {
-            const SpatialRef& ref = refs[i];
+            const SpatialRef ref{refs[i], in.box_in_cell(refs[i], limit)};
             // Most references lie on one side of all three planes: their octant takes
             // them as they are (their box already lies within it grown by 2·pad: SpatialRef).
             int octant = 0;
@@ -60,11 +82,11 @@ void split_references(std::span<const SpatialRef> refs, const Aabb& box, Vec3 ce
                 octant |= int(above) << a;
             }
             if (!straddles) {
-                to[size_t(octant)].push_back(ref);
+                to[size_t(octant)].push_back(ref.tri);
                 continue;
             }
-            split_reference(ref, triangles, box, centre, 7u, pad, rule, parts);
-            for (int k = 0; k < parts.count; ++k) to[parts.child[k]].push_back(parts.ref[k]);
+            split_reference(ref, in.triangles, box, centre, 7u, in.pad, rule, parts);
+            for (int k = 0; k < parts.count; ++k) to[parts.child[k]].push_back(ref.tri);
         }
     });
 }
@@ -82,9 +104,9 @@ public:
     /// as placeholders and handed to `deferred` (their node index is local), so that they
     /// can be built separately and spliced in (nullptr: none). `budget`: the most
     /// references this subtree may hold.
-    SubtreeBuilder(const CornerTriples& triangles, const OctreeConfig& config, float pad, double budget,
-                   size_t defer_below, std::vector<WorkItem>* deferred, PartitionProgress& progress)
-        : triangles_(triangles), config_(config), pad_(pad), budget_(budget), defer_below_(defer_below),
+    SubtreeBuilder(const OctreeInput& in, const OctreeConfig& config, double budget, size_t defer_below,
+                   std::vector<WorkItem>* deferred, PartitionProgress& progress)
+        : in_(in), config_(config), budget_(budget), defer_below_(defer_below),
           deferred_(deferred), progress_(progress), lists_(size_t(config.max_depth) + 1) {}
 
     /// The subtree of `root`; unfinished if the progress was cancelled (the caller drops it).
@@ -98,12 +120,12 @@ public:
 private:
     static constexpr size_t kKeepRefs = size_t(1) << 18;
 
-    void build_cell(uint32_t node, uint32_t depth, const Aabb& box, SpatialRefs& refs, uint64_t units, bool is_root) {
+    void build_cell(uint32_t node, uint32_t depth, const Aabb& box, OctreeRefs& refs, uint64_t units, bool is_root) {
         if (progress_.cancelled()) return;
         const size_t n = refs.size();
         if (deferred_ && !is_root && n < defer_below_) {
             units = progress_.count_part(units, kTopParts);
-            deferred_->push_back({node, depth, box, SpatialRefs(refs.begin(), refs.end()), units});
+            deferred_->push_back({node, depth, box, OctreeRefs(refs.begin(), refs.end()), units});
             return;
         }
         const Vec3 centre = box.center();
@@ -113,7 +135,7 @@ private:
         OctantRefs* children = split ? &lists_[depth] : nullptr;
         if (split) {
             for (auto& c : *children) c.clear();
-            split_references(refs, box, centre, triangles_, pad_, config_.clip, progress_, *children);
+            split_references(refs, box, centre, in_, config_.clip, progress_, *children);
             if (progress_.cancelled()) return;  // the lists may be short: dropped, as the whole tree
             // No progress: the triangles all reach every non-empty octant (two or more),
             // so cutting only copies them. (All of them in one octant is progress:
@@ -133,12 +155,12 @@ private:
                 out_.counts.budget_hit = true;
             } else {
                 live_refs_ = uint64_t(int64_t(live_refs_) + int64_t(total) - int64_t(n));
-                if (is_root || refs.capacity() > kKeepRefs) SpatialRefs().swap(refs);  // split: not read again
+                if (is_root || refs.capacity() > kKeepRefs) OctreeRefs().swap(refs);  // split: not read again
             }
         }
         if (!split) {
             out_.nodes[node] = OctreeNode{centre, uint32_t(out_.prim_ids.size()), uint32_t(n), true};
-            for (const SpatialRef& r : refs) out_.prim_ids.push_back(r.tri);
+            out_.prim_ids.insert(out_.prim_ids.end(), refs.begin(), refs.end());
             out_.counts.add_leaf(n, depth, config_.max_depth, config_.leaf_size);
             progress_.leaf_done(units);
             return;
@@ -151,7 +173,7 @@ private:
         for (const auto& c : *children) all_refs += c.size();
         uint64_t units_left = units;
         for (int o = 0; o < 8; ++o) {
-            SpatialRefs& part = (*children)[size_t(o)];
+            OctreeRefs& part = (*children)[size_t(o)];
             const uint64_t share = o == 7 ? units_left : PartitionProgress::share_of(units, part.size(), all_refs);
             units_left -= share;
             build_cell(first + uint32_t(o), depth + 1, octant_box(box, centre, o), part, share, false);
@@ -159,9 +181,8 @@ private:
         }
     }
 
-    const CornerTriples& triangles_;
+    const OctreeInput& in_;
     const OctreeConfig& config_;
-    float pad_;
     double budget_;
     size_t defer_below_;
     std::vector<WorkItem>* deferred_;
@@ -199,8 +220,19 @@ Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config, Work
     // whatever the file's order); the leaves get the mesh's ids back at the end.
     std::vector<uint32_t> order = morton_order(mesh, tree.bounds);
     CornerTriples triangles = corner_triples(mesh, order);
-    const Subtree top = SubtreeBuilder(triangles, config, pad, budget, defer_below, &deferred, top_progress)
-                            .build({0, 0, tree.bounds, root_references(triangles, pad), PartitionProgress::kTotal});
+    RefBoxes boxes = make_prefaulted<RefBoxes>(triangles.size());
+    OctreeRefs root_refs = make_prefaulted<OctreeRefs>(triangles.size());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, triangles.size(), kRefsToShareOut),
+                      [&](const tbb::blocked_range<size_t>& r) {
+                          for (size_t k = r.begin(); k < r.end(); ++k) {
+                              const auto& p = triangles[k];
+                              boxes[k] = padded(triangle_box(p[0], p[1], p[2]), pad);
+                              root_refs[k] = uint32_t(k);
+                          }
+                      });
+    const OctreeInput input{triangles, boxes, pad};
+    const Subtree top = SubtreeBuilder(input, config, budget, defer_below, &deferred, top_progress)
+                            .build({0, 0, tree.bounds, std::move(root_refs), PartitionProgress::kTotal});
     top_progress.flush();
     tree.nodes.assign(top.nodes.begin(), top.nodes.end());
     tree.prim_ids.assign(top.prim_ids.begin(), top.prim_ids.end());
@@ -216,7 +248,7 @@ Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config, Work
             const double share = budget_left * double(item.refs.size()) / std::max(refs, 1.0);
             PartitionProgress progress(shared_progress);
             subtrees[which[i]] =
-                SubtreeBuilder(triangles, config, pad, std::max(share, 1.0), 0, nullptr, progress).build(item);
+                SubtreeBuilder(input, config, std::max(share, 1.0), 0, nullptr, progress).build(item);
         });
     };
     std::vector<size_t> all(deferred.size());
@@ -248,6 +280,7 @@ Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config, Work
     std::vector<WorkItem>().swap(deferred);
     std::vector<Subtree>().swap(subtrees);
     CornerTriples().swap(triangles);
+    RefBoxes().swap(boxes);
 
     counts.write_to(st);
     tree.end_build(mesh,

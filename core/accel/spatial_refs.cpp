@@ -36,17 +36,6 @@ SpatialRefs root_references(const Mesh& mesh, float pad) {
     return refs;
 }
 
-SpatialRefs root_references(const CornerTriples& triples, float pad) {
-    SpatialRefs refs = make_prefaulted<SpatialRefs>(triples.size());
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, refs.size(), kRefsToShareOut), [&](const tbb::blocked_range<size_t>& r) {
-        for (size_t t = r.begin(); t < r.end(); ++t) {
-            const auto& p = triples[t];
-            refs[t] = {uint32_t(t), padded(triangle_box(p[0], p[1], p[2]), pad)};
-        }
-    });
-    return refs;
-}
-
 CornerTriples corner_triples(const Mesh& mesh, std::span<const uint32_t> order) {
     CornerTriples triples = make_prefaulted<CornerTriples>(mesh.triangle_count());
     tbb::parallel_for(tbb::blocked_range<size_t>(0, triples.size(), kRefsToShareOut),

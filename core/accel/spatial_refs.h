@@ -63,8 +63,6 @@ CornerTriples corner_triples(const Mesh& mesh, std::span<const uint32_t> order =
 
 /// The references of a whole mesh in its root box `root` (the scene box grown by pad).
 SpatialRefs root_references(const Mesh& mesh, float pad);
-/// The same for the triangles of `triples`: reference k is triples[k].
-SpatialRefs root_references(const CornerTriples& triples, float pad);
 
 /// How split_reference finds the children a reference straddling a split goes to, and
 /// its box in each. The KD tree's SAH places its planes at the boxes' sides, so it needs
@@ -159,14 +157,14 @@ inline constexpr uint64_t kTopParts = 4;
 /// own, then appended to `children` chunk after chunk: the lists one pass would give.
 /// A chunk starts only while the build is wanted: once `progress` is cancelled the
 /// lists are left short, and the caller, which checks right after, drops them with the tree.
-template <size_t K, class SplitRange>
-void split_in_order(size_t n, std::array<SpatialRefs, K>& children, const PartitionProgress& progress,
+template <class Refs, size_t K, class SplitRange>
+void split_in_order(size_t n, std::array<Refs, K>& children, const PartitionProgress& progress,
                     SplitRange&& split_range) {
     if (n < kRefsToShareOut) {
         split_range(size_t(0), n, children);
         return;
     }
-    std::vector<std::array<SpatialRefs, K>> chunks((n + kRefsToShareOut - 1) / kRefsToShareOut);
+    std::vector<std::array<Refs, K>> chunks((n + kRefsToShareOut - 1) / kRefsToShareOut);
     tbb::parallel_for(size_t(0), chunks.size(), [&](size_t k) {
         if (progress.cancelled()) return;
         split_range(k * kRefsToShareOut, std::min(n, (k + 1) * kRefsToShareOut), chunks[k]);
