@@ -34,7 +34,7 @@ KdSahChart kd_sah_chart(const Mesh& mesh, const KdTree& tree, uint32_t node, con
         planes[p.axis()] = p.split();
         ChildRefs parts;
         for (const SpatialRef& r : refs) {
-            split_reference(r, triangles, cell, planes, 1u << p.axis(), pad, part_rule(tree.build_config.clip, true), parts);
+            split_reference(r, triangles, cell, planes, 1u << p.axis(), pad, part_rule(tree.build_config.clip), parts);
             for (int k = 0; k < parts.count; ++k)
                 if ((parts.child[k] != 0) != lower) next.push_back(parts.ref[k]);
         }

@@ -91,7 +91,7 @@ void split_references(const SpatialRefs& refs, int a, float s, const Aabb& box, 
         planes[a] = s;
         ChildRefs parts;
         for (size_t i = begin; i < end; ++i) {
-            split_reference(refs[i], triangles, box, planes, 1u << a, pad, part_rule(clip, true), parts);
+            split_reference(refs[i], triangles, box, planes, 1u << a, pad, part_rule(clip), parts);
             for (int k = 0; k < parts.count; ++k) to[parts.child[k] == 0 ? 0 : 1].push_back(parts.ref[k]);
         }
     });

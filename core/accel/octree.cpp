@@ -25,11 +25,10 @@ namespace {
 
 /// The octree's references under construction: the triangles' places in Morton order
 /// (CornerTriples), 4 bytes each. A reference's box (SpatialRef) is not stored: under
-/// the octree's rules (PartRule::Touching and BoxOverlap) it is the triangle's padded
-/// box cut down, level by level, to each cell grown by 2·pad, and since each cell lies
-/// within its parent those cuts come to one: the padded box ∩ the cell's box grown by
-/// 2·pad (box_in_cell), the same floats. The lists copied from level to level are then a
-/// seventh of SpatialRefs' size.
+/// the octree's rule (OctantSplit) it is the triangle's padded box cut down, level by
+/// level, to each cell grown by 2·pad, and since each cell lies within its parent those
+/// cuts come to one: the padded box ∩ the cell's box grown by 2·pad (box_in_cell), the
+/// same floats. The lists copied from level to level are then a seventh of SpatialRefs'.
 using OctreeRefs = std::vector<uint32_t, LargeArrayAllocator<uint32_t>>;
 using OctantRefs = std::array<OctreeRefs, 8>;
 /// Each triangle's box grown by pad (a root reference's box), by Morton place.
@@ -61,32 +60,31 @@ struct OctreeInput {
     Aabb box_in_cell(uint32_t tri, const Aabb& limit) const { return intersection(boxes[tri], limit); }
 };
 
-/// The references of a cell split among its octants (cut at `centre`, split_reference):
+/// The references of a cell split among its octants (cut at `centre`, OctantSplit):
 /// each appended to the list of every octant it reaches, in the cell's order (big
 /// cells in parallel chunks: split_in_order).
 void split_references(std::span<const uint32_t> refs, const Aabb& box, Vec3 centre, const OctreeInput& in,
                       ClipMode clip, const PartitionProgress& progress, OctantRefs& children) {
-    const PartRule rule = part_rule(clip, false);
-    const Aabb limit = padded(box, 2 * in.pad);
+    const OctantSplit split(box, centre, in.pad, clip);
     split_in_order(refs.size(), children, progress, [&](size_t begin, size_t end, OctantRefs& to) {
-        ChildRefs parts;
         for (size_t i = begin; i < end; ++i) {
-            const SpatialRef ref{refs[i], in.box_in_cell(refs[i], limit)};
+            const uint32_t tri = refs[i];
+            const Aabb ref_box = in.box_in_cell(tri, split.limit());
             // Most references lie on one side of all three planes: their octant takes
             // them as they are (their box already lies within it grown by 2·pad: SpatialRef).
             int octant = 0;
             bool straddles = false;
             for (int a = 0; a < 3; ++a) {
-                const bool above = ref.box.hi[a] > centre[a];
-                straddles |= above && ref.box.lo[a] < centre[a];
+                const bool above = ref_box.hi[a] > centre[a];
+                straddles |= above && ref_box.lo[a] < centre[a];
                 octant |= int(above) << a;
             }
             if (!straddles) {
-                to[size_t(octant)].push_back(ref.tri);
+                to[size_t(octant)].push_back(tri);
                 continue;
             }
-            split_reference(ref, in.triangles, box, centre, 7u, in.pad, rule, parts);
-            for (int k = 0; k < parts.count; ++k) to[parts.child[k]].push_back(ref.tri);
+            for (uint32_t m = split.reached(ref_box, in.triangles[tri]); m; m &= m - 1)
+                to[size_t(__builtin_ctz(m))].push_back(tri);
         }
     });
 }

@@ -30,7 +30,7 @@ inline constexpr int kOctreeStackSize = 3 * kOctreeMaxDepth + 4;
 struct OctreeConfig {
     int max_depth = 10;       ///< 1..kOctreeMaxDepth; cells at depth d are 2^-d of the root per axis
     int leaf_size = 8;        ///< a cell with at most this many references is not split, >= 1
-    ClipMode clip = ClipMode::Exact;  ///< which octants a straddling triangle goes to (PartRule::Touching when exact)
+    ClipMode clip = ClipMode::Exact;  ///< which octants a straddling triangle goes to (OctantSplit)
     bool mailbox = true;      ///< skip triangles this ray already tested in an earlier cell
     double max_duplication = 64.0;  ///< stop splitting once references exceed this · N (reported), >= 1
 

@@ -1,7 +1,12 @@
 #include "core/accel/spatial_refs.h"
 
+#include <array>
 #include <optional>
 #include <sstream>
+
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -10,10 +15,7 @@
 
 namespace accelviz {
 
-PartRule part_rule(ClipMode mode, bool tight_boxes) {
-    if (mode == ClipMode::Box) return PartRule::BoxOverlap;
-    return tight_boxes ? PartRule::Clipped : PartRule::Touching;
-}
+PartRule part_rule(ClipMode mode) { return mode == ClipMode::Box ? PartRule::BoxOverlap : PartRule::Clipped; }
 
 std::string_view to_string(ClipMode mode) { return mode == ClipMode::Box ? "box" : "exact"; }
 
@@ -88,8 +90,6 @@ void split_reference(const SpatialRef& ref, const CornerTriples& triangles, cons
     out.count = 0;
     ClippedPolygon in_cell;  // the triangle clipped to the padded cell, once it is needed
     bool have_polygon = false;
-    const std::array<Vec3, 3>& corners = triangles[ref.tri];
-    std::optional<TriangleAxes> triangle;  // its separating axes, once they are needed
     for (int z = lo_side[2]; z <= hi_side[2]; ++z)
         for (int y = lo_side[1]; y <= hi_side[1]; ++y)
             for (int x = lo_side[0]; x <= hi_side[0]; ++x) {
@@ -101,24 +101,15 @@ void split_reference(const SpatialRef& ref, const CornerTriples& triangles, cons
                     else child.hi[a] = planes[a];
                 }
                 // The reference's box holds its part grown by pad, so if it fits in child
-                // grown by 2·pad, the part lies in child grown by pad: nothing to clip or test.
+                // grown by 2·pad, the part lies in child grown by pad: nothing to clip.
                 const Aabb limit = padded(child, 2 * pad);
                 Aabb box = ref.box;
                 if (!limit.contains(ref.box)) {
                     if (rule == PartRule::BoxOverlap) {
                         box = intersection(ref.box, limit);
-                    } else if (rule == PartRule::Touching) {
-                        // A child holding a corner is reached (a straddler's most often:
-                        // one cut axis and a triangle inside the cell reach both sides
-                        // with a corner); the separating axes decide the others.
-                        const Aabb reach = padded(child, pad);
-                        if (!reach.contains(corners[0]) && !reach.contains(corners[1]) && !reach.contains(corners[2])) {
-                            if (!triangle) triangle.emplace(corners[0], corners[1], corners[2]);
-                            if (!triangle->overlaps(reach)) continue;
-                        }
-                        box = intersection(ref.box, limit);
                     } else {
                         if (!have_polygon) {
+                            const std::array<Vec3, 3>& corners = triangles[ref.tri];
                             in_cell = ClippedPolygon::of_triangle(corners[0], corners[1], corners[2]);
                             in_cell.clip_to(padded(cell, pad));
                             have_polygon = true;
@@ -134,6 +125,88 @@ void split_reference(const SpatialRef& ref, const CornerTriples& triangles, cons
                 out.ref[out.count] = {ref.tri, box};
                 ++out.count;
             }
+}
+
+namespace {
+
+using Xyz = OctantSplit::Xyz;
+
+Xyz xyz(Vec3 p) { return {{p.x, p.y, p.z, 0.0f}}; }
+
+/// Bit a set where a[a] <= b[a], for the three axes.
+inline uint32_t le_bits(const Xyz& a, const Xyz& b) {
+#if defined(__SSE2__)
+    return uint32_t(_mm_movemask_ps(_mm_cmple_ps(_mm_load_ps(a.v), _mm_load_ps(b.v)))) & 7u;
+#else
+    return uint32_t(a.v[0] <= b.v[0]) | uint32_t(a.v[1] <= b.v[1]) << 1 | uint32_t(a.v[2] <= b.v[2]) << 2;
+#endif
+}
+
+/// kOctantsOf[below | above << 3]: the octants (bit o for octant o) whose side of the
+/// centre on each axis a is allowed: below if bit a of `below` is set, above if bit a
+/// of `above` is (octant o lies above on axis a iff bit a of o is set).
+constexpr std::array<uint8_t, 64> kOctantsOf = [] {
+    std::array<uint8_t, 64> table{};
+    for (uint32_t sides = 0; sides < 64; ++sides)
+        for (uint32_t o = 0; o < 8; ++o) {
+            bool allowed = true;
+            for (uint32_t a = 0; a < 3; ++a) allowed = allowed && (sides >> ((o >> a & 1) * 3 + a) & 1);
+            if (allowed) table[sides] |= uint8_t(1u << o);
+        }
+    return table;
+}();
+
+inline uint32_t octants_of(uint32_t below, uint32_t above) { return kOctantsOf[below | above << 3]; }
+
+}  // namespace
+
+OctantSplit::OctantSplit(const Aabb& cell, Vec3 centre, float pad, ClipMode mode)
+    : exact_(mode == ClipMode::Exact), limit_(padded(cell, 2 * pad)), centre_(xyz(centre)) {
+    // On axis a the octant spans [cell.lo, centre] or [centre, cell.hi]; grown as
+    // padded() grows a box, so the same floats as padded(octant_box, ...).
+    const float pad2 = 2 * pad;
+    for (int side = 0; side < 2; ++side) {
+        const Vec3 lo = side ? centre : cell.lo, hi = side ? cell.hi : centre;
+        limit_lo_[side] = xyz(lo - Vec3{pad2, pad2, pad2});
+        limit_hi_[side] = xyz(hi + Vec3{pad2, pad2, pad2});
+        reach_lo_[side] = xyz(lo - Vec3{pad, pad, pad});
+        reach_hi_[side] = xyz(hi + Vec3{pad, pad, pad});
+    }
+}
+
+uint32_t OctantSplit::reached(const Aabb& box, const std::array<Vec3, 3>& corners) const {
+    const Xyz lo = xyz(box.lo), hi = xyz(box.hi);
+    // The sides the box reaches: above iff hi > centre, below iff lo < centre or not above.
+    const uint32_t above = ~le_bits(hi, centre_) & 7u;
+    const uint32_t below = (~le_bits(centre_, lo) | ~above) & 7u;
+    // The box lies within the cell grown by 2·pad, so its part in an octant it reaches,
+    // box ∩ (octant grown by 2·pad), is never empty: with Box, those octants are all.
+    uint32_t reached = octants_of(below, above);
+    if (!exact_) return reached;
+    // With Exact, an octant holding the whole box holds the triangle's part; the others
+    // need the triangle near them.
+    uint32_t holds[2];
+    for (int side = 0; side < 2; ++side) holds[side] = le_bits(limit_lo_[side], lo) & le_bits(hi, limit_hi_[side]);
+    uint32_t to_test = reached & ~octants_of(holds[0], holds[1]);
+    if (to_test == 0) return reached;
+    // The octants holding a corner (grown by pad) are reached.
+    for (const Vec3& corner : corners) {
+        const Xyz p = xyz(corner);
+        to_test &= ~octants_of(le_bits(reach_lo_[0], p) & le_bits(p, reach_hi_[0]),
+                               le_bits(reach_lo_[1], p) & le_bits(p, reach_hi_[1]));
+    }
+    if (to_test == 0) return reached;
+    const TriangleAxes triangle(corners[0], corners[1], corners[2]);
+    for (uint32_t m = to_test; m; m &= m - 1) {
+        const int o = __builtin_ctz(m);
+        Aabb reach;
+        for (int a = 0; a < 3; ++a) {
+            reach.lo[a] = reach_lo_[o >> a & 1].v[a];
+            reach.hi[a] = reach_hi_[o >> a & 1].v[a];
+        }
+        if (!triangle.overlaps(reach)) reached &= ~(1u << o);
+    }
+    return reached;
 }
 
 void add_split_notes(const SplitStops& stops, std::vector<std::string>& notes) {

@@ -65,17 +65,13 @@ CornerTriples corner_triples(const Mesh& mesh, std::span<const uint32_t> order =
 SpatialRefs root_references(const Mesh& mesh, float pad);
 
 /// How split_reference finds the children a reference straddling a split goes to, and
-/// its box in each. The KD tree's SAH places its planes at the boxes' sides, so it needs
-/// each part's tight box; the octree's planes are its cells' centres, so it needs only
-/// which cells a triangle is in.
+/// its box in each.
 enum class PartRule : uint8_t {
     BoxOverlap,  ///< ClipMode::Box: each child the box reaches; there, box ∩ (child grown by 2·pad)
-    Clipped,     ///< ClipMode::Exact, tight boxes: the triangle clipped to each child; there, the part's bounds
-    Touching,    ///< ClipMode::Exact, loose boxes: each child the triangle comes within pad of (TriangleAxes); there, box ∩ (child grown by 2·pad)
+    Clipped,     ///< ClipMode::Exact: the triangle clipped to each child; there, the part's bounds
 };
-/// The rule for `mode`, with or without the parts' tight boxes.
-PartRule part_rule(ClipMode mode, bool tight_boxes);
-
+/// The rule for `mode` (the KD tree's; the octree has OctantSplit).
+PartRule part_rule(ClipMode mode);
 
 /// What split_reference gives: the reference's part in each child it reaches, in
 /// increasing child index.
@@ -86,17 +82,54 @@ struct ChildRefs {
 };
 
 /// `ref`, a reference of the node `cell`, split among the node's children: the cell cut
-/// at planes[a] on each axis a in `axes` (a bit per axis: the KD tree cuts one, the
-/// octree all three). Child o lies above planes[a] iff bit a of o is set. A reference
-/// reaches the children its box reaches (below iff lo < plane or not hi > plane, above
-/// iff hi > plane: see SpatialRef), and in each its box is cut down to that child per
-/// `rule`; a child the triangle does not come within pad of (possible with Clipped and
-/// Touching: the box reaches it, the triangle does not) gets nothing. With Clipped, the
-/// triangle is clipped to the cell once and that polygon cut at the planes for each
-/// child; with Touching, it is tested against each child's padded box, its axes
-/// shared. Clipped and Touching give the same children (up to rounding well inside pad).
+/// at planes[a] on each axis a in `axes` (a bit per axis: the KD tree cuts one). Child o
+/// lies above planes[a] iff bit a of o is set. A reference reaches the children its box
+/// reaches (below iff lo < plane or not hi > plane, above iff hi > plane: see
+/// SpatialRef), and in each its box is cut down to that child per `rule`; with Clipped,
+/// a child the triangle does not come within pad of gets nothing (the box reaches it,
+/// the triangle does not), and the triangle is clipped to the cell once and that
+/// polygon cut at the planes for each child. The KD tree's SAH places its planes at the
+/// boxes' sides, so it needs each part's tight box.
 void split_reference(const SpatialRef& ref, const CornerTriples& triangles, const Aabb& cell, Vec3 planes, unsigned axes,
                      float pad, PartRule rule, ChildRefs& out);
+
+/// The octree's split of a cell at its centre into eight octants (child o above the
+/// centre on axis a iff bit a of o is set). The octree's planes are fixed, so it needs
+/// only which octants a triangle is in, not each part's box: a reference's box there is
+/// box ∩ (octant grown by 2·pad), the same floats split_reference's BoxOverlap gives.
+/// Each octant's bounds grown by pad and by 2·pad are worked out once per cell, per
+/// axis and side, and a reference's octants come out as a bit mask.
+class OctantSplit {
+public:
+    OctantSplit(const Aabb& cell, Vec3 centre, float pad, ClipMode mode);
+
+    /// The cell grown by 2·pad: what a reference's box in it lies within.
+    const Aabb& limit() const { return limit_; }
+
+    /// The octants (bit o for octant o) that the reference with box `box` (a reference of
+    /// this cell: see SpatialRef) and triangle `corners` reaches. ClipMode::Box: every
+    /// octant the box reaches. Exact, of those, the octants the triangle comes within pad
+    /// of: an octant that holds the whole box (grown by 2·pad) or one of the corners
+    /// (grown by pad) without a test (a straddler inside the cell reaches both sides with
+    /// a corner), the others by the separating axis test (TriangleAxes, worked out once
+    /// for the triangle). The same octants as split_reference's Clipped up to rounding
+    /// well inside pad.
+    uint32_t reached(const Aabb& box, const std::array<Vec3, 3>& corners) const;
+
+    /// x, y, z and a fourth float that no test reads: what the tests compare, axis by
+    /// axis, three at a time (one SSE comparison where the build has SSE).
+    struct alignas(16) Xyz {
+        float v[4];
+    };
+
+private:
+    bool exact_;
+    Aabb limit_;
+    Xyz centre_;
+    // Per side (0 below the centre, 1 above) and axis: the octant's bounds grown by
+    // 2·pad and by pad.
+    Xyz limit_lo_[2], limit_hi_[2], reach_lo_[2], reach_hi_[2];
+};
 
 /// A space-partitioning build's progress, counted so that it adds up whatever the
 /// references' duplication: the root holds kTotal units, a split hands a node's

@@ -1,5 +1,5 @@
-// split_reference, the KD tree's and octree's cut of a reference among a node's
-// children: against the triangle clipped to each child on its own.
+// split_reference and OctantSplit, the KD tree's and octree's cut of a reference among
+// a node's children: against the triangle clipped to each child on its own.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -91,10 +91,7 @@ void expect_parts_match_own_clips(const Case& c, Vec3 planes, unsigned axes, Par
                 ++clipped;
                 const Aabb own = clip_triangle_to_box(c.mesh.positions[0], c.mesh.positions[1], c.mesh.positions[2],
                                                       padded(child, c.pad));
-                // Touching: the same children, each with the box cut to it.
-                if (!own.empty())
-                    expected = rule == PartRule::Clipped ? intersection(padded(own, c.pad), c.ref.box)
-                                                         : intersection(c.ref.box, limit);
+                if (!own.empty()) expected = intersection(padded(own, c.pad), c.ref.box);
             }
             if (expected && expected->empty()) expected.reset();
         }
@@ -113,6 +110,33 @@ void expect_parts_match_own_clips(const Case& c, Vec3 planes, unsigned axes, Par
     EXPECT_EQ(k, parts.count) << "no parts beyond the children reached";
 }
 
+/// Checks OctantSplit (the cell cut at its centre) against clipping the triangle to
+/// each octant on its own: the octants split_reference would give, without their boxes.
+void expect_octants_match_own_clips(const Case& c, ClipMode mode, int& clipped) {
+    const Vec3 centre = c.cell.center();
+    const uint32_t got = OctantSplit(c.cell, centre, c.pad, mode).reached(c.ref.box, corner_triples(c.mesh)[0]);
+    for (int o = 0; o < 8; ++o) {
+        bool reached = true;  // the box rule, as split_reference's
+        for (int a = 0; a < 3; ++a) {
+            const bool above = c.ref.box.hi[a] > centre[a];
+            const bool below = c.ref.box.lo[a] < centre[a] || !above;
+            reached = reached && ((o >> a & 1) ? above : below);
+        }
+        const Aabb child = child_box(c.cell, centre, 7u, o);
+        const Aabb limit = padded(child, 2 * c.pad);
+        if (reached && !limit.contains(c.ref.box)) {
+            reached = !intersection(c.ref.box, limit).empty();
+            if (reached && mode == ClipMode::Exact) {
+                ++clipped;
+                reached = !clip_triangle_to_box(c.mesh.positions[0], c.mesh.positions[1], c.mesh.positions[2],
+                                                padded(child, c.pad))
+                               .empty();
+            }
+        }
+        EXPECT_EQ(bool(got >> o & 1), reached) << "octant " << o;
+    }
+}
+
 /// Random cases from `seed`, each split at the planes `split(case, i)` gives on `axes(i)`,
 /// by every rule. Returns how many parts the exact rules had to decide.
 template <class Planes, class Axes>
@@ -124,7 +148,7 @@ int check_random_cases(uint64_t seed, Planes&& split, Axes&& axes) {
         if (!c.valid) continue;
         ++cases;
         const Vec3 planes = split(c, i, rng);
-        for (PartRule rule : {PartRule::Clipped, PartRule::Touching, PartRule::BoxOverlap})
+        for (PartRule rule : {PartRule::Clipped, PartRule::BoxOverlap})
             expect_parts_match_own_clips(c, planes, axes(i), rule, clipped);
     }
     EXPECT_GT(cases, 2000);
@@ -149,6 +173,19 @@ TEST(SplitReference, OctantSplitMatchesClippingEachOctantOnItsOwn) {
     EXPECT_GT(clipped, 8000) << "most cases cut the triangle into several octants";
 }
 
+TEST(OctantSplit, MatchesClippingEachOctantOnItsOwn) {
+    Rng rng(13);
+    int cases = 0, clipped = 0;
+    for (int i = 0; i < 4000; ++i) {
+        const Case c = random_case(rng);
+        if (!c.valid) continue;
+        ++cases;
+        for (ClipMode mode : {ClipMode::Exact, ClipMode::Box}) expect_octants_match_own_clips(c, mode, clipped);
+    }
+    EXPECT_GT(cases, 2000);
+    EXPECT_GT(clipped, 8000) << "most cases need the triangle's own test in several octants";
+}
+
 TEST(SplitReference, AReferenceInsideOneChildIsKeptWhole) {
     Mesh mesh;
     mesh.positions = {{0.1f, 0.1f, 0.1f}, {0.4f, 0.1f, 0.1f}, {0.1f, 0.4f, 0.3f}};
@@ -157,13 +194,15 @@ TEST(SplitReference, AReferenceInsideOneChildIsKeptWhole) {
     const float pad = reference_padding(cell);
     const SpatialRef ref{0, padded(mesh.triangle_bounds(0), pad)};
     ChildRefs parts;
-    for (PartRule rule : {PartRule::Clipped, PartRule::Touching, PartRule::BoxOverlap}) {
+    for (PartRule rule : {PartRule::Clipped, PartRule::BoxOverlap}) {
         split_reference(ref, corner_triples(mesh), cell, cell.center(), 7u, pad, rule, parts);
         ASSERT_EQ(parts.count, 1);
         EXPECT_EQ(parts.child[0], 0);
         EXPECT_EQ(parts.ref[0].box.lo, ref.box.lo);
         EXPECT_EQ(parts.ref[0].box.hi, ref.box.hi);
     }
+    for (ClipMode mode : {ClipMode::Exact, ClipMode::Box})
+        EXPECT_EQ(OctantSplit(cell, cell.center(), pad, mode).reached(ref.box, corner_triples(mesh)[0]), 1u);
 }
 
 }  // namespace
