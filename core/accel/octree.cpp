@@ -270,15 +270,16 @@ Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config, Work
         build_shares(again, std::max(0.0, budget - used));
     }
     if (cancelled(shared_progress)) return WorkProgress::cancelled_error();
+    // What the splits read, freed before the tree's arrays are made (the splice and the
+    // triangle copy), which would otherwise come on top of them.
+    std::vector<WorkItem>().swap(deferred);
+    CornerTriples().swap(triangles);
+    RefBoxes().swap(boxes);
     tree.splice_all(placeholders, subtrees);
     for (const Subtree& sub : subtrees) {
         counts.add(sub.counts);
     }
-    // Freed before the triangle copy, which would otherwise come on top of them.
-    std::vector<WorkItem>().swap(deferred);
     std::vector<Subtree>().swap(subtrees);
-    CornerTriples().swap(triangles);
-    RefBoxes().swap(boxes);
 
     counts.write_to(st);
     tree.end_build(mesh,
