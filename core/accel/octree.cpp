@@ -56,8 +56,8 @@ struct OctreeInput {
     const RefBoxes& boxes;           ///< each triangle's box grown by pad
     float pad;
 
-    /// Reference `tri`'s box in a cell whose box grown by 2·pad is `limit` (see OctreeRefs).
-    Aabb box_in_cell(uint32_t tri, const Aabb& limit) const { return intersection(boxes[tri], limit); }
+    /// Reference `tri`'s box in the cell `split` cuts (see OctreeRefs).
+    Aabb box_in_cell(uint32_t tri, const OctantSplit& split) const { return intersection(boxes[tri], split.limit()); }
 };
 
 /// The references of a cell split among its octants (cut at `centre`, OctantSplit):
@@ -69,9 +69,10 @@ void split_references(std::span<const uint32_t> refs, const Aabb& box, Vec3 cent
     split_in_order(refs.size(), children, progress, [&](size_t begin, size_t end, OctantRefs& to) {
         for (size_t i = begin; i < end; ++i) {
             const uint32_t tri = refs[i];
-            const Aabb ref_box = in.box_in_cell(tri, split.limit());
+            const Aabb ref_box = in.box_in_cell(tri, split);
             // Most references lie on one side of all three planes: their octant takes
-            // them as they are (their box already lies within it grown by 2·pad: SpatialRef).
+            // them as they are (their box lies within it grown by 2·pad, so box_in_cell
+            // there gives the same box).
             int octant = 0;
             bool straddles = false;
             for (int a = 0; a < 3; ++a) {

@@ -133,12 +133,12 @@ using Xyz = OctantSplit::Xyz;
 
 Xyz xyz(Vec3 p) { return {{p.x, p.y, p.z, 0.0f}}; }
 
-/// Bit a set where a[a] <= b[a], for the three axes.
-inline uint32_t le_bits(const Xyz& a, const Xyz& b) {
+/// Bit k set where p.v[k] <= q.v[k], for the three axes k.
+inline uint32_t le_bits(const Xyz& p, const Xyz& q) {
 #if defined(__SSE2__)
-    return uint32_t(_mm_movemask_ps(_mm_cmple_ps(_mm_load_ps(a.v), _mm_load_ps(b.v)))) & 7u;
+    return uint32_t(_mm_movemask_ps(_mm_cmple_ps(_mm_load_ps(p.v), _mm_load_ps(q.v)))) & 7u;
 #else
-    return uint32_t(a.v[0] <= b.v[0]) | uint32_t(a.v[1] <= b.v[1]) << 1 | uint32_t(a.v[2] <= b.v[2]) << 2;
+    return uint32_t(p.v[0] <= q.v[0]) | uint32_t(p.v[1] <= q.v[1]) << 1 | uint32_t(p.v[2] <= q.v[2]) << 2;
 #endif
 }
 

@@ -27,7 +27,7 @@
 namespace accelviz {
 
 /// Which children a straddling triangle goes to, and its box there (the user's choice;
-/// PartRule is how each tree carries it out).
+/// PartRule is how the KD tree carries it out, OctantSplit how the octree does).
 enum class ClipMode : uint8_t {
     Box,    ///< every child its box reaches, with box ∩ child: cheap, keeps corners the triangle never reaches
     Exact,  ///< only the children the triangle reaches; the KD tree also gets each part's bounds ("perfect splits", Wald & Havran 2006)
@@ -54,7 +54,7 @@ struct SpatialRef {
 using SpatialRefs = std::vector<SpatialRef, LargeArrayAllocator<SpatialRef>>;
 
 /// Each triangle's three corners side by side (36 bytes a triangle): what
-/// split_reference reads of a straddling triangle, one load where the mesh takes an
+/// split_reference and OctantSplit read of a straddling triangle, one load where the mesh takes an
 /// index triple and then three scattered positions (docs/performance.md: waiting for
 /// the index triple was a tenth of the octree's build). triples[k] is triangle
 /// order[k], or triangle k when `order` is empty.
@@ -82,7 +82,8 @@ struct ChildRefs {
 };
 
 /// `ref`, a reference of the node `cell`, split among the node's children: the cell cut
-/// at planes[a] on each axis a in `axes` (a bit per axis: the KD tree cuts one). Child o
+/// at planes[a] on each axis a in `axes` (a bit per axis: the KD tree cuts one; the
+/// tests also cut three, as a check of the polygon cut over several planes). Child o
 /// lies above planes[a] iff bit a of o is set. A reference reaches the children its box
 /// reaches (below iff lo < plane or not hi > plane, above iff hi > plane: see
 /// SpatialRef), and in each its box is cut down to that child per `rule`; with Clipped,
@@ -103,7 +104,7 @@ class OctantSplit {
 public:
     OctantSplit(const Aabb& cell, Vec3 centre, float pad, ClipMode mode);
 
-    /// The cell grown by 2·pad: what a reference's box in it lies within.
+    /// The cell grown by 2·pad: what a reference's box in it lies within (SpatialRef).
     const Aabb& limit() const { return limit_; }
 
     /// The octants (bit o for octant o) that the reference with box `box` (a reference of
