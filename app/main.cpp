@@ -8,6 +8,10 @@
 #include <iostream>
 #include <vector>
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 #include <CLI/CLI.hpp>
 
 #include "app/cli/commands.h"
@@ -25,9 +29,25 @@ std::string default_window_scene() {
     return "builtin:cube";
 }
 
+/// glibc's malloc gives blocks over a threshold (from 128 KiB, raised as big blocks are
+/// freed) their own mapping, and hands free memory at the top of its heap back to the
+/// system; both thresholds move with what the process has freed so far. A software
+/// renderer (llvmpipe) allocates and frees big buffers every frame: depending on that
+/// history, every frame then took fresh pages from the system, and a frame of the 3D
+/// view took twice as long in one run as in the next (docs/performance.md). Fixed
+/// thresholds keep such blocks in the heap, reused from frame to frame. The structures'
+/// big arrays have their own mappings (core/util/large_array.h) and are not affected.
+void keep_freed_memory_for_reuse() {
+#if defined(__GLIBC__)
+    mallopt(M_MMAP_THRESHOLD, 32 << 20);
+    mallopt(M_TRIM_THRESHOLD, 64 << 20);
+#endif
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+    keep_freed_memory_for_reuse();
     using namespace accelviz::cli;
     CLI::App app{"accelviz: see how ray tracers find what a ray hits, fast."};
     app.require_subcommand(0, 1);
