@@ -60,12 +60,13 @@ struct OctreeInput {
     Aabb box_in_cell(uint32_t tri, const OctantSplit& split) const { return intersection(boxes[tri], split.limit()); }
 };
 
-/// The references of a cell split among its octants (cut at `centre`, OctantSplit):
-/// each appended to the list of every octant it reaches, in the cell's order (big
-/// cells in parallel chunks: split_in_order).
-void split_references(std::span<const uint32_t> refs, const Aabb& box, Vec3 centre, const OctreeInput& in,
-                      ClipMode clip, const PartitionProgress& progress, OctantRefs& children) {
-    const OctantSplit split(box, centre, in.pad, clip);
+/// The references of the cell `box` split among its octants (cut at its centre,
+/// OctantSplit): each appended to the list of every octant it reaches, in the cell's
+/// order (big cells in parallel chunks: split_in_order).
+void split_references(std::span<const uint32_t> refs, const Aabb& box, const OctreeInput& in, ClipMode clip,
+                      const PartitionProgress& progress, OctantRefs& children) {
+    const OctantSplit split(box, in.pad, clip);
+    const Vec3& centre = split.centre();
     split_in_order(refs.size(), children, progress, [&](size_t begin, size_t end, OctantRefs& to) {
         for (size_t i = begin; i < end; ++i) {
             const uint32_t tri = refs[i];
@@ -134,7 +135,7 @@ private:
         OctantRefs* children = split ? &lists_[depth] : nullptr;
         if (split) {
             for (auto& c : *children) c.clear();
-            split_references(refs, box, centre, in_, config_.clip, progress_, *children);
+            split_references(refs, box, in_, config_.clip, progress_, *children);
             if (progress_.cancelled()) return;  // the lists may be short: dropped, as the whole tree
             // No progress: the triangles all reach every non-empty octant (two or more),
             // so cutting only copies them. (All of them in one octant is progress:

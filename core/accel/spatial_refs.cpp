@@ -133,8 +133,8 @@ using Xyz = OctantSplit::Xyz;
 
 Xyz xyz(Vec3 p) { return {{p.x, p.y, p.z, 0.0f}}; }
 
-/// Bit k set where p.v[k] <= q.v[k], for the three axes k.
-inline uint32_t le_bits(const Xyz& p, const Xyz& q) {
+/// The axes where p is at most q: bit k set where p.v[k] <= q.v[k], for k = 0, 1, 2.
+inline uint32_t axes_at_most(const Xyz& p, const Xyz& q) {
 #if defined(__SSE2__)
     return uint32_t(_mm_movemask_ps(_mm_cmple_ps(_mm_load_ps(p.v), _mm_load_ps(q.v)))) & 7u;
 #else
@@ -160,13 +160,13 @@ inline uint32_t octants_of(uint32_t below, uint32_t above) { return kOctantsOf[b
 
 }  // namespace
 
-OctantSplit::OctantSplit(const Aabb& cell, Vec3 centre, float pad, ClipMode mode)
-    : exact_(mode == ClipMode::Exact), limit_(padded(cell, 2 * pad)), centre_(xyz(centre)) {
+OctantSplit::OctantSplit(const Aabb& cell, float pad, ClipMode mode)
+    : exact_(mode == ClipMode::Exact), centre_(cell.center()), limit_(padded(cell, 2 * pad)), centre_lanes_(xyz(centre_)) {
     // On axis a the octant spans [cell.lo, centre] or [centre, cell.hi]; grown as
     // padded() grows a box, so the same floats as padded(octant_box, ...).
     const float pad2 = 2 * pad;
     for (int side = 0; side < 2; ++side) {
-        const Vec3 lo = side ? centre : cell.lo, hi = side ? cell.hi : centre;
+        const Vec3 lo = side ? centre_ : cell.lo, hi = side ? cell.hi : centre_;
         limit_lo_[side] = xyz(lo - Vec3{pad2, pad2, pad2});
         limit_hi_[side] = xyz(hi + Vec3{pad2, pad2, pad2});
         reach_lo_[side] = xyz(lo - Vec3{pad, pad, pad});
@@ -177,8 +177,8 @@ OctantSplit::OctantSplit(const Aabb& cell, Vec3 centre, float pad, ClipMode mode
 uint32_t OctantSplit::reached(const Aabb& box, const std::array<Vec3, 3>& corners) const {
     const Xyz lo = xyz(box.lo), hi = xyz(box.hi);
     // The sides the box reaches: above iff hi > centre, below iff lo < centre or not above.
-    const uint32_t above = ~le_bits(hi, centre_) & 7u;
-    const uint32_t below = (~le_bits(centre_, lo) | ~above) & 7u;
+    const uint32_t above = ~axes_at_most(hi, centre_lanes_) & 7u;
+    const uint32_t below = (~axes_at_most(centre_lanes_, lo) | ~above) & 7u;
     // The box lies within the cell grown by 2·pad, so its part in an octant it reaches,
     // box ∩ (octant grown by 2·pad), is never empty: with Box, those octants are all.
     uint32_t reached = octants_of(below, above);
@@ -186,14 +186,14 @@ uint32_t OctantSplit::reached(const Aabb& box, const std::array<Vec3, 3>& corner
     // With Exact, an octant holding the whole box holds the triangle's part; the others
     // need the triangle near them.
     uint32_t holds[2];
-    for (int side = 0; side < 2; ++side) holds[side] = le_bits(limit_lo_[side], lo) & le_bits(hi, limit_hi_[side]);
+    for (int side = 0; side < 2; ++side) holds[side] = axes_at_most(limit_lo_[side], lo) & axes_at_most(hi, limit_hi_[side]);
     uint32_t to_test = reached & ~octants_of(holds[0], holds[1]);
     if (to_test == 0) return reached;
     // The octants holding a corner (grown by pad) are reached.
     for (const Vec3& corner : corners) {
         const Xyz p = xyz(corner);
-        to_test &= ~octants_of(le_bits(reach_lo_[0], p) & le_bits(p, reach_hi_[0]),
-                               le_bits(reach_lo_[1], p) & le_bits(p, reach_hi_[1]));
+        to_test &= ~octants_of(axes_at_most(reach_lo_[0], p) & axes_at_most(p, reach_hi_[0]),
+                               axes_at_most(reach_lo_[1], p) & axes_at_most(p, reach_hi_[1]));
     }
     if (to_test == 0) return reached;
     const TriangleAxes triangle(corners[0], corners[1], corners[2]);

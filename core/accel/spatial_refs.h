@@ -102,8 +102,10 @@ void split_reference(const SpatialRef& ref, const CornerTriples& triangles, cons
 /// axis and side, and a reference's octants come out as a bit mask.
 class OctantSplit {
 public:
-    OctantSplit(const Aabb& cell, Vec3 centre, float pad, ClipMode mode);
+    OctantSplit(const Aabb& cell, float pad, ClipMode mode);
 
+    /// Where the cell is cut: its box's centre (Aabb::center), the octree node's centre.
+    const Vec3& centre() const { return centre_; }
     /// The cell grown by 2·pad: what a reference's box in it lies within (SpatialRef).
     const Aabb& limit() const { return limit_; }
 
@@ -125,8 +127,9 @@ public:
 
 private:
     bool exact_;
+    Vec3 centre_;
     Aabb limit_;
-    Xyz centre_;
+    Xyz centre_lanes_;  ///< centre_ as lanes
     // Per side (0 below the centre, 1 above) and axis: the octant's bounds grown by
     // 2·pad and by pad.
     Xyz limit_lo_[2], limit_hi_[2], reach_lo_[2], reach_hi_[2];

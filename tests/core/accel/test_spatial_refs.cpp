@@ -113,7 +113,7 @@ void expect_parts_match_own_clips(const Case& c, Vec3 planes, unsigned axes, Par
 /// each octant on its own: Clipped's octants, up to rounding well inside pad.
 void expect_octants_match_own_clips(const Case& c, ClipMode mode, int& clipped) {
     const Vec3 centre = c.cell.center();
-    const uint32_t got = OctantSplit(c.cell, centre, c.pad, mode).reached(c.ref.box, corner_triples(c.mesh)[0]);
+    const uint32_t got = OctantSplit(c.cell, c.pad, mode).reached(c.ref.box, corner_triples(c.mesh)[0]);
     for (int o = 0; o < 8; ++o) {
         bool reached = true;  // the box rule, as split_reference's
         for (int a = 0; a < 3; ++a) {
@@ -218,7 +218,7 @@ TEST(SplitReference, AReferenceInsideOneChildIsKeptWhole) {
         EXPECT_EQ(parts.ref[0].box.hi, ref.box.hi);
     }
     for (ClipMode mode : {ClipMode::Exact, ClipMode::Box})
-        EXPECT_EQ(OctantSplit(cell, cell.center(), pad, mode).reached(ref.box, corner_triples(mesh)[0]), 1u);
+        EXPECT_EQ(OctantSplit(cell, pad, mode).reached(ref.box, corner_triples(mesh)[0]), 1u);
 }
 
 }  // namespace
