@@ -166,16 +166,31 @@ inline void apply_own_box_rule(const Aabb& box, const Ray& ray, const BoxTestRay
     r.hit = r.t >= ray.t_min && r.t <= ray.t_max;
 }
 
-/// Möller–Trumbore's own-box rule. Not inlined: it runs for a small share of the
-/// tests, and kept out of the structures' inner loops it leaves them their
-/// registers (the cost both ways: docs/performance.md).
-[[gnu::noinline]] inline void apply_own_box_rule(const Triangle& tri, const Ray& ray, const BoxTestRay& box_ray,
-                                                 TriangleTest& r) {
-    apply_own_box_rule(tri.box(), ray, box_ray, r);
-}
+/// How far below its terms' size Möller–Trumbore's det may fall before float's u,
+/// v, t are solved again in double (finish_moller_trumbore): 2^-6. Above it the
+/// float solve leaves the hit within 2^-16 of the ray origin's distance and size
+/// from its triangle (IllConditionedHits.EveryHitLiesOnItsTriangle), inside the
+/// references' padding (reference_padding: 2^-14 of the scene's size); below it
+/// float keeps too few of det's bits.
+inline constexpr float kDetShareForFloat = 0x1p-6f;
+/// Below this share even double keeps too few bits (the ray runs in the triangle's
+/// plane, or the triangle is a line in all but name): no hit.
+inline constexpr double kDetShareForDouble = 0x1p-32;
 
-/// Möller–Trumbore. Hit iff det != 0, u >= 0, v >= 0, u + v <= 1, the ray meets
-/// the triangle's own box, and t (brought into that box) is in [t_min, t_max].
+/// Möller–Trumbore's candidate hit (u, v said inside), finished: when det is small
+/// beside the products it is the difference of (the ray almost in the triangle's
+/// plane, or a sliver triangle), float's u, v, t can be far off, a "hit" on the
+/// sliver's box but far from the sliver, where a structure that stores the triangle
+/// only in the cells it overlaps rightly never tests it (found by fuzzing). Such a
+/// candidate is solved again in double from the same floats. Then the own-box rule.
+/// Not inlined: it runs for a small share of the tests, and kept out of the
+/// structures' inner loops it leaves them their registers (docs/performance.md).
+[[gnu::noinline]] void finish_moller_trumbore(const Triangle& tri, const Ray& ray, const BoxTestRay& box_ray,
+                                              TriangleTest& r);
+
+/// Möller–Trumbore. Hit iff det != 0, u >= 0, v >= 0, u + v <= 1 (solved again in
+/// double when det is small beside its terms, see finish_moller_trumbore), the ray
+/// meets the triangle's own box, and t (brought into that box) is in [t_min, t_max].
 /// Edges and vertices count as inside (closed triangle).
 /// No absolute epsilon: det is compared with exactly 0, so tiny and huge meshes
 /// behave alike. Every comparison is written so that NaN (the edges of a
@@ -208,7 +223,7 @@ inline void apply_own_box_rule(const Aabb& box, const Ray& ray, const BoxTestRay
     r.v = dot(ray.dir, qvec) * inv_det;
     r.t = dot(tri.edge2, qvec) * inv_det;
     if (!(r.u >= 0.0f && r.v >= 0.0f && r.u + r.v <= 1.0f)) return r;
-    apply_own_box_rule(tri, ray, box_ray, r);
+    finish_moller_trumbore(tri, ray, box_ray, r);
     return r;
 }
 
