@@ -4,8 +4,9 @@
 // node whose box starts beyond the closest hit skipped). The same arithmetic as the
 // CPU's Bvh::walk, operation for operation and `precise` (no fused multiply-add), so
 // that both find the same triangle at the same t: the slab test widened by 2^-16
-// (core/math/box_test.h), Moller-Trumbore with the own-box rule
-// (core/geometry/triangle.h), ties broken by the lower triangle id.
+// (core/math/box_test.h), Moller-Trumbore with its double solve of ill-conditioned
+// candidates and the own-box rule (core/geometry/triangle.h), ties broken by the
+// lower triangle id.
 //
 // Buffers (std430, plain words, so the layout is the CPU's arrays as they are):
 //   0 nodes: 8 words each, the box lo.xyz hi.xyz (float bits), first, count (count > 0: a leaf)
@@ -30,6 +31,9 @@ uniform vec3 u_background;  // 0..255
 const uint kNoHit = 0xffffffffu;
 const int kStackSize = 64;
 const float kMargin = 1.0 / 65536.0;
+const float kDetShareForFloat = 1.0 / 64.0;           // as core/geometry/triangle.h
+const double kDetShareForDouble = 1.0LF / 4294967296.0LF;
+const float kSmallestNormal = 1.17549435e-38;  // FLT_MIN
 
 float inf() { return uintBitsToFloat(0x7f800000u); }
 
@@ -68,6 +72,15 @@ float dot_(vec3 a, vec3 b) {
     return d;
 }
 
+dvec3 cross_d(dvec3 a, dvec3 b) {
+    precise dvec3 c = dvec3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
+    return c;
+}
+double dot_d(dvec3 a, dvec3 b) {
+    precise double d = a.x * b.x + a.y * b.y + a.z * b.z;
+    return d;
+}
+
 // Moller-Trumbore on leaf slot k with the own-box rule; true and t for a hit in [0, t_max].
 bool intersect(uint k, float t_max, out float t_hit) {
     const uint b = k * 9u;
@@ -86,6 +99,29 @@ bool intersect(uint k, float t_max, out float t_hit) {
     precise float t = dot_(e2, qvec) * inv_det;
     precise float uv = u + v;
     if (!(u >= 0.0 && v >= 0.0 && uv <= 1.0)) return false;
+    // det small beside its terms: solved again in double (finish_moller_trumbore).
+    precise float terms = abs(e1.x) * (abs(g_dir.y * e2.z) + abs(g_dir.z * e2.y)) +
+                          abs(e1.y) * (abs(g_dir.z * e2.x) + abs(g_dir.x * e2.z)) +
+                          abs(e1.z) * (abs(g_dir.x * e2.y) + abs(g_dir.y * e2.x));
+    precise float det_floor = kDetShareForFloat * terms;
+    if (!(abs(det) >= det_floor && terms >= kSmallestNormal)) {
+        const dvec3 d = dvec3(g_dir), a = dvec3(e1), c = dvec3(e2);
+        precise dvec3 tv = dvec3(g_origin) - dvec3(p0);
+        precise dvec3 pv = cross_d(d, c);
+        precise double det_d = dot_d(a, pv);
+        precise double terms_d = abs(a.x) * (abs(d.y * c.z) + abs(d.z * c.y)) +
+                                 abs(a.y) * (abs(d.z * c.x) + abs(d.x * c.z)) +
+                                 abs(a.z) * (abs(d.x * c.y) + abs(d.y * c.x));
+        precise double det_floor_d = kDetShareForDouble * terms_d;
+        if (!(abs(det_d) >= det_floor_d)) return false;
+        precise dvec3 qv = cross_d(tv, a);
+        precise double u_d = dot_d(tv, pv) / det_d;
+        precise double v_d = dot_d(d, qv) / det_d;
+        precise double t_d = dot_d(c, qv) / det_d;
+        precise double uv_d = u_d + v_d;
+        t = float(t_d);
+        if (!(u_d >= 0.0 && v_d >= 0.0 && uv_d <= 1.0)) return false;
+    }
     // The own-box rule: the triangle's box, the ray's widened interval through it.
     precise vec3 p1 = p0 + e1;
     precise vec3 p2 = p0 + e2;

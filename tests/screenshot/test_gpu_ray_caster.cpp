@@ -33,6 +33,7 @@ TEST(GpuRayCaster, AgreesWithTheCpuPixelForPixelAndLoopsAsOftenAsItVisitsNodes) 
     const Case cases[] = {
         {"builtin:teapot", {0.6, 0.5, 1.4}},
         {"builtin:stadium", {0.3, 0.2, 0.6}},               // slivers at the lid's tip, a teapot in a big box
+        {"builtin:stadium", {0.3, -0.49, 0.0}},             // 0.06 above the floor: its far rays graze it
         {"builtin:same-box?n=200", {0.8, 0.7, 1.2}},        // every box equal
         {"builtin:sphere?subdiv=3", {0.05, 0.02, 0.01}},    // from inside the sphere
         {"builtin:teapot", {4.0, 3.0, 6.0}, 20},            // far and narrow: most rays miss or graze
