@@ -1,8 +1,5 @@
 #include "core/geometry/triangle.h"
 
-#include <cmath>
-#include <limits>
-
 namespace accelviz {
 
 namespace {
@@ -19,46 +16,6 @@ ShearedCorner shear(Vec3 p, const Ray& ray, const WatertightRay& r) {
 }
 
 }  // namespace
-
-void finish_moller_trumbore(const Triangle& tri, const Ray& ray, const BoxTestRay& box_ray, TriangleTest& r) {
-    // det = edge1 · (dir × edge2): the size of its terms, none cancelling. In float;
-    // when products overflow or underflow, the double solve below decides.
-    const Vec3 e1 = tri.edge1, e2 = tri.edge2, d = ray.dir;
-    const float det = dot(e1, cross(d, e2));  // as intersect_triangle computed it, bit for bit
-    const float terms = std::fabs(e1.x) * (std::fabs(d.y * e2.z) + std::fabs(d.z * e2.y)) +
-                        std::fabs(e1.y) * (std::fabs(d.z * e2.x) + std::fabs(d.x * e2.z)) +
-                        std::fabs(e1.z) * (std::fabs(d.x * e2.y) + std::fabs(d.y * e2.x));
-    if (!(std::fabs(det) >= kDetShareForFloat * terms && terms >= std::numeric_limits<float>::min())) {
-        // The same solve in double, from the same floats: each product of two floats is
-        // exact there, and the rest keeps about 29 more bits than float.
-        auto cross = [](const double a[3], const double b[3], double out[3]) {
-            out[0] = a[1] * b[2] - a[2] * b[1];
-            out[1] = a[2] * b[0] - a[0] * b[2];
-            out[2] = a[0] * b[1] - a[1] * b[0];
-        };
-        auto dot = [](const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
-        const double dir[3] = {d.x, d.y, d.z}, edge1[3] = {e1.x, e1.y, e1.z}, edge2[3] = {e2.x, e2.y, e2.z};
-        const double tvec[3] = {double(ray.origin.x) - tri.p0.x, double(ray.origin.y) - tri.p0.y,
-                                double(ray.origin.z) - tri.p0.z};
-        double pvec[3], qvec[3];
-        cross(dir, edge2, pvec);
-        const double det_d = dot(edge1, pvec);
-        double terms_d = 0;
-        for (int a = 0; a < 3; ++a) {
-            const int b = (a + 1) % 3, c = (a + 2) % 3;
-            terms_d += std::fabs(edge1[a]) * (std::fabs(dir[b] * edge2[c]) + std::fabs(dir[c] * edge2[b]));
-        }
-        r.t = kInfinity;
-        if (!(std::fabs(det_d) >= kDetShareForDouble * terms_d)) return;
-        cross(tvec, edge1, qvec);
-        const double u = dot(tvec, pvec) / det_d, v = dot(dir, qvec) / det_d;
-        r.u = float(u);
-        r.v = float(v);
-        r.t = float(dot(edge2, qvec) / det_d);
-        if (!(u >= 0.0 && v >= 0.0 && u + v <= 1.0)) return;
-    }
-    apply_own_box_rule(tri.box(), ray, box_ray, r);
-}
 
 PlaneFirstTest plane_first_test(const Triangle& tri, const Ray& ray) {
     PlaneFirstTest r;

@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include <optional>
 #include <string>
@@ -149,21 +150,34 @@ struct WatertightRay {
     }
 };
 
+/// The ray's interval through the box a test sees its triangle in, widened as the BVH
+/// widens node boxes (the variant it picks for this ray), or nullopt if the ray misses
+/// the box. Not clipped to [t_min, t_max]: the own-box rule clamps t into it first
+/// (a t just behind the origin stays behind it), then checks.
+inline std::optional<SlabResult> own_box_interval(const Aabb& box, const Ray& ray, const BoxTestRay& box_ray) {
+    const SlabResult own = ray.t_min < 0.0f ? widened_slab_test<true>(box, box_ray, -kInfinity, kInfinity)
+                                            : widened_slab_test<false>(box, box_ray, -kInfinity, kInfinity);
+    if (!(own.t_enter <= own.t_exit) || !(own.t_enter < kInfinity) || !(own.t_exit > -kInfinity)) return std::nullopt;
+    return own;
+}
+
+/// The own-box rule's second half: t brought into the box's interval, then the hit
+/// if it lies in [t_min, t_max].
+inline void clamp_into_own_box(const SlabResult& own, const Ray& ray, TriangleTest& r) {
+    r.t = r.t < own.t_enter ? own.t_enter : (r.t > own.t_exit ? own.t_exit : r.t);
+    r.hit = r.t >= ray.t_min && r.t <= ray.t_max;
+}
+
 /// The own-box rule for a test that says inside (see intersect_triangle), with the
 /// box the test sees the triangle in: sets r.hit, or r.off_own_box, and brings r.t
 /// into the box.
 inline void apply_own_box_rule(const Aabb& box, const Ray& ray, const BoxTestRay& box_ray, TriangleTest& r) {
-    // The variant of the widened test the BVH picks for this ray. The interval is not
-    // clipped to [t_min, t_max]: t is clamped into the box first (a t just behind the
-    // origin stays behind it), then checked.
-    const SlabResult own = ray.t_min < 0.0f ? widened_slab_test<true>(box, box_ray, -kInfinity, kInfinity)
-                                            : widened_slab_test<false>(box, box_ray, -kInfinity, kInfinity);
-    if (!(own.t_enter <= own.t_exit) || !(own.t_enter < kInfinity) || !(own.t_exit > -kInfinity)) {
+    const std::optional<SlabResult> own = own_box_interval(box, ray, box_ray);
+    if (!own) {
         r.off_own_box = true;
         return;
     }
-    r.t = r.t < own.t_enter ? own.t_enter : (r.t > own.t_exit ? own.t_exit : r.t);
-    r.hit = r.t >= ray.t_min && r.t <= ray.t_max;
+    clamp_into_own_box(*own, ray, r);
 }
 
 /// How far below its terms' size Möller–Trumbore's det may fall before float's u,
@@ -177,16 +191,64 @@ inline constexpr float kDetShareForFloat = 0x1p-6f;
 /// plane, or the triangle is a line in all but name): no hit.
 inline constexpr double kDetShareForDouble = 0x1p-32;
 
+/// Möller–Trumbore's solve of a candidate hit again in double, from the same floats:
+/// each product of two floats is exact there, and the rest keeps about 29 more bits
+/// than float. Sets r.u, r.v, r.t; false if it is no hit after all (outside, or det
+/// below kDetShareForDouble of its terms). Not inlined: a small share of the small
+/// share of tests that reach finish_moller_trumbore.
+[[gnu::noinline]] inline bool solve_moller_trumbore_in_double(const Triangle& tri, const Ray& ray,
+                                                              TriangleTest& r) {
+    const Vec3d d = to_double(ray.dir), e1 = to_double(tri.edge1), e2 = to_double(tri.edge2);
+    const Vec3d tvec = to_double(ray.origin) - to_double(tri.p0);
+    const Vec3d pvec = cross(d, e2);
+    const double det = dot(e1, pvec);
+    const double terms = std::fabs(e1.x) * (std::fabs(d.y * e2.z) + std::fabs(d.z * e2.y)) +
+                         std::fabs(e1.y) * (std::fabs(d.z * e2.x) + std::fabs(d.x * e2.z)) +
+                         std::fabs(e1.z) * (std::fabs(d.x * e2.y) + std::fabs(d.y * e2.x));
+    r.t = kInfinity;
+    if (!(std::fabs(det) >= kDetShareForDouble * terms)) return false;
+    const Vec3d qvec = cross(tvec, e1);
+    const double u = dot(tvec, pvec) / det, v = dot(d, qvec) / det;
+    r.u = float(u);
+    r.v = float(v);
+    r.t = float(dot(e2, qvec) / det);
+    return u >= 0.0 && v >= 0.0 && u + v <= 1.0;
+}
+
 /// Möller–Trumbore's candidate hit (u, v said inside), finished: when det is small
 /// beside the products it is the difference of (the ray almost in the triangle's
 /// plane, or a sliver triangle), float's u, v, t can be far off, a "hit" on the
 /// sliver's box but far from the sliver, where a structure that stores the triangle
 /// only in the cells it overlaps rightly never tests it (found by fuzzing). Such a
-/// candidate is solved again in double from the same floats. Then the own-box rule.
+/// candidate is solved again in double; the own-box rule, applied as ever, goes
+/// first, so that a candidate whose box lies beyond [t_min, t_max] (a triangle
+/// behind the closest hit so far: most candidates) skips the question.
 /// Not inlined: it runs for a small share of the tests, and kept out of the
-/// structures' inner loops it leaves them their registers (docs/performance.md).
-[[gnu::noinline]] void finish_moller_trumbore(const Triangle& tri, const Ray& ray, const BoxTestRay& box_ray,
-                                              TriangleTest& r);
+/// structures' inner loops it leaves them their registers; defined here, where the
+/// compiler sees which registers it uses, so that the loops keep the others across
+/// the call (docs/performance.md).
+[[gnu::noinline]] inline void finish_moller_trumbore(const Triangle& tri, const Ray& ray, const BoxTestRay& box_ray,
+                                                     TriangleTest& r) {
+    const std::optional<SlabResult> own = own_box_interval(tri.box(), ray, box_ray);
+    if (!own) {
+        r.off_own_box = true;
+        return;
+    }
+    if (own->t_enter <= ray.t_max && own->t_exit >= ray.t_min) {
+        // det = edge1 · (dir × edge2) as intersect_triangle computed it, bit for bit, and
+        // the size of its terms, none cancelling. In float; when products overflow or
+        // underflow, the double solve decides.
+        const Vec3 e1 = tri.edge1, e2 = tri.edge2, d = ray.dir;
+        const float det = dot(e1, cross(d, e2));
+        const float terms = std::fabs(e1.x) * (std::fabs(d.y * e2.z) + std::fabs(d.z * e2.y)) +
+                            std::fabs(e1.y) * (std::fabs(d.z * e2.x) + std::fabs(d.x * e2.z)) +
+                            std::fabs(e1.z) * (std::fabs(d.x * e2.y) + std::fabs(d.y * e2.x));
+        const bool float_holds =
+            std::fabs(det) >= kDetShareForFloat * terms && terms >= std::numeric_limits<float>::min();
+        if (!float_holds && !solve_moller_trumbore_in_double(tri, ray, r)) return;
+    }
+    clamp_into_own_box(*own, ray, r);
+}
 
 /// Möller–Trumbore. Hit iff det != 0, u >= 0, v >= 0, u + v <= 1 (solved again in
 /// double when det is small beside its terms, see finish_moller_trumbore), the ray
