@@ -6,7 +6,8 @@
 // that both find the same triangle at the same t: the slab test widened by 2^-16
 // (core/math/box_test.h), Moller-Trumbore with its double solve of ill-conditioned
 // candidates and the own-box rule (core/geometry/triangle.h), ties broken by the
-// lower triangle id.
+// lower triangle id. (Bit for bit where float and double division round correctly,
+// as on llvmpipe; GLSL itself does not promise it.)
 //
 // Buffers (std430, plain words, so the layout is the CPU's arrays as they are):
 //   0 nodes: 8 words each, the box lo.xyz hi.xyz (float bits), first, count (count > 0: a leaf)
@@ -34,6 +35,7 @@ const float kMargin = 1.0 / 65536.0;
 const float kDetShareForFloat = 1.0 / 64.0;           // as core/geometry/triangle.h
 const double kDetShareForDouble = 1.0LF / 4294967296.0LF;
 const float kSmallestNormal = 1.17549435e-38;  // FLT_MIN
+const float kLargestFloat = 3.40282347e38;     // FLT_MAX
 
 float inf() { return uintBitsToFloat(0x7f800000u); }
 
@@ -104,7 +106,7 @@ bool intersect(uint k, float t_max, out float t_hit) {
                           abs(e1.y) * (abs(g_dir.z * e2.x) + abs(g_dir.x * e2.z)) +
                           abs(e1.z) * (abs(g_dir.x * e2.y) + abs(g_dir.y * e2.x));
     precise float det_floor = kDetShareForFloat * terms;
-    if (!(abs(det) >= det_floor && terms >= kSmallestNormal)) {
+    if (!(abs(det) >= det_floor && terms >= kSmallestNormal && terms <= kLargestFloat)) {
         const dvec3 d = dvec3(g_dir), a = dvec3(e1), c = dvec3(e2);
         precise dvec3 tv = dvec3(g_origin) - dvec3(p0);
         precise dvec3 pv = cross_d(d, c);

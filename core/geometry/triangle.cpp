@@ -54,8 +54,16 @@ TriangleTest intersect_triangle(const TriangleCorners& tri, const Ray& ray, cons
     float e2 = b.x * a.y - b.y * a.x;
     // Rounding is monotone, so a nonzero float edge function has the exact sign; a
     // zero may be rounding. Then all three again in double, where each product of
-    // two floats is exact and the difference keeps the exact sign.
-    if (e0 == 0.0f || e1 == 0.0f || e2 == 0.0f) {
+    // two floats is exact and the difference keeps the exact sign. Their sizes may be
+    // rounding too: on a hit (one sign) their sum, det, small beside the products (a
+    // sliver seen edge-on) leaves t, their weighted mean of the corners' depths, off
+    // the triangle, as Möller–Trumbore's (finish_moller_trumbore). Then too.
+    const bool one_sign = (e0 > 0.0f && e1 > 0.0f && e2 > 0.0f) || (e0 < 0.0f && e1 < 0.0f && e2 < 0.0f);
+    const bool small_det =
+        one_sign && !(std::fabs(e0 + e1 + e2) >=
+                      kDetShareForFloat * (std::fabs(c.x * b.y) + std::fabs(c.y * b.x) + std::fabs(a.x * c.y) +
+                                           std::fabs(a.y * c.x) + std::fabs(b.x * a.y) + std::fabs(b.y * a.x)));
+    if (e0 == 0.0f || e1 == 0.0f || e2 == 0.0f || small_det) {
         e0 = float(double(c.x) * double(b.y) - double(c.y) * double(b.x));
         e1 = float(double(a.x) * double(c.y) - double(a.y) * double(c.x));
         e2 = float(double(b.x) * double(a.y) - double(b.y) * double(a.x));

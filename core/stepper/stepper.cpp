@@ -266,7 +266,7 @@ TriangleInspection inspect_triangle_test(const SteppedRay& r, size_t index) {
     if (e.hit)
         out.verdict = "hit: u, v, 1-u-v >= 0 and t in range";
     else if (std::isinf(e.t) && e.u == 0.0f && e.v == 0.0f)
-        out.verdict = "miss: the ray is parallel to the triangle's plane (det = 0)";
+        out.verdict = "miss: the ray is parallel to the triangle's plane (det = 0, or too small to trust even in double)";
     else if (std::isnan(e.u) || std::isnan(e.v) || std::isnan(e.t))
         out.verdict = "miss: degenerate triangle (no area)";
     else if (e.u < 0.0f)
