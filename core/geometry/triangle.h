@@ -221,9 +221,9 @@ inline constexpr double kDetShareForDouble = 0x1p-32;
 
 /// Möller–Trumbore's candidate hit (u, v said inside), finished: when det is small
 /// beside the products it is the difference of (a sliver triangle, or a ray almost
-/// in the plane of a triangle not aligned with the axes), float's u, v, t can be far off, a "hit" on the
-/// sliver's box but far from the sliver, where a structure that stores the triangle
-/// only in the cells it overlaps rightly never tests it (found by fuzzing). Such a
+/// in the plane of a triangle not aligned with the axes), float's u, v, t can be far
+/// off, a "hit" on the sliver's box but far from the sliver, where a structure that
+/// stores the triangle only in the cells it overlaps rightly never tests it. Such a
 /// candidate is solved again in double; the own-box rule, applied as ever, goes
 /// first, so that a candidate whose box lies beyond [t_min, t_max] (a triangle
 /// behind the closest hit so far: most candidates) skips the question.
