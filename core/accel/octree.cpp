@@ -66,7 +66,7 @@ struct OctreeInput {
 void split_references(std::span<const uint32_t> refs, const Aabb& box, const OctreeInput& in, ClipMode clip,
                       const PartitionProgress& progress, OctantRefs& children) {
     const OctantSplit split(box, in.pad, clip);
-    const Vec3& centre = split.centre();
+    const Vec3 centre = split.centre();
     split_in_order(refs.size(), children, progress, [&](size_t begin, size_t end, OctantRefs& to) {
         for (size_t i = begin; i < end; ++i) {
             const uint32_t tri = refs[i];

@@ -161,12 +161,13 @@ inline uint32_t octants_of(uint32_t below, uint32_t above) { return kOctantsOf[b
 }  // namespace
 
 OctantSplit::OctantSplit(const Aabb& cell, float pad, ClipMode mode)
-    : exact_(mode == ClipMode::Exact), centre_(cell.center()), limit_(padded(cell, 2 * pad)), centre_lanes_(xyz(centre_)) {
+    : exact_(mode == ClipMode::Exact), limit_(padded(cell, 2 * pad)), centre_(xyz(cell.center())) {
     // On axis a the octant spans [cell.lo, centre] or [centre, cell.hi]; grown as
     // padded() grows a box, so the same floats as padded(octant_box, ...).
     const float pad2 = 2 * pad;
     for (int side = 0; side < 2; ++side) {
-        const Vec3 lo = side ? centre_ : cell.lo, hi = side ? cell.hi : centre_;
+        const Vec3 centre = this->centre();
+        const Vec3 lo = side ? centre : cell.lo, hi = side ? cell.hi : centre;
         limit_lo_[side] = xyz(lo - Vec3{pad2, pad2, pad2});
         limit_hi_[side] = xyz(hi + Vec3{pad2, pad2, pad2});
         reach_lo_[side] = xyz(lo - Vec3{pad, pad, pad});
@@ -177,8 +178,8 @@ OctantSplit::OctantSplit(const Aabb& cell, float pad, ClipMode mode)
 uint32_t OctantSplit::reached(const Aabb& box, const std::array<Vec3, 3>& corners) const {
     const Xyz lo = xyz(box.lo), hi = xyz(box.hi);
     // The sides the box reaches: above iff hi > centre, below iff lo < centre or not above.
-    const uint32_t above = ~axes_at_most(hi, centre_lanes_) & 7u;
-    const uint32_t below = (~axes_at_most(centre_lanes_, lo) | ~above) & 7u;
+    const uint32_t above = ~axes_at_most(hi, centre_) & 7u;
+    const uint32_t below = (~axes_at_most(centre_, lo) | ~above) & 7u;
     // The box lies within the cell grown by 2·pad, so its part in an octant it reaches,
     // box ∩ (octant grown by 2·pad), is never empty: with Box, those octants are all.
     uint32_t reached = octants_of(below, above);

@@ -105,7 +105,7 @@ public:
     OctantSplit(const Aabb& cell, float pad, ClipMode mode);
 
     /// Where the cell is cut: its box's centre (Aabb::center), the octree node's centre.
-    const Vec3& centre() const { return centre_; }
+    Vec3 centre() const { return {centre_.v[0], centre_.v[1], centre_.v[2]}; }
     /// The cell grown by 2·pad: what a reference's box in it lies within (SpatialRef).
     const Aabb& limit() const { return limit_; }
 
@@ -127,9 +127,8 @@ public:
 
 private:
     bool exact_;
-    Vec3 centre_;
     Aabb limit_;
-    Xyz centre_lanes_;  ///< centre_ as lanes
+    Xyz centre_;
     // Per side (0 below the centre, 1 above) and axis: the octant's bounds grown by
     // 2·pad and by pad.
     Xyz limit_lo_[2], limit_hi_[2], reach_lo_[2], reach_hi_[2];

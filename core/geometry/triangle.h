@@ -193,6 +193,16 @@ inline constexpr float kDetShareForFloat = 0x1p-6f;
 /// plane, or the triangle is a line in all but name): no hit.
 inline constexpr double kDetShareForDouble = 0x1p-32;
 
+/// The size of det = edge1 · (dir × edge2)'s terms, none cancelling: what det is
+/// compared with to tell whether float kept enough of its bits. In float (Vec3) or
+/// double (Vec3d), the same operations in the same order.
+template <class V>
+auto det_terms_size(const V& e1, const V& d, const V& e2) {
+    return std::fabs(e1.x) * (std::fabs(d.y * e2.z) + std::fabs(d.z * e2.y)) +
+           std::fabs(e1.y) * (std::fabs(d.z * e2.x) + std::fabs(d.x * e2.z)) +
+           std::fabs(e1.z) * (std::fabs(d.x * e2.y) + std::fabs(d.y * e2.x));
+}
+
 /// Möller–Trumbore's solve of a candidate hit again in double, from the same floats:
 /// each product of two floats is exact there, and the rest keeps about 29 more bits
 /// than float. Sets r.u, r.v, r.t; false if it is no hit after all (outside, or det
@@ -204,10 +214,7 @@ inline constexpr double kDetShareForDouble = 0x1p-32;
     const Vec3d tvec = to_double(ray.origin) - to_double(tri.p0);
     const Vec3d pvec = cross(d, e2);
     const double det = dot(e1, pvec);
-    const double terms = std::fabs(e1.x) * (std::fabs(d.y * e2.z) + std::fabs(d.z * e2.y)) +
-                         std::fabs(e1.y) * (std::fabs(d.z * e2.x) + std::fabs(d.x * e2.z)) +
-                         std::fabs(e1.z) * (std::fabs(d.x * e2.y) + std::fabs(d.y * e2.x));
-    if (!(std::fabs(det) >= kDetShareForDouble * terms)) {
+    if (!(std::fabs(det) >= kDetShareForDouble * det_terms_size(e1, d, e2))) {
         r = TriangleTest{};  // as a det of exactly 0: parallel, as far as double can tell
         return false;
     }
@@ -239,14 +246,11 @@ inline constexpr double kDetShareForDouble = 0x1p-32;
         return;
     }
     if (own->t_enter <= ray.t_max && own->t_exit >= ray.t_min) {
-        // det = edge1 · (dir × edge2) as intersect_triangle computed it, bit for bit, and
-        // the size of its terms, none cancelling. In float; unless that size is a normal
-        // float (products that overflow or underflow), the double solve decides.
-        const Vec3 e1 = tri.edge1, e2 = tri.edge2, d = ray.dir;
-        const float det = dot(e1, cross(d, e2));
-        const float terms = std::fabs(e1.x) * (std::fabs(d.y * e2.z) + std::fabs(d.z * e2.y)) +
-                            std::fabs(e1.y) * (std::fabs(d.z * e2.x) + std::fabs(d.x * e2.z)) +
-                            std::fabs(e1.z) * (std::fabs(d.x * e2.y) + std::fabs(d.y * e2.x));
+        // det as intersect_triangle computed it, bit for bit, and its terms' size, in
+        // float; unless that size is a normal float (products that overflow or
+        // underflow), the double solve decides.
+        const float det = dot(tri.edge1, cross(ray.dir, tri.edge2));
+        const float terms = det_terms_size(tri.edge1, ray.dir, tri.edge2);
         const bool float_holds = std::fabs(det) >= kDetShareForFloat * terms &&
                                  terms >= std::numeric_limits<float>::min() &&
                                  terms <= std::numeric_limits<float>::max();
