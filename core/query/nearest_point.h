@@ -42,9 +42,11 @@ struct NearestPoint {
     double distance() const { return std::sqrt(distance_squared); }
 };
 
-/// The point of triangle (a, b, c) nearest to p, by the triangle's Voronoi regions
-/// (Ericson, Real-Time Collision Detection, 2005, section 5.1.5). Degenerate
-/// triangles (a segment or a point) give a point of the segment or the point.
+/// The point of triangle (a, b, c) nearest to p: its projection onto the plane when
+/// it falls inside the triangle, else the nearest point of the three edges (the
+/// regions of Ericson, Real-Time Collision Detection, 2005, section 5.1.5, told apart
+/// by tests that stay exact enough on slivers). Degenerate triangles (a segment or a
+/// point) give a point of the segment or the point.
 Vec3d closest_point_on_triangle(Vec3d p, Vec3d a, Vec3d b, Vec3d c);
 
 /// Squared distance from p to the nearest point of `box` (0 inside).
