@@ -28,6 +28,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/accel/bvh.h"
+#include "core/geometry/triangle_pack.h"
 #include "core/math/box_lanes.h"
 #include "core/util/expected.h"
 #include "core/util/work_progress.h"
@@ -76,6 +77,9 @@ struct WideBvh {
     uint32_t root_count = 0;     ///< 0: the root is wide node 0; > 0: the root is a leaf of this many triangles
     std::vector<uint32_t, LargeArrayAllocator<uint32_t>> prim_ids;  ///< leaf order → triangle id (the binary tree's)
     TriangleArray triangles;     ///< leaf order
+    /// The same triangles leaf by leaf as lanes: what Möller–Trumbore's walk tests,
+    /// four at a time (triangle_pack.h). Made by make_leaf_lanes().
+    LeafTriangleLanes leaf_lanes;
     CornerArray corners;         ///< only when triangle_test is watertight
     BvhConfig build_config;
     BvhBuildStats binary_stats;  ///< the binary tree it was collapsed from
@@ -89,6 +93,10 @@ struct WideBvh {
     nlohmann::json stats() const;
 
     bool empty() const { return nodes.empty() && root_count == 0; }
+
+    /// Fills `leaf_lanes` from the leaves and `triangles` (the last step of every way
+    /// a wide BVH is made).
+    void make_leaf_lanes();
 
     /// The box of `slot` (slot 0: the root's).
     Aabb box_of(uint32_t slot) const {
@@ -163,11 +171,14 @@ private:
 
     /// A hint to the memory system: child i of `node` will be needed (its wide node's
     /// cache lines, or its leaf's triangles). Changes nothing but when memory arrives.
+    template <TriangleTestKind kTest>
     [[gnu::always_inline]] void prefetch_child(const Node& node, int i) const {
         if (node.is_leaf(i)) {
-            const Triangle* first = triangles.data() + node.first[i];
+            const char* first = kTest == TriangleTestKind::MollerTrumbore
+                                    ? reinterpret_cast<const char*>(leaf_lanes.leaf(node.first[i]))
+                                    : reinterpret_cast<const char*>(triangles.data() + node.first[i]);
             prefetch(first);
-            prefetch(reinterpret_cast<const char*>(first + node.count[i]) - 1);
+            prefetch(first + sizeof(Triangle) * node.count[i] - 1);
         } else {
             const char* line = reinterpret_cast<const char*>(&nodes[node.first[i]]);
             for (size_t offset = 0; offset < sizeof(Node); offset += 64) prefetch(line + offset);
@@ -178,6 +189,41 @@ private:
     static Hit done(const Hit& best, Observer& obs) {
         obs.on({.kind = EventKind::Done, .hit = best.found(), .tri = best.tri, .t = best.t, .u = best.u, .v = best.v});
         return best;
+    }
+
+    /// intersect_leaf_triangles (bvh.h) for Möller–Trumbore, four lanes at a time:
+    /// the leaf [first, first + count) by moller_trumbore_lanes, then its candidates one
+    /// by one in leaf order (triangle_pack.h). An observer that watches hears every
+    /// triangle's test, as from the one-triangle loop; the fast path looks only at the
+    /// candidates (no other lane can hit).
+    template <StopAt kStop, class Observer>
+    [[gnu::always_inline]] bool intersect_leaf_lanes(uint32_t first, uint32_t count, Ray& ray,
+                                                     const BoxTestRay& box_ray, Hit& best, Observer& obs) const {
+        const float* leaf = leaf_lanes.leaf(first);
+        for (uint32_t j = 0; j < count; j += LeafTriangleLanes::kLanes) {
+            const uint32_t lanes = (1u << std::min<uint32_t>(count - j, LeafTriangleLanes::kLanes)) - 1;
+            const PackTest test4 = moller_trumbore_lanes<typename Lanes::Four>(leaf, count, j, ray);
+            for (uint32_t todo = kObserverWatches<Observer> ? lanes : test4.candidates & lanes; todo; todo &= todo - 1) {
+                const int i = __builtin_ctz(todo);
+                TriangleTest test = test4.lane(i);
+                if (test4.candidates >> i & 1)
+                    finish_moller_trumbore(leaf_lanes.get(first, count, j + uint32_t(i)), ray, box_ray, test);
+                const uint32_t id = prim_ids[first + j + uint32_t(i)];
+                obs.on({.kind = EventKind::TriangleTest, .hit = test.hit, .tri = id, .t = test.t, .u = test.u,
+                        .v = test.v});
+                if constexpr (kStop == StopAt::AnyHit) {
+                    if (test.hit) {
+                        best = {id, test.t, test.u, test.v};
+                        return true;
+                    }
+                } else if (test.hit && is_closer(test.t, id, best)) {
+                    best = {id, test.t, test.u, test.v};
+                    ray.t_max = test.t;  // later triangles must be at least this close (inclusive, as BruteForce)
+                    obs.on({.kind = EventKind::NewClosest, .tri = best.tri, .t = best.t, .u = best.u, .v = best.v});
+                }
+            }
+        }
+        return false;
     }
 };
 
@@ -231,9 +277,13 @@ Hit WideBvh<W, Lanes>::walk(const Ray& ray, Observer& obs) const {
         if (current.is_leaf()) {
             obs.on({.kind = EventKind::Leaf, .node = current.slot, .first = current.first, .count = current.count,
                     .t_enter = current.t_enter, .t_exit = current.t_exit});
-            if (intersect_leaf_triangles<kStop>(current.first, current.count, prim_ids.data(), shrinking, tester, best,
-                                                obs))
+            if constexpr (kTest == TriangleTestKind::MollerTrumbore) {
+                if (intersect_leaf_lanes<kStop>(current.first, current.count, shrinking, box_ray, best, obs))
+                    return done(best, obs);
+            } else if (intersect_leaf_triangles<kStop>(current.first, current.count, prim_ids.data(), shrinking, tester,
+                                                       best, obs)) {
                 return done(best, obs);
+            }
         } else {
             // All children's boxes in one go; keep those the ray enters no later than
             // the closest hit so far (algorithm 1: every one it enters).
@@ -268,7 +318,7 @@ Hit WideBvh<W, Lanes>::walk(const Ray& ray, Observer& obs) const {
                 // The kept leaves' triangles are the loads most likely to miss the caches:
                 // ask for all of them now, so their misses may overlap (a hint only).
                 for (uint32_t m = kept; m; m &= m - 1)
-                    if (node.is_leaf(__builtin_ctz(m))) prefetch_child(node, __builtin_ctz(m));
+                    if (node.is_leaf(__builtin_ctz(m))) prefetch_child<kTest>(node, __builtin_ctz(m));
                 // The kept children in visiting order: nearest first (the lower lane on a
                 // tie), or lane order. The first becomes current; the rest go on the
                 // stack last-first, so they come back off it in this order. One and two
@@ -277,7 +327,7 @@ Hit WideBvh<W, Lanes>::walk(const Ray& ray, Observer& obs) const {
                 const uint32_t rest = kept & (kept - 1);
                 if (rest == 0) {
                     current = entry_of(a);
-                    prefetch_child(node, a);
+                    prefetch_child<kTest>(node, a);
                     continue;
                 }
                 if ((rest & (rest - 1)) == 0) {
@@ -285,7 +335,7 @@ Hit WideBvh<W, Lanes>::walk(const Ray& ray, Observer& obs) const {
                     const bool b_first = kNearestFirst && t_enter[b] < t_enter[a];
                     push(b_first ? a : b);
                     current = entry_of(b_first ? b : a);
-                    prefetch_child(node, b_first ? b : a);
+                    prefetch_child<kTest>(node, b_first ? b : a);
                     continue;
                 }
                 int order[W];
@@ -299,7 +349,7 @@ Hit WideBvh<W, Lanes>::walk(const Ray& ray, Observer& obs) const {
                 }
                 for (int k = n - 1; k > 0; --k) push(order[k]);
                 current = entry_of(order[0]);
-                prefetch_child(node, order[0]);
+                prefetch_child<kTest>(node, order[0]);
                 continue;
             }
         }

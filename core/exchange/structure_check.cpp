@@ -539,6 +539,7 @@ WideBvh<W> wide_bvh_of(const StructureFile& f, const Mesh& mesh) {
         }
     }
     for (uint32_t id : wide.prim_ids) wide.triangles.push_back(mesh.triangle(id));
+    wide.make_leaf_lanes();
     wide.build_stats.width = W;
     return wide;
 }

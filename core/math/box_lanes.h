@@ -12,7 +12,8 @@
 /// MAXPS/MINPS do, NaN and ±0 included), so every implementation returns
 /// bit-identical intervals to widened_slab_test() box by box: the wide BVH's
 /// answers stay exactly brute force's, and the tests compare the SIMD lanes with
-/// the loop.
+/// the loop. The wide BVH's leaves test four triangles with the same lanes
+/// (geometry/triangle_pack.h: its additions, divisions and equality too).
 
 #include <array>
 #include <cstdint>
@@ -30,6 +31,7 @@ namespace accelviz {
 template <int W>
 struct ScalarLanes {
     static constexpr int kWidth = W;
+    using Four = ScalarLanes<4>;  ///< the same kind of lanes, four wide (a triangle pack's)
     std::array<float, W> v;
 
     static ScalarLanes load(const float* p) {
@@ -37,6 +39,7 @@ struct ScalarLanes {
         for (int i = 0; i < W; ++i) r.v[i] = p[i];
         return r;
     }
+    static ScalarLanes load_unaligned(const float* p) { return load(p); }
     static ScalarLanes splat(float x) {
         ScalarLanes r;
         r.v.fill(x);
@@ -57,6 +60,12 @@ struct ScalarLanes {
     friend ScalarLanes operator*(const ScalarLanes& a, const ScalarLanes& b) {
         return map(a, b, [](float x, float y) { return x * y; });
     }
+    friend ScalarLanes operator+(const ScalarLanes& a, const ScalarLanes& b) {
+        return map(a, b, [](float x, float y) { return x + y; });
+    }
+    friend ScalarLanes operator/(const ScalarLanes& a, const ScalarLanes& b) {
+        return map(a, b, [](float x, float y) { return x / y; });
+    }
     /// a > b ? a : b per lane (b when either is NaN).
     static ScalarLanes max(const ScalarLanes& a, const ScalarLanes& b) {
         return map(a, b, [](float x, float y) { return x > y ? x : y; });
@@ -71,6 +80,12 @@ struct ScalarLanes {
         for (int i = 0; i < W; ++i) m |= uint32_t(a.v[i] <= b.v[i]) << i;
         return m;
     }
+    /// Bit i set where a[i] == b[i] (false for NaN).
+    static uint32_t equal(const ScalarLanes& a, const ScalarLanes& b) {
+        uint32_t m = 0;
+        for (int i = 0; i < W; ++i) m |= uint32_t(a.v[i] == b.v[i]) << i;
+        return m;
+    }
     /// x[i] > 0 ? if_positive : otherwise, per lane.
     static ScalarLanes select_positive(const ScalarLanes& x, float if_positive, float otherwise) {
         ScalarLanes r;
@@ -83,16 +98,21 @@ struct ScalarLanes {
 /// Four floats in an SSE register.
 struct SseLanes {
     static constexpr int kWidth = 4;
+    using Four = SseLanes;
     __m128 v;
 
     static SseLanes load(const float* p) { return {_mm_load_ps(p)}; }
+    static SseLanes load_unaligned(const float* p) { return {_mm_loadu_ps(p)}; }
     static SseLanes splat(float x) { return {_mm_set1_ps(x)}; }
     void store(float* p) const { _mm_storeu_ps(p, v); }
     friend SseLanes operator-(SseLanes a, SseLanes b) { return {_mm_sub_ps(a.v, b.v)}; }
     friend SseLanes operator*(SseLanes a, SseLanes b) { return {_mm_mul_ps(a.v, b.v)}; }
+    friend SseLanes operator+(SseLanes a, SseLanes b) { return {_mm_add_ps(a.v, b.v)}; }
+    friend SseLanes operator/(SseLanes a, SseLanes b) { return {_mm_div_ps(a.v, b.v)}; }
     static SseLanes max(SseLanes a, SseLanes b) { return {_mm_max_ps(a.v, b.v)}; }  // MAXPS: a > b ? a : b
     static SseLanes min(SseLanes a, SseLanes b) { return {_mm_min_ps(a.v, b.v)}; }  // MINPS: a < b ? a : b
     static uint32_t less_equal(SseLanes a, SseLanes b) { return uint32_t(_mm_movemask_ps(_mm_cmple_ps(a.v, b.v))); }
+    static uint32_t equal(SseLanes a, SseLanes b) { return uint32_t(_mm_movemask_ps(_mm_cmpeq_ps(a.v, b.v))); }
     static SseLanes select_positive(SseLanes x, float if_positive, float otherwise) {
         const __m128 positive = _mm_cmpgt_ps(x.v, _mm_setzero_ps());
         return {_mm_or_ps(_mm_and_ps(positive, _mm_set1_ps(if_positive)),
@@ -105,9 +125,11 @@ struct SseLanes {
 /// Eight floats in an AVX register.
 struct AvxLanes {
     static constexpr int kWidth = 8;
+    using Four = SseLanes;
     __m256 v;
 
     static AvxLanes load(const float* p) { return {_mm256_load_ps(p)}; }
+    static AvxLanes load_unaligned(const float* p) { return {_mm256_loadu_ps(p)}; }
     static AvxLanes splat(float x) { return {_mm256_set1_ps(x)}; }
     void store(float* p) const { _mm256_storeu_ps(p, v); }
     friend AvxLanes operator-(AvxLanes a, AvxLanes b) { return {_mm256_sub_ps(a.v, b.v)}; }
