@@ -38,10 +38,10 @@ nlohmann::json WideBvh<W, Lanes>::stats() const {
 }
 
 template <int W, class Lanes>
-void WideBvh<W, Lanes>::make_leaf_lanes() {
-    leaf_lanes.resize(triangles.size());
+void WideBvh<W, Lanes>::make_leaf_lanes(const TriangleArray& leaf_order_triangles) {
+    leaf_lanes.resize(leaf_order_triangles.size());
     auto fill = [&](uint32_t first, uint32_t count) {
-        for (uint32_t j = 0; j < count; ++j) leaf_lanes.set(first, count, j, triangles[first + j]);
+        for (uint32_t j = 0; j < count; ++j) leaf_lanes.set(first, count, j, leaf_order_triangles[first + j]);
     };
     if (root_count > 0) fill(root_first, root_count);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, nodes.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
@@ -173,12 +173,12 @@ Expected<WideBvh<W, Lanes>> collapse_bvh_with(Bvh&& binary, WorkProgress* progre
     stats.nodes = uint32_t(wide.nodes.size());
 
     wide.prim_ids = std::move(binary.prim_ids);
-    wide.triangles = std::move(binary.triangles);
     wide.corners = std::move(binary.corners);
-    wide.make_leaf_lanes();
+    wide.make_leaf_lanes(binary.triangles);
+    binary.triangles = {};
     // As the binary tree counts it: nodes, ids and triangles (not the watertight test's corners).
     stats.memory_bytes = wide.nodes.size() * sizeof(Node) + wide.prim_ids.size() * sizeof(uint32_t) +
-                         wide.triangles.size() * sizeof(Triangle) + wide.leaf_lanes.memory_bytes();
+                         wide.leaf_lanes.memory_bytes();
     stats.collapse_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     stats.build_ms = binary.build_stats.build_ms + stats.collapse_ms;
     return wide;

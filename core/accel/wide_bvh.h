@@ -76,11 +76,10 @@ struct WideBvh {
     uint32_t root_first = 0;     ///< the root: wide node 0, or (a tree that is one leaf) its first triangle
     uint32_t root_count = 0;     ///< 0: the root is wide node 0; > 0: the root is a leaf of this many triangles
     std::vector<uint32_t, LargeArrayAllocator<uint32_t>> prim_ids;  ///< leaf order → triangle id (the binary tree's)
-    TriangleArray triangles;     ///< leaf order
-    /// The same triangles leaf by leaf as lanes: what Möller–Trumbore's walk tests,
-    /// four at a time (triangle_pack.h). Made by make_leaf_lanes().
+    /// The triangles in leaf order, each leaf's as lanes: what Möller–Trumbore's walk
+    /// tests, four at a time (triangle_pack.h). Made by make_leaf_lanes().
     LeafTriangleLanes leaf_lanes;
-    CornerArray corners;         ///< only when triangle_test is watertight
+    CornerArray corners;         ///< leaf order; only when triangle_test is watertight
     BvhConfig build_config;
     BvhBuildStats binary_stats;  ///< the binary tree it was collapsed from
     WideBvhStats build_stats;
@@ -94,9 +93,9 @@ struct WideBvh {
 
     bool empty() const { return nodes.empty() && root_count == 0; }
 
-    /// Fills `leaf_lanes` from the leaves and `triangles` (the last step of every way
-    /// a wide BVH is made).
-    void make_leaf_lanes();
+    /// Fills `leaf_lanes` from the leaves and the triangles in leaf order (the last
+    /// step of every way a wide BVH is made).
+    void make_leaf_lanes(const TriangleArray& leaf_order_triangles);
 
     /// The box of `slot` (slot 0: the root's).
     Aabb box_of(uint32_t slot) const {
@@ -174,11 +173,11 @@ private:
     template <TriangleTestKind kTest>
     [[gnu::always_inline]] void prefetch_child(const Node& node, int i) const {
         if (node.is_leaf(i)) {
-            const char* first = kTest == TriangleTestKind::MollerTrumbore
-                                    ? reinterpret_cast<const char*>(leaf_lanes.leaf(node.first[i]))
-                                    : reinterpret_cast<const char*>(triangles.data() + node.first[i]);
+            const bool lanes = kTest == TriangleTestKind::MollerTrumbore;
+            const char* first = lanes ? reinterpret_cast<const char*>(leaf_lanes.leaf(node.first[i]))
+                                      : reinterpret_cast<const char*>(corners.data() + node.first[i]);
             prefetch(first);
-            prefetch(first + sizeof(Triangle) * node.count[i] - 1);
+            prefetch(first + (lanes ? sizeof(Triangle) : sizeof(TriangleCorners)) * node.count[i] - 1);
         } else {
             const char* line = reinterpret_cast<const char*>(&nodes[node.first[i]]);
             for (size_t offset = 0; offset < sizeof(Node); offset += 64) prefetch(line + offset);
@@ -255,7 +254,7 @@ Hit WideBvh<W, Lanes>::walk(const Ray& ray, Observer& obs) const {
     using Entry = StackEntry<kWatched>;
     Hit best;
     if (empty()) return done(best, obs);
-    const TriangleTester<kTest> tester(ray, triangles, corners);
+    const TriangleTester<kTest> tester(ray, nullptr, corners.data());  // Möller–Trumbore reads leaf_lanes
     const BoxTestRay& box_ray = tester.box_ray();
     Ray shrinking = ray;  // t_max follows the closest hit, for the triangle tests only
     Entry stack[kStackSize];

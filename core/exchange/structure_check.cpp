@@ -538,8 +538,9 @@ WideBvh<W> wide_bvh_of(const StructureFile& f, const Mesh& mesh) {
             wide.nodes.push_back(node);
         }
     }
-    for (uint32_t id : wide.prim_ids) wide.triangles.push_back(mesh.triangle(id));
-    wide.make_leaf_lanes();
+    TriangleArray triangles;
+    for (uint32_t id : wide.prim_ids) triangles.push_back(mesh.triangle(id));
+    wide.make_leaf_lanes(triangles);
     wide.build_stats.width = W;
     return wide;
 }

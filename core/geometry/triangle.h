@@ -360,7 +360,10 @@ template <TriangleTestKind kTest>
 class TriangleTester {
 public:
     [[gnu::always_inline]] TriangleTester(const Ray& ray, const TriangleArray& triangles, const CornerArray& corners)
-        : box_ray_(ray), triangles_(triangles.data()), corners_(corners.data()) {
+        : TriangleTester(ray, triangles.data(), corners.data()) {}
+    /// For a structure that keeps only one of the arrays (null: the other test's).
+    [[gnu::always_inline]] TriangleTester(const Ray& ray, const Triangle* triangles, const TriangleCorners* corners)
+        : box_ray_(ray), triangles_(triangles), corners_(corners) {
         if constexpr (kTest == TriangleTestKind::Watertight) watertight_ = WatertightRay(ray);
     }
 
