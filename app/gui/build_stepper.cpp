@@ -350,11 +350,14 @@ void BuildStepper::draw_panel(AppState& state, float x, float y, float w, float 
         else
             ImGui::Text("split by index, cost %s", cost_text(step.split_cost).c_str());
         // The same cost (the children's own boxes), term by term as the lecture writes it.
-        const SahCostModel model{trace_->config.cost_trav, trace_->config.cost_isect};
+        const SahCostModel model = trace_->config.sah_model();
+        if (model.leaf_lanes > 1)
+            ImGui::TextDisabled("The wide BVH tests a leaf's triangles %u at a time: N counts tests, ceil(N / %u).",
+                                model.leaf_lanes, model.leaf_lanes);
         ImGui::TextDisabled("C = C_trav + S_A/S_N N_A C_isect + S_B/S_N N_B C_isect = %s + %.2f x %u x %s + %.2f x %u x %s "
                             "= %s (a leaf: %s)",
-                            cost_text(model.cost_trav).c_str(), double(p_left), n_left,
-                            cost_text(model.cost_isect).c_str(), double(p_right), n_right,
+                            cost_text(model.cost_trav).c_str(), double(p_left), model.tests(n_left),
+                            cost_text(model.cost_isect).c_str(), double(p_right), model.tests(n_right),
                             cost_text(model.cost_isect).c_str(),
                             cost_text(model.split_cost(area, trace_->bvh.nodes[node.first].bounds.area(), n_left,
                                                        trace_->bvh.nodes[node.first + 1].bounds.area(), n_right))

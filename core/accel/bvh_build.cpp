@@ -27,7 +27,7 @@ using namespace bvh_detail;
 // ---------------------------------------------------------------------------
 
 std::unique_ptr<Splitter> make_splitter(const BvhConfig& config, PrimRefs refs) {
-    const SahCostModel model{config.cost_trav, config.cost_isect};
+    const SahCostModel model = config.sah_model();
     switch (config.builder) {
         case BvhBuilder::Midpoint: return make_midpoint_splitter(std::move(refs));
         case BvhBuilder::Median: return make_median_splitter(std::move(refs));
@@ -69,7 +69,7 @@ BuildDecision decide(Splitter& splitter, const NodeToDecide& node, const BvhConf
                      BuildStep* step) {
     const Range range = node.range;
     const uint32_t depth = node.depth;
-    const SahCostModel model{config.cost_trav, config.cost_isect};
+    const SahCostModel model = config.sah_model();
     const uint32_t n = range.count();
     const bool fits = n <= uint32_t(config.max_leaf_size);
     if (n == 1 || (fits && !splitter.uses_sah())) return BuildDecision::LeafFits;
@@ -128,7 +128,7 @@ struct Decided {
 /// it under the node index task.node.
 Decided decide_node(Splitter& splitter, const Task& task, const BvhConfig& config, BvhNode& node,
                     DecisionCounts& counts, BuildRecorder* recorder) {
-    const SahCostModel model{config.cost_trav, config.cost_isect};
+    const SahCostModel model = config.sah_model();
     const Range range{task.begin, task.end};
     Aabb bounds = task.bounds, centroid_bounds = task.centroid_bounds;
     if (!task.measured) splitter.measure(range, bounds, centroid_bounds);
@@ -370,7 +370,7 @@ private:
         if (stats.leaf_size_histogram.size() <= leaf_count) stats.leaf_size_histogram.resize(leaf_count + 1, 0);
         ++stats.leaf_size_histogram[leaf_count];
         if (leaf_count > max_leaf_size_) ++stats.leaves_over_limit;
-        sah_ += p * leaf_count * model_.cost_isect;
+        sah_ += p * model_.tests(leaf_count) * model_.cost_isect;
     }
 
     SahCostModel model_;
@@ -418,7 +418,7 @@ Expected<Bvh> build_bvh(const Mesh& mesh, const BvhConfig& requested, BuildRecor
     stats.triangles = n;
     start_stage(progress, n);
     auto gather_stats = [&] {
-        TreeStats(SahCostModel{config.cost_trav, config.cost_isect}, uint32_t(config.max_leaf_size)).gather(bvh, stats);
+        TreeStats(config.sah_model(), uint32_t(config.max_leaf_size)).gather(bvh, stats);
     };
 
     if (n > 0) {
@@ -520,7 +520,7 @@ void gather_refit_stats(Bvh& bvh) {
     stats.leaf_size_histogram.clear();
     stats.avg_leaf_depth = stats.sah_cost = 0;
     const BvhConfig& config = bvh.build_config;
-    TreeStats(SahCostModel{config.cost_trav, config.cost_isect}, uint32_t(config.max_leaf_size)).gather(bvh, stats);
+    TreeStats(config.sah_model(), uint32_t(config.max_leaf_size)).gather(bvh, stats);
     const std::string refitted =
         "refitted to moved triangles: the decisions, the other notes and build_ms are the build's, over the "
         "earlier positions";

@@ -73,6 +73,8 @@ std::optional<Error> validate(const BvhConfig& config) {
         return Error{"--cost-isect must be a finite number > 0 (got " + std::to_string(config.cost_isect) + ")"};
     if (config.width != 2 && config.width != 4 && config.width != 8)
         return Error{"--bvh-width must be 2, 4 or 8 (got " + std::to_string(config.width) + ")"};
+    if (config.leaf_lanes != 1 && config.leaf_lanes != 4)
+        return Error{"leaf lanes must be 1 or 4 (got " + std::to_string(config.leaf_lanes) + ")"};
     return std::nullopt;
 }
 
@@ -82,7 +84,8 @@ nlohmann::json to_json(const BvhConfig& config) {
             {"max_leaf_size", config.max_leaf_size},
             {"cost_trav", config.cost_trav},
             {"cost_isect", config.cost_isect},
-            {"width", config.width}};
+            {"width", config.width},
+            {"leaf_lanes", config.leaf_lanes}};
 }
 
 nlohmann::json to_json(const BvhBuildStats& stats) {

@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/accel/sah.h"
 #include "core/util/expected.h"
 
 namespace accelviz {
@@ -60,6 +61,12 @@ struct BvhConfig {
     /// collapsed into a wide one whose children are tested together (wide_bvh.h).
     /// build_bvh() always builds the binary tree; build_accelerator() collapses it.
     int width = 2;
+    /// Triangles a leaf tests together, as the SAH counts them (sah.h): 1 for the
+    /// lecture's tree; 4 for a tree to be collapsed, whose leaves the wide BVH tests
+    /// four at a time (build_accelerator sets it from the width).
+    int leaf_lanes = 1;
+
+    SahCostModel sah_model() const { return {cost_trav, cost_isect, uint32_t(leaf_lanes)}; }
 
     bool operator==(const BvhConfig&) const = default;
 };

@@ -31,7 +31,10 @@ void use_triangle_test(Structure& s, TriangleTestKind test, const Mesh& mesh, st
 }
 
 BvhConfig bvh_config_of(const AccelConfig& config) {
-    return with_shared_flags(config.bvh, config, &BvhConfig::max_leaf_size, &BvhConfig::cost_trav, &BvhConfig::cost_isect);
+    BvhConfig c =
+        with_shared_flags(config.bvh, config, &BvhConfig::max_leaf_size, &BvhConfig::cost_trav, &BvhConfig::cost_isect);
+    c.leaf_lanes = c.width == 2 ? 1 : LeafTriangleLanes::kLanes;  // the wide BVH tests its leaves four at a time
+    return c;
 }
 KdConfig kd_config_of(const AccelConfig& config) {
     return with_shared_flags(config.kd, config, &KdConfig::leaf_size, &KdConfig::cost_trav, &KdConfig::cost_isect);

@@ -7,6 +7,11 @@
 /// where S is a box's surface area: S_A/S_N is the probability that a random
 /// ray that hits N's box also hits A's box (convex A inside convex N).
 /// Costs are in units of the caller's choosing; only their ratios matter.
+///
+/// A tree whose leaves test their triangles L at a time (the wide BVH's leaves, four
+/// lanes: geometry/triangle_pack.h) counts a leaf's tests, not its triangles: N
+/// becomes ceil(N / L) in both formulas, as Embree's builders count blocks of four.
+/// L = 1 is the lecture's model.
 
 #include <algorithm>
 #include <cstdint>
@@ -17,6 +22,10 @@ namespace accelviz {
 struct SahCostModel {
     float cost_trav = 1.0f;   ///< C_trav: one interior-node step (its box tests), > 0 not required
     float cost_isect = 1.0f;  ///< C_isect: one ray–triangle test, > 0
+    uint32_t leaf_lanes = 1;  ///< L: triangles a leaf tests together
+
+    /// ceil(count / L): the tests a leaf of `count` triangles makes.
+    uint32_t tests(uint32_t count) const { return (count + leaf_lanes - 1) / leaf_lanes; }
 
     /// S_child / S_parent. A parent of zero area (all its triangles are points
     /// or lie on one line) is hit only by rays that hit every child, so 0/0 is 1.
@@ -24,13 +33,13 @@ struct SahCostModel {
         return area_parent > 0.0f ? area_child / area_parent : 1.0f;
     }
 
-    /// C_leaf = N · C_isect.
-    float leaf_cost(uint32_t count) const { return float(count) * cost_isect; }
+    /// C_leaf = N · C_isect (N counted in tests).
+    float leaf_cost(uint32_t count) const { return float(tests(count)) * cost_isect; }
 
-    /// C_split = C_trav + S_A/S_N · N_A · C_isect + S_B/S_N · N_B · C_isect.
+    /// C_split = C_trav + S_A/S_N · N_A · C_isect + S_B/S_N · N_B · C_isect (N counted in tests).
     float split_cost(float area_parent, float area_a, uint32_t count_a, float area_b, uint32_t count_b) const {
-        return cost_trav + (hit_probability(area_a, area_parent) * float(count_a) +
-                            hit_probability(area_b, area_parent) * float(count_b)) * cost_isect;
+        return cost_trav + (hit_probability(area_a, area_parent) * float(tests(count_a)) +
+                            hit_probability(area_b, area_parent) * float(tests(count_b))) * cost_isect;
     }
 };
 

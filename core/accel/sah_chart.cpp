@@ -232,7 +232,7 @@ SahChart compute_sah_chart(const Mesh& mesh, std::span<const uint32_t> prim_ids,
     chart.builder = config.builder;
     chart.sweep = config.builder == BvhBuilder::SahSweep;
     chart.bins = config.bins;
-    chart.model = {config.cost_trav, config.cost_isect};
+    chart.model = config.sah_model();
     chart.max_leaf_size = config.max_leaf_size;
     chart.count = uint32_t(prim_ids.size());
     chart.leaf_cost = chart.model.leaf_cost(chart.count);

@@ -72,7 +72,7 @@ Expected<WideBvh<W, Lanes>> collapse_bvh_with(Bvh&& binary, WorkProgress* progre
             return Error{"a BVH leaf of " + std::to_string(n.count) + " triangles is too large for a wide node (at most " +
                          std::to_string(kMaxLeaf) + ")"};
 
-    const SahCostModel model{binary.build_config.cost_trav, binary.build_config.cost_isect};
+    const SahCostModel model = binary.build_config.sah_model();
     if (!bin.empty()) {
         auto is_leaf = [&](uint32_t n) { return bin[n].is_leaf(); };
         auto area = [&](uint32_t n) { return bin[n].bounds.area(); };
@@ -83,7 +83,7 @@ Expected<WideBvh<W, Lanes>> collapse_bvh_with(Bvh&& binary, WorkProgress* progre
         if (is_leaf(0)) {
             wide.root_first = bin[0].first;
             wide.root_count = bin[0].count;
-            sah = p(0) * bin[0].count * model.cost_isect;
+            sah = p(0) * model.tests(bin[0].count) * model.cost_isect;
             stats.leaves = 1;
         } else {
             // Pass 1: each wide node's children (binary node ids), wide nodes numbered
@@ -130,7 +130,7 @@ Expected<WideBvh<W, Lanes>> collapse_bvh_with(Bvh&& binary, WorkProgress* progre
                     const uint32_t b = c.binary[i];
                     if (is_leaf(b)) {
                         c.wide[i] = UINT32_MAX;
-                        sah += p(b) * bin[b].count * model.cost_isect;
+                        sah += p(b) * model.tests(bin[b].count) * model.cost_isect;
                         stats.max_depth = std::max(stats.max_depth, w.depth + 1);
                         ++stats.leaves;
                     } else {
