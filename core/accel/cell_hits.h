@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/geometry/triangle_pack.h"
 #include "core/traversal/observers.h"
 
 namespace accelviz {
@@ -117,24 +118,28 @@ public:
             obs.on({.kind = EventKind::MailboxSkip, .tri = id});
             return;
         }
-        const TriangleTest test = tester_.test(k, test_ray_);
-        obs.on({.kind = EventKind::TriangleTest, .hit = test.hit, .tri = id, .t = test.t, .u = test.u, .v = test.v});
-        if constexpr (kStop == StopAt::AnyHit) {
-            if (test.hit) best_ = {id, test.t, test.u, test.v};
+        take(tester_.test(k, test_ray_), id, obs);
+    }
+
+    /// The same for lane i of `test4` (moller_trumbore_lanes on this ray): the lane's
+    /// triangle, whose id is `id` and which `triangle()` returns, is finished as
+    /// intersect_triangle would finish it, so the result is test()'s bit for bit.
+    template <class GetTriangle, class Observer>
+    void test_lane(const PackTest& test4, int i, GetTriangle triangle, uint32_t id, Observer& obs) {
+        if (use_mailbox_ && mailbox_.seen(id)) {
+            obs.on({.kind = EventKind::MailboxSkip, .tri = id});
             return;
         }
-        if (!test.hit || !is_closer(test.t, id, best_)) return;
-        best_ = {id, test.t, test.u, test.v};
-        test_ray_.t_max = test.t;  // later triangles must be at least this close (inclusive, as BruteForce)
-        if (strict_ && test.t > t_out_) {
-            pending_ = true;
-            obs.on({.kind = EventKind::HitOutsideCell, .tri = id, .t_exit = t_out_, .t = test.t, .u = test.u,
-                    .v = test.v});
-        } else {
-            pending_ = false;
-            obs.on({.kind = EventKind::NewClosest, .tri = id, .t = test.t, .u = test.u, .v = test.v});
-        }
+        TriangleTest test = test4.lane(i);
+        if (test4.candidates >> i & 1) finish_moller_trumbore(triangle(), test_ray_, tester_.box_ray(), test);
+        take(test, id, obs);
     }
+
+    /// Whether every triangle must be looked at (the mailbox records each), or only
+    /// the candidates of a lane test (the others cannot hit).
+    bool uses_mailbox() const { return use_mailbox_; }
+    /// The ray the triangles are tested with (t_max: the closest hit so far).
+    const Ray& test_ray() const { return test_ray_; }
 
     /// After the current cell: may the walk stop? Strict: yes once the closest
     /// hit lies strictly before the cell's end (every later cell starts at or
@@ -162,6 +167,27 @@ public:
     }
 
 private:
+    /// A triangle's test result: the closest-hit bookkeeping and its events.
+    template <class Observer>
+    void take(const TriangleTest& test, uint32_t id, Observer& obs) {
+        obs.on({.kind = EventKind::TriangleTest, .hit = test.hit, .tri = id, .t = test.t, .u = test.u, .v = test.v});
+        if constexpr (kStop == StopAt::AnyHit) {
+            if (test.hit) best_ = {id, test.t, test.u, test.v};
+            return;
+        }
+        if (!test.hit || !is_closer(test.t, id, best_)) return;
+        best_ = {id, test.t, test.u, test.v};
+        test_ray_.t_max = test.t;  // later triangles must be at least this close (inclusive, as BruteForce)
+        if (strict_ && test.t > t_out_) {
+            pending_ = true;
+            obs.on({.kind = EventKind::HitOutsideCell, .tri = id, .t_exit = t_out_, .t = test.t, .u = test.u,
+                    .v = test.v});
+        } else {
+            pending_ = false;
+            obs.on({.kind = EventKind::NewClosest, .tri = id, .t = test.t, .u = test.u, .v = test.v});
+        }
+    }
+
     Ray test_ray_;  ///< the ray with t_max = closest hit so far
     TriangleTester<kTest> tester_;
     Hit best_;

@@ -82,6 +82,7 @@ int kd_max_depth(const KdConfig& config, size_t triangles);
 /// bits; the other 32 bits hold the lower child's index or the leaf's count, shifted
 /// past a 2-bit axis (3: a leaf).
 struct KdNode {
+    static constexpr bool kLeafLanes = true;  ///< leaves tested four triangles at a time (spatial_refs.h)
     static constexpr uint8_t kLeaf = 3;
     static constexpr uint32_t kMaxIndex = (1u << 30) - 1;  ///< the largest child index and leaf count
     /// The tree's node array starts 8 bytes into a cache line: the pairs of children,
@@ -188,7 +189,14 @@ Hit KdTree::front_to_back(const Ray& ray, Observer& obs) const {
             n = &nodes[cur.node];
         }
         // A leaf: its triangles, with the in-cell rule; then the next deferred subtree.
-        if (walk.template test_leaf<kOneCopyPerTriangle>(cur, n->first(), n->count(), prim_ids.data(), copy_index.data(), hits, obs)) break;
+        if constexpr (kTest == TriangleTestKind::MollerTrumbore) {
+            if (walk.template test_leaf_lanes<FastLanes<4>>(cur, n->first(), n->count(), prim_ids.data(), leaf_lanes,
+                                                            hits, obs))
+                break;
+        } else if (walk.template test_leaf<kOneCopyPerTriangle>(cur, n->first(), n->count(), prim_ids.data(),
+                                                                copy_index.data(), hits, obs)) {
+            break;
+        }
     } while (walk.pop_next(hits, cur, obs));
     return hits.done(obs);
 }

@@ -21,6 +21,7 @@
 #include "core/geometry/mesh.h"
 #include "core/geometry/triangle.h"
 #include "core/geometry/triangle_box.h"
+#include "core/geometry/triangle_pack.h"
 #include "core/util/large_array.h"
 #include "core/util/work_progress.h"
 
@@ -300,6 +301,15 @@ constexpr bool one_copy_per_triangle() {
     else return false;
 }
 
+/// Whether a tree of these nodes keeps its leaves' triangles as lanes
+/// (LeafTriangleLanes, geometry/triangle_pack.h: Möller–Trumbore four at a time)
+/// instead of one Triangle each (a node type says so with kLeafLanes = true).
+template <class Node>
+constexpr bool keeps_leaf_lanes() {
+    if constexpr (requires { Node::kLeafLanes; }) return Node::kLeafLanes;
+    else return false;
+}
+
 /// The arrays of a space-partitioning tree (KD tree, octree, BSP tree) and what it was built
 /// with. The nodes and ids are on huge pages, as the BVH's (large_array.h): a ray's
 /// walk reads a few nodes scattered over the whole array. Invariants of all three: nodes[0]
@@ -313,14 +323,17 @@ constexpr bool one_copy_per_triangle() {
 template <class Node, class Config, class Stats>
 struct PartitionTree {
     static constexpr bool kOneCopyPerTriangle = one_copy_per_triangle<Node>();
+    static constexpr bool kLeafLanes = keeps_leaf_lanes<Node>();
+    static_assert(!(kOneCopyPerTriangle && kLeafLanes), "leaf lanes are a copy per reference");
 
     Aabb bounds;
     std::vector<Node, LargeArrayAllocator<Node, node_lead_bytes<Node>()>> nodes;
     std::vector<uint32_t, LargeArrayAllocator<uint32_t>> prim_ids;
     std::vector<uint32_t, LargeArrayAllocator<uint32_t>> copy_index;  ///< kOneCopyPerTriangle: where prim_ids[k] is in triangles
     std::vector<uint32_t> copy_order;                              ///< kOneCopyPerTriangle: triangles[j] is triangle copy_order[j]
-    TriangleArray triangles;
-    CornerArray corners;  ///< the same, as corners; only when triangle_test is watertight
+    TriangleArray triangles;  ///< empty with kLeafLanes: the leaves' triangles are in leaf_lanes
+    LeafTriangleLanes leaf_lanes;  ///< kLeafLanes: each leaf's triangles as lanes, in leaf order
+    CornerArray corners;  ///< leaf order (or copy_order), as corners; only when triangle_test is watertight
     Config build_config;
     Stats build_stats;
     TriangleTestKind triangle_test = TriangleTestKind::MollerTrumbore;  ///< which ray-triangle test the leaves run
@@ -361,9 +374,24 @@ struct PartitionTree {
             if (!order.empty()) to_mesh_ids(order);
             start_stage(progress, prim_ids.size(), "putting the triangles in leaf order");
             triangles = make_triangles(mesh, prim_ids, progress);
+            if constexpr (kLeafLanes) make_leaf_lanes();
         }
         add_split_notes(stops, build_stats.notes);
         finish_stats(start);
+    }
+
+    /// kLeafLanes: `triangles` (leaf order) moved into `leaf_lanes`, leaf by leaf.
+    void make_leaf_lanes() {
+        leaf_lanes.resize(triangles.size());
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, nodes.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+            for (size_t n = r.begin(); n < r.end(); ++n) {
+                const Node& node = nodes[n];
+                if (!node.is_leaf()) continue;
+                for (uint32_t j = 0; j < node.count(); ++j)
+                    leaf_lanes.set(node.first(), node.count(), j, triangles[node.first() + j]);
+            }
+        });
+        triangles = {};
     }
 
     /// The order of `triangles`, as make_triangles and make_corners take it: leaf order
@@ -429,7 +457,8 @@ private:
         st.references = prim_ids.size();
         st.duplication = st.triangles ? double(st.references) / st.triangles : 0.0;
         st.memory_bytes = nodes.size() * sizeof(Node) + (prim_ids.size() + copy_index.size()) * sizeof(uint32_t) +
-                          copy_order.size() * sizeof(uint32_t) + triangles.size() * sizeof(Triangle);
+                          copy_order.size() * sizeof(uint32_t) + triangles.size() * sizeof(Triangle) +
+                          leaf_lanes.memory_bytes();
         st.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     }
 };

@@ -568,6 +568,7 @@ KdTree kd_tree_of(const StructureFile& f, const Mesh& mesh) {
         queue.push_back({n.children[1], first + 1});
     }
     kd.triangles = make_triangles(mesh, kd.prim_ids);
+    kd.make_leaf_lanes();
     kd.build_stats.nodes = uint32_t(kd.nodes.size());
     kd.build_stats.references = kd.prim_ids.size();
     return kd;
