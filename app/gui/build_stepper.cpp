@@ -16,6 +16,7 @@
 #include "app/gui/structure_overlay.h"
 #include "core/accel/accelerator.h"
 #include "core/accel/factory.h"
+#include "core/accel/kd_sah.h"
 #include "core/accel/kd_tree.h"
 #include "core/accel/sah.h"
 #include "core/accel/wide_bvh.h"
@@ -828,7 +829,8 @@ void BuildStepper::draw_file_panel(AppState& state, double view_aspect) {
     const KdTree* ours = our_kd_tree(*file_trace_);
     const KdConfig built = ours ? kd_chart_config(*ours, s) : KdConfig{};
     const SahCostModel model{ours ? built.cost_trav : s.cost_trav.value_or(1.0f),
-                             ours ? built.cost_isect : s.cost_isect.value_or(1.0f)};
+                             ours ? built.cost_isect : s.cost_isect.value_or(1.0f),
+                             ours ? uint32_t(kKdLeafLanes) : 1u};  // our KD tree counts tests (kd_sah.h)
     const float empty_bonus = ours ? built.empty_bonus : 0.0f;
     const uint32_t n = uint32_t(node->triangle_count);
     if (node->leaf) {
@@ -849,8 +851,9 @@ void BuildStepper::draw_file_panel(AppState& state, double view_aspect) {
                                                                                             : "above, ";
             ImGui::Text("%snode %llu: %u triangles, S/S_N = %.2f", side, (unsigned long long)node->children[k],
                         count, double(p));
-            cost += p * float(count) * model.cost_isect;
-            terms += text_of(" + %.2f", double(p)) + " x " + std::to_string(count) + " x " + cost_text(model.cost_isect);
+            cost += p * float(model.tests(count)) * model.cost_isect;
+            terms += text_of(" + %.2f", double(p)) + " x " + std::to_string(model.tests(count)) + " x " +
+                     cost_text(model.cost_isect);
         }
         if (kd) {
             // The KD tree's lesson: a primitive in several nodes.
@@ -869,7 +872,8 @@ void BuildStepper::draw_file_panel(AppState& state, double view_aspect) {
         if (node->children_left_out > 0)
             ImGui::Text("... and %llu more children (a node may have 8 at most)",
                         (unsigned long long)node->children_left_out);
-        ImGui::TextDisabled("C = C_trav + sum S_c/S_N N_c C_isect = %s = %s (a leaf: %s)", terms.c_str(),
+        ImGui::TextDisabled("C = C_trav + sum S_c/S_N N_c C_isect%s = %s = %s (a leaf: %s)",
+                            model.leaf_lanes > 1 ? " (N_c in tests: ceil(N / 4))" : "", terms.c_str(),
                             cost_text(cost).c_str(), cost_text(model.leaf_cost(n)).c_str());
         if (cost >= model.leaf_cost(n))
             ImGui::TextDisabled("The split costs more than a leaf would: the SAH would stop here.");
@@ -919,8 +923,8 @@ void BuildStepper::draw_kd_chart(const KdSahChart& chart, const FileNodeStep& no
     ImGui::PushTextWrapPos(0.0f);
     ImGui::Text("SAH cost of each plane (every reference box's side) per axis");
     ImGui::TextDisabled("C = C_trav + C_isect (A_below N_below + A_above N_above) / A, x (1 - %.2f) when a side "
-                        "is empty",
-                        double(chart.config.empty_bonus));
+                        "is empty; N counts tests: a leaf tests its triangles %zu at a time, ceil(N / %zu)",
+                        double(chart.config.empty_bonus), kKdLeafLanes, kKdLeafLanes);
     // One cost scale for the three axes, from the cheapest plane to a little over the leaf.
     float lo = chart.leaf_cost, hi = chart.leaf_cost;
     for (const KdSahChartAxis& a : chart.axes)

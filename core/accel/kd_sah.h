@@ -13,6 +13,12 @@
 
 namespace accelviz {
 
+/// The KD tree tests a leaf's triangles four at a time (its leaves are kept as lanes:
+/// geometry/triangle_pack.h), so its SAH counts a leaf's tests, ceil(N / 4), where the
+/// lecture's formula has N (as sah.h does for the wide BVH, and Embree's builders do).
+inline constexpr size_t kKdLeafLanes = LeafTriangleLanes::kLanes;
+inline double kd_tests(size_t count) { return double((count + kKdLeafLanes - 1) / kKdLeafLanes); }
+
 /// A box's surface area, in double as the build weighs it.
 inline double kd_area(const Aabb& b) {
     const double x = double(b.hi.x) - b.lo.x, y = double(b.hi.y) - b.lo.y, z = double(b.hi.z) - b.lo.z;
@@ -32,13 +38,13 @@ inline double kd_perimeter_half(const Aabb& box, int axis) {
 
 /// The SAH cost of splitting `box` at s on `axis` with `below` and `above` references:
 /// C_trav + C_isect · (A_below·N_below + A_above·N_above) / A, times (1 - empty_bonus)
-/// when one side is empty. The children's areas are linear in s:
+/// when one side is empty (N counted in tests, kd_tests). The children's areas are linear in s:
 /// 2·(cross_section + (extent along the axis)·perimeter_half).
 inline double kd_split_cost(const KdConfig& c, const Aabb& box, int axis, float s, size_t below, size_t above,
                             double cross_section, double perimeter_half, double node_area) {
     const double area_lower = 2.0 * (cross_section + (double(s) - box.lo[axis]) * perimeter_half);
     const double area_upper = 2.0 * (cross_section + (double(box.hi[axis]) - s) * perimeter_half);
-    double cost = c.cost_trav + c.cost_isect * (area_lower * double(below) + area_upper * double(above)) / node_area;
+    double cost = c.cost_trav + c.cost_isect * (area_lower * kd_tests(below) + area_upper * kd_tests(above)) / node_area;
     if (below == 0 || above == 0) cost *= 1.0 - c.empty_bonus;
     return cost;
 }

@@ -30,7 +30,7 @@ struct KdSahChart {
     Aabb cell;
     KdConfig config;                 ///< the costs the chart weighs with
     std::array<KdSahChartAxis, 3> axes;
-    float leaf_cost = 0;             ///< N · C_isect
+    float leaf_cost = 0;             ///< N · C_isect (N counted in tests, kd_tests)
     int best_axis = -1;              ///< -1: no plane lies strictly inside the cell
     float best_position = 0;
     float best_cost = 0;

@@ -161,7 +161,7 @@ Subtree build_subtree(const BuildContext& ctx, WorkItem root, double budget, siz
         bool split = n > size_t(config.leaf_size) && int(item.depth) < ctx.depth_limit;
         if (split && config.builder == KdBuilder::Sah) {
             plane = best_sah_plane(item.refs, item.box, config, los, his, sort_scratch, progress);
-            split = plane.axis >= 0 && plane.cost < config.cost_isect * double(n);
+            split = plane.axis >= 0 && plane.cost < config.cost_isect * kd_tests(n);
         }
         below.clear();
         above.clear();
@@ -197,7 +197,7 @@ Subtree build_subtree(const BuildContext& ctx, WorkItem root, double budget, siz
             leaf = KdNode::leaf(uint32_t(out.prim_ids.size()), uint32_t(n));
             for (const SpatialRef& r : item.refs) out.prim_ids.push_back(r.tri);
             out.counts.add_leaf(n, item.depth, ctx.depth_limit, config.leaf_size);
-            out.sah_cost += p * double(n) * config.cost_isect;
+            out.sah_cost += p * kd_tests(n) * config.cost_isect;
             progress.leaf_done(item.progress_units);
             continue;
         }

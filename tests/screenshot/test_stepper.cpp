@@ -25,7 +25,7 @@ using testing::matches_golden;
 
 constexpr int kWidth = 1200, kHeight = 720;  // the stepper's frames (and the image the pixel is of)
 // A teapot pixel whose ray, through the default KD tree, finds a hit beyond the leaf it is tested in.
-constexpr int kStepKdPixelX = 640, kStepKdPixelY = 300;
+constexpr int kStepKdPixelX = 640, kStepKdPixelY = 270;
 
 /// The ray of pixel (x, y) of a kWidth x kHeight image of the scene's default
 /// view: what `trace --pixel x,y` traces.
