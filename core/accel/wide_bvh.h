@@ -8,7 +8,10 @@
 /// and Embree's BVH4/BVH8.
 ///
 /// Built by collapse_bvh() (below) from a binary Bvh: the triangles, their ids and
-/// the leaves are the binary tree's; only the interior nodes change.
+/// the leaves are the binary tree's; only the interior nodes change. The leaves are
+/// tested four triangles at a time (leaf_lanes, geometry/triangle_pack.h), so
+/// build_accelerator builds that binary tree with an SAH that counts a leaf's tests
+/// (BvhConfig::leaf_lanes = 4, sah.h): leaves of three and four, fewer nodes.
 ///
 /// Traversal: the binary BVH's walk with a node's W children in place of its two:
 /// test all W boxes at once, keep those the ray enters (and, for the closest hit,
