@@ -562,7 +562,7 @@ void draw_axis_chart(const SahChart& chart, const BuildStep& step, int axis, flo
 /// The legend under the plots, with the numbers.
 void draw_chart_legend(const SahChart& chart) {
     swatch(kLeafLine);
-    ImGui::Text("leaf: N x C_isect = %s", cost_text(chart.leaf_cost).c_str());
+    ImGui::Text("leaf: N x C_isect = %s%s", cost_text(chart.leaf_cost).c_str(), chart.model.leaf_lanes > 1 ? " (N in tests of 4)" : "");
     swatch(kBest);
     if (chart.best_axis >= 0)
         ImGui::Text("cheapest: %s = %.4g, cost %s (%u | %u)", kAxisNames[chart.best_axis], double(chart.best_position),
@@ -830,11 +830,12 @@ void BuildStepper::draw_file_panel(AppState& state, double view_aspect) {
     const KdConfig built = ours ? kd_chart_config(*ours, s) : KdConfig{};
     const SahCostModel model{ours ? built.cost_trav : s.cost_trav.value_or(1.0f),
                              ours ? built.cost_isect : s.cost_isect.value_or(1.0f),
-                             ours ? uint32_t(kKdLeafLanes) : 1u};  // our KD tree counts tests (kd_sah.h)
+                             ours ? uint32_t(built.leaf_lanes) : 1u};  // our KD tree counts tests (kd_sah.h)
     const float empty_bonus = ours ? built.empty_bonus : 0.0f;
     const uint32_t n = uint32_t(node->triangle_count);
     if (node->leaf) {
-        ImGui::Text("Leaf: %u triangles, cost N x C_isect = %s", n, cost_text(model.leaf_cost(n)).c_str());
+        ImGui::Text("Leaf: %u triangles, cost N x C_isect%s = %s", n, model.leaf_lanes > 1 ? " (N in tests of 4)" : "",
+                    cost_text(model.leaf_cost(n)).c_str());
     } else {
         if (kd)
             ImGui::Text("Split at %s = %.4g: %u triangles under it", kAxisNames[node->axis], double(node->split), n);
@@ -923,8 +924,10 @@ void BuildStepper::draw_kd_chart(const KdSahChart& chart, const FileNodeStep& no
     ImGui::PushTextWrapPos(0.0f);
     ImGui::Text("SAH cost of each plane (every reference box's side) per axis");
     ImGui::TextDisabled("C = C_trav + C_isect (A_below N_below + A_above N_above) / A, x (1 - %.2f) when a side "
-                        "is empty; N counts tests: a leaf tests its triangles %zu at a time, ceil(N / %zu)",
-                        double(chart.config.empty_bonus), kKdLeafLanes, kKdLeafLanes);
+                        "is empty%s",
+                        double(chart.config.empty_bonus),
+                        chart.config.leaf_lanes > 1 ? "; N counts tests: a leaf tests its triangles 4 at a time, ceil(N / 4)"
+                                                    : "");
     // One cost scale for the three axes, from the cheapest plane to a little over the leaf.
     float lo = chart.leaf_cost, hi = chart.leaf_cost;
     for (const KdSahChartAxis& a : chart.axes)
@@ -969,7 +972,7 @@ void BuildStepper::draw_kd_chart(const KdSahChart& chart, const FileNodeStep& no
         }
     }
     swatch(kLeafLine);
-    ImGui::Text("leaf: N x C_isect = %s", cost_text(chart.leaf_cost).c_str());
+    ImGui::Text("leaf: N x C_isect = %s%s", cost_text(chart.leaf_cost).c_str(), chart.config.leaf_lanes > 1 ? " (N in tests of 4)" : "");
     swatch(kBest);
     if (chart.best_axis >= 0)
         ImGui::Text("cheapest: %s = %.4g, cost %s (%u | %u)%s", kAxisNames[chart.best_axis], double(chart.best_position),

@@ -13,11 +13,14 @@
 
 namespace accelviz {
 
-/// The KD tree tests a leaf's triangles four at a time (its leaves are kept as lanes:
-/// geometry/triangle_pack.h), so its SAH counts a leaf's tests, ceil(N / 4), where the
-/// lecture's formula has N (as sah.h does for the wide BVH, and Embree's builders do).
-inline constexpr size_t kKdLeafLanes = LeafTriangleLanes::kLanes;
-inline double kd_tests(size_t count) { return double((count + kKdLeafLanes - 1) / kKdLeafLanes); }
+/// With Möller–Trumbore the KD tree tests a leaf's triangles four at a time (its
+/// leaves are kept as lanes: geometry/triangle_pack.h), so its SAH counts a leaf's
+/// tests, ceil(N / L) with L = KdConfig::leaf_lanes, where the lecture's formula has N
+/// (as sah.h does for the wide BVH, and Embree's builders do).
+inline double kd_tests(const KdConfig& c, size_t count) {
+    const size_t lanes = size_t(c.leaf_lanes);
+    return double((count + lanes - 1) / lanes);
+}
 
 /// A box's surface area, in double as the build weighs it.
 inline double kd_area(const Aabb& b) {
@@ -44,7 +47,8 @@ inline double kd_split_cost(const KdConfig& c, const Aabb& box, int axis, float 
                             double cross_section, double perimeter_half, double node_area) {
     const double area_lower = 2.0 * (cross_section + (double(s) - box.lo[axis]) * perimeter_half);
     const double area_upper = 2.0 * (cross_section + (double(box.hi[axis]) - s) * perimeter_half);
-    double cost = c.cost_trav + c.cost_isect * (area_lower * kd_tests(below) + area_upper * kd_tests(above)) / node_area;
+    double cost =
+        c.cost_trav + c.cost_isect * (area_lower * kd_tests(c, below) + area_upper * kd_tests(c, above)) / node_area;
     if (below == 0 || above == 0) cost *= 1.0 - c.empty_bonus;
     return cost;
 }

@@ -44,7 +44,7 @@ KdSahChart kd_sah_chart(const Mesh& mesh, const KdTree& tree, uint32_t node, con
     }
     chart.cell = cell;
     chart.count = uint32_t(refs.size());
-    chart.leaf_cost = config.cost_isect * float(kd_tests(refs.size()));
+    chart.leaf_cost = config.cost_isect * float(kd_tests(config, refs.size()));
     for (int a = 0; a < 3; ++a) {
         chart.axes[size_t(a)].lo = cell.lo[a];
         chart.axes[size_t(a)].hi = cell.hi[a];

@@ -35,6 +35,7 @@ std::optional<Error> validate(const KdConfig& c) {
     if (!(c.cost_isect > 0.0f) || !std::isfinite(c.cost_isect)) return Error{"--cost-isect must be > 0"};
     if (!(c.empty_bonus >= 0.0f && c.empty_bonus < 1.0f)) return Error{"--kd-empty-bonus must be in [0, 1)"};
     if (!(c.max_duplication >= 1.0)) return Error{"KD max_duplication must be >= 1"};
+    if (c.leaf_lanes != 1 && c.leaf_lanes != 4) return Error{"KD leaf lanes must be 1 or 4"};
     return std::nullopt;
 }
 
@@ -161,7 +162,7 @@ Subtree build_subtree(const BuildContext& ctx, WorkItem root, double budget, siz
         bool split = n > size_t(config.leaf_size) && int(item.depth) < ctx.depth_limit;
         if (split && config.builder == KdBuilder::Sah) {
             plane = best_sah_plane(item.refs, item.box, config, los, his, sort_scratch, progress);
-            split = plane.axis >= 0 && plane.cost < config.cost_isect * kd_tests(n);
+            split = plane.axis >= 0 && plane.cost < config.cost_isect * kd_tests(config, n);
         }
         below.clear();
         above.clear();
@@ -197,7 +198,7 @@ Subtree build_subtree(const BuildContext& ctx, WorkItem root, double budget, siz
             leaf = KdNode::leaf(uint32_t(out.prim_ids.size()), uint32_t(n));
             for (const SpatialRef& r : item.refs) out.prim_ids.push_back(r.tri);
             out.counts.add_leaf(n, item.depth, ctx.depth_limit, config.leaf_size);
-            out.sah_cost += p * kd_tests(n) * config.cost_isect;
+            out.sah_cost += p * kd_tests(config, n) * config.cost_isect;
             progress.leaf_done(item.progress_units);
             continue;
         }
@@ -303,6 +304,7 @@ nlohmann::json KdTree::config() const {
             {"clip", std::string(to_string(c.clip))},
             {"strict_cell", c.strict_cell},
             {"mailbox", c.mailbox},
+            {"leaf_lanes", c.leaf_lanes},
             {"triangle_test", std::string(to_string(triangle_test))}};
 }
 

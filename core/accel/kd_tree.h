@@ -62,6 +62,10 @@ struct KdConfig {
     /// grid's crowded cells are another matter.
     bool mailbox = false;
     double max_duplication = 64.0;  ///< stop splitting once references exceed this · N (reported in notes), >= 1
+    /// Triangles a leaf tests together, as the SAH counts them (kd_tests): 4 for
+    /// Möller–Trumbore, whose walk tests a leaf's triangles four at a time; 1 for the
+    /// watertight test, one at a time (build_accelerator sets it from the test).
+    int leaf_lanes = 4;
 
     bool operator==(const KdConfig&) const = default;
 };
@@ -118,7 +122,7 @@ static_assert(sizeof(KdNode) == 8, "a KD node is 8 bytes");
 
 struct KdBuildStats : PartitionStats {
     uint32_t depth_limit = 0;  ///< the max depth the build used
-    double sah_cost = 0;       ///< Σ interior P·C_trav + Σ leaf P·n·C_isect (P = area / root area)
+    double sah_cost = 0;       ///< Σ interior P·C_trav + Σ leaf P·n·C_isect (P = area / root area; n in tests, kd_tests)
 };
 
 /// A KD tree over a mesh's triangles (invariants: PartitionTree's). A leaf holds
