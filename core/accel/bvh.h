@@ -197,7 +197,9 @@ private:
 /// Tests the triangles [first, first + count) of a leaf-ordered triangle array against
 /// `ray` (whose t_max is the closest hit so far, inclusive), updating `best` and
 /// `ray.t_max`; prim_ids[k] is the id of triangle k. Any-hit: true at the first hit
-/// (in `best`), which ends the walk. Every BVH's leaves (binary and wide) run this.
+/// (in `best`), which ends the walk. The binary BVH's leaves run this, and the wide
+/// BVH's with the watertight test (with Möller–Trumbore its leaves are lanes:
+/// intersect_leaf_lanes in wide_bvh.h).
 template <StopAt kStop, class Tester, class Observer>
 [[gnu::always_inline]] inline bool intersect_leaf_triangles(uint32_t first, uint32_t count, const uint32_t* prim_ids,
                                                            Ray& ray, const Tester& tester, Hit& best, Observer& obs) {

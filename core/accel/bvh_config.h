@@ -100,7 +100,7 @@ struct BvhBuildStats {
     uint32_t max_depth = 0;        ///< depth of the deepest leaf, root = 0
     double avg_leaf_depth = 0;     ///< mean depth over leaves
     std::vector<uint32_t> leaf_size_histogram;  ///< [k] = number of leaves holding k triangles
-    double sah_cost = 0;           ///< the tree's SAH cost: Σ interior S/S_root·C_trav + Σ leaf S/S_root·N·C_isect
+    double sah_cost = 0;           ///< the tree's SAH cost: Σ interior S/S_root·C_trav + Σ leaf S/S_root·N·C_isect (N in tests: leaf_lanes)
     uint64_t memory_bytes = 0;
     double build_ms = 0;           ///< wall time of build_bvh, one thread
     double refit_ms = 0;           ///< wall time of the last refit_bvh (0: not refitted; bvh_build.h)

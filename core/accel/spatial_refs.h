@@ -316,7 +316,8 @@ constexpr bool keeps_leaf_lanes() {
 /// is the root and `bounds` its box (the scene's box grown by the reference padding);
 /// nodes is empty iff the mesh has no triangles; triangles[k] is triangle prim_ids[k]
 /// (leaf order: a copy per reference, so that a leaf's triangles are contiguous in
-/// memory), or with kOneCopyPerTriangle triangles[copy_index[k]] is triangle
+/// memory; with kLeafLanes, the KD tree's, the same copy is kept as leaf_lanes and
+/// `triangles` is empty), or with kOneCopyPerTriangle triangles[copy_index[k]] is triangle
 /// prim_ids[k] (one copy of each triangle, in the build's order copy_order: a tree that
 /// holds each triangle many times, as the octree does, keeps one copy instead of one
 /// per reference).

@@ -61,8 +61,8 @@ struct WideBvhStats {
     uint32_t max_depth = 0;       ///< deepest leaf, the root's children at depth 1
     double avg_children = 0;      ///< children per wide node, on average
     uint32_t bytes_per_node = 0;  ///< sizeof(WideBvhNode<W>)
-    double sah_cost = 0;          ///< Σ wide node S/S_root·C_trav + Σ leaf S/S_root·N·C_isect
-    uint64_t memory_bytes = 0;    ///< nodes, prim_ids and the leaf-ordered triangle copy
+    double sah_cost = 0;          ///< Σ wide node S/S_root·C_trav + Σ leaf S/S_root·N·C_isect (N in tests, sah.h)
+    uint64_t memory_bytes = 0;    ///< nodes, prim_ids and the leaves' triangle lanes
     double collapse_ms = 0;       ///< wall time of the collapse alone
     double build_ms = 0;          ///< binary build + collapse
 };

@@ -3,6 +3,7 @@
 /// the wide nodes' boxes (box_lanes.h) applied to the wide BVH's leaves, as Embree's
 /// four-triangle leaves do (Wald et al., "Embree: A Kernel Framework for Efficient
 /// CPU Ray Tracing", 2014). A leaf of up to four triangles costs about one test.
+/// The wide BVH and the KD tree keep their leaves this way.
 ///
 /// Layout (LeafTriangleLanes): each leaf's triangles as structure of arrays, in leaf
 /// order, in the space the leaf's Triangles take: for a leaf of c triangles that
