@@ -204,7 +204,9 @@ TEST(GoldenImage, EveryShippedPresetLoadsRendersAndMatchesItsGolden) {
 TEST(Presets, TheComparisonPresetsMeasureWhatTheirCaptionsSay) {
     // Counts, not times (those are the machine's): every structure finds naive's hits;
     // the cell structures meet triangles again, the BVH never; in the stadium the grid,
-    // which cannot adapt, tests many times the triangles per ray the trees do.
+    // which cannot adapt, tests many times the triangles per ray the trees do (the KD
+    // tree, whose leaves are tested four triangles at a time and priced so, several
+    // times: its leaves are bigger).
     std::vector<StructureComparison> measured;
     for (const char* name : {"36-comparison-table", "37-amortization"}) {
         SCOPED_TRACE(name);
@@ -226,7 +228,8 @@ TEST(Presets, TheComparisonPresetsMeasureWhatTheirCaptionsSay) {
     }
     ASSERT_EQ(measured.size(), 2u);
     const auto& stadium = measured[1].rows;
-    for (size_t tree : {2, 3, 4}) EXPECT_GT(stadium[1].triangle_tests_per_ray, 10 * stadium[tree].triangle_tests_per_ray);
+    for (size_t tree : {3, 4}) EXPECT_GT(stadium[1].triangle_tests_per_ray, 10 * stadium[tree].triangle_tests_per_ray);
+    EXPECT_GT(stadium[1].triangle_tests_per_ray, 4 * stadium[2].triangle_tests_per_ray);  // KD
 }
 
 TEST(Presets, TheTwoTreesPresetShowsTheSahTreeBetter) {
