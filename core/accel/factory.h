@@ -33,7 +33,8 @@ struct AccelConfig {
     std::optional<float> cost_isect;  ///< --cost-isect (SAH C_isect)
     BvhConfig bvh;               ///< bvh: --bvh-build --bins --leaf-size --cost-trav --cost-isect
     BvhTraversal bvh_traversal = BvhTraversal::Ordered;  ///< bvh: --bvh-traversal
-    /// Every structure: --triangle-test (set after the build: the tree does not depend on it).
+    /// Every structure: --triangle-test (set after the build; the wide BVH's and the KD
+    /// tree's SAH weigh leaves by it: Möller–Trumbore tests four triangles at a time).
     TriangleTestKind triangle_test = TriangleTestKind::MollerTrumbore;
     /// Every structure: the bytes its build may take (--memory-budget; 0 = half the
     /// physical memory). Not part of what a preset or the panels describe.
