@@ -14,6 +14,7 @@
 /// node holding the hit is culled before it is found: core/geometry/triangle.h.)
 /// Box events report the widened interval, clipped to the ray's [t_min, t_max].
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -21,6 +22,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/accel/accel_type.h"
+#include "core/math/box_pair_test.h"
 #include "core/math/box_test.h"
 #include "core/accel/bvh_config.h"
 #include "core/geometry/triangle.h"
@@ -167,6 +169,19 @@ private:
         return box;
     }
 
+    /// Tests the boxes of the sibling pair nodes[left], nodes[left + 1] with one
+    /// instruction sequence (box_pair_test.h) and reports them, left then right.
+    template <bool kMayStartBehind, class Observer>
+    [[gnu::always_inline]] std::array<SlabResult, 2> test_boxes(uint32_t left, const BoxPairTestRay<kMayStartBehind>& pair_ray,
+                                                                const Ray& ray, Observer& obs) const {
+        const std::array<SlabResult, 2> boxes =
+            widened_slab_test_pair(nodes[left].bounds, nodes[left + 1].bounds, pair_ray, ray.t_min, ray.t_max);
+        for (uint32_t i = 0; i < 2; ++i)
+            obs.on({.kind = EventKind::BoxTest, .hit = entered(boxes[i]), .node = left + i,
+                    .t_enter = boxes[i].t_enter, .t_exit = boxes[i].t_exit});
+        return boxes;
+    }
+
     /// Reports `leaf` and tests its triangles (intersect_leaf_triangles, below).
     template <StopAt kStop, class Entry, class Tester, class Observer>
     bool intersect_leaf(const Entry& leaf, Ray& ray, const Tester& tester, Hit& best, Observer& obs) const;
@@ -239,6 +254,7 @@ Hit Bvh::walk(const Ray& ray, Observer& obs) const {
     if (nodes.empty()) return done(best, obs);
     const TriangleTester<kTest> tester(ray, triangles, corners);
     const BoxTestRay& box_ray = tester.box_ray();
+    const BoxPairTestRay<kMayStartBehind> pair_ray(box_ray);
     Ray shrinking = ray;  // t_max follows the closest hit, for the triangle tests only
     Entry stack[kBvhStackSize];
     Entry* top = stack;  // one past the last entry
@@ -261,8 +277,7 @@ Hit Bvh::walk(const Ray& ray, Observer& obs) const {
             const uint32_t left = current.first, right = current.first + 1;
             prefetch_children(left);
             prefetch_children(right);
-            const SlabResult a = test_box<kMayStartBehind>(left, box_ray, ray, obs);
-            const SlabResult b = test_box<kMayStartBehind>(right, box_ray, ray, obs);
+            const auto [a, b] = test_boxes(left, pair_ray, ray, obs);
             const bool keep_left = entered(a) && (!kClosest || !(a.t_enter > best.t));
             const bool keep_right = entered(b) && (!kClosest || !(b.t_enter > best.t));
             if (!keep_left) cull(left, a, obs);

@@ -69,6 +69,17 @@ struct BoxTestRay {
 
 static_assert(sizeof(Aabb) == 6 * sizeof(float), "a box is six floats: lo.x lo.y lo.z hi.x hi.y hi.z");
 
+/// For rays that may hit behind their origin: the raw slab interval `box` moved
+/// outwards by the margin, each end by its sign (a product keeps ±inf), then clipped
+/// to [t_min, t_max].
+[[gnu::always_inline]] inline SlabResult widen_and_clip(SlabResult box, float t_min, float t_max) {
+    box.t_enter *= box.t_enter > 0.0f ? 1.0f - kBoxTestMargin : 1.0f + kBoxTestMargin;
+    box.t_exit *= box.t_exit > 0.0f ? 1.0f + kBoxTestMargin : 1.0f - kBoxTestMargin;
+    box.t_enter = box.t_enter > t_min ? box.t_enter : t_min;
+    box.t_exit = box.t_exit < t_max ? box.t_exit : t_max;
+    return box;
+}
+
 /// The widened slab interval, clipped to [t_min, t_max]. hit() is true for every
 /// box the exact slab test hits, and for boxes it misses by less than the margin.
 ///
@@ -96,12 +107,7 @@ template <bool kMayStartBehind>
         enter = t_near > enter ? t_near : enter;
         exit = t_far < exit ? t_far : exit;
     }
-    if constexpr (kMayStartBehind) {  // move each end outwards by its sign (a product keeps ±inf), then clip
-        enter *= enter > 0.0f ? 1.0f - kBoxTestMargin : 1.0f + kBoxTestMargin;
-        exit *= exit > 0.0f ? 1.0f + kBoxTestMargin : 1.0f - kBoxTestMargin;
-        enter = enter > t_min ? enter : t_min;
-        exit = exit < t_max ? exit : t_max;
-    }
+    if constexpr (kMayStartBehind) return widen_and_clip({enter, exit}, t_min, t_max);
     return {enter, exit};
 }
 
