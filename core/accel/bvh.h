@@ -209,31 +209,35 @@ private:
 // The traversal. Written once; NoObserver's empty on() makes it the fast path.
 // ---------------------------------------------------------------------------
 
-/// Tests the triangles [first, first + count) of a leaf-ordered triangle array against
-/// `ray` (whose t_max is the closest hit so far, inclusive), updating `best` and
-/// `ray.t_max`; prim_ids[k] is the id of triangle k. Any-hit: true at the first hit
-/// (in `best`), which ends the walk. The binary BVH's leaves run this, and the wide
-/// BVH's with the watertight test (with Möller–Trumbore its leaves are lanes:
-/// intersect_leaf_lanes in wide_bvh.h).
+/// What a BVH leaf does with the test of triangle `id` against `ray` (whose t_max is
+/// the closest hit so far, inclusive): reports it, and keeps a hit that is closer in
+/// `best` and `ray.t_max`. Any-hit: true at the first hit (in `best`), which ends the walk.
+template <StopAt kStop, class Observer>
+[[gnu::always_inline]] inline bool take_triangle_test(const TriangleTest& test, uint32_t id, Ray& ray, Hit& best,
+                                                      Observer& obs) {
+    obs.on({.kind = EventKind::TriangleTest, .hit = test.hit, .tri = id, .t = test.t, .u = test.u, .v = test.v});
+    if constexpr (kStop == StopAt::AnyHit) {
+        if (test.hit) {
+            best = {id, test.t, test.u, test.v};
+            return true;
+        }
+    } else if (test.hit && is_closer(test.t, id, best)) {
+        best = {id, test.t, test.u, test.v};
+        ray.t_max = test.t;  // later triangles must be at least this close (inclusive, as BruteForce)
+        obs.on({.kind = EventKind::NewClosest, .tri = best.tri, .t = best.t, .u = best.u, .v = best.v});
+    }
+    return false;
+}
+
+/// Tests the triangles [first, first + count) of a leaf-ordered triangle array one by
+/// one (take_triangle_test); prim_ids[k] is the id of triangle k. The binary BVH's
+/// leaves run this, and the wide BVH's with the watertight test (with Möller–Trumbore
+/// its leaves are lanes: intersect_leaf_lanes in wide_bvh.h).
 template <StopAt kStop, class Tester, class Observer>
 [[gnu::always_inline]] inline bool intersect_leaf_triangles(uint32_t first, uint32_t count, const uint32_t* prim_ids,
                                                            Ray& ray, const Tester& tester, Hit& best, Observer& obs) {
-    const uint32_t end = first + count;
-    for (uint32_t k = first; k < end; ++k) {
-        const TriangleTest test = tester.test(k, ray);
-        obs.on({.kind = EventKind::TriangleTest, .hit = test.hit, .tri = prim_ids[k], .t = test.t, .u = test.u,
-                .v = test.v});
-        if constexpr (kStop == StopAt::AnyHit) {
-            if (test.hit) {
-                best = {prim_ids[k], test.t, test.u, test.v};
-                return true;
-            }
-        } else if (test.hit && is_closer(test.t, prim_ids[k], best)) {
-            best = {prim_ids[k], test.t, test.u, test.v};
-            ray.t_max = test.t;  // later triangles must be at least this close (inclusive, as BruteForce)
-            obs.on({.kind = EventKind::NewClosest, .tri = best.tri, .t = best.t, .u = best.u, .v = best.v});
-        }
-    }
+    for (uint32_t k = first; k < first + count; ++k)
+        if (take_triangle_test<kStop>(tester.test(k, ray), prim_ids[k], ray, best, obs)) return true;
     return false;
 }
 

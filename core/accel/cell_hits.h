@@ -20,7 +20,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/geometry/triangle_pack.h"
+#include "core/geometry/triangle_lanes.h"
 #include "core/traversal/observers.h"
 
 namespace accelviz {
@@ -121,18 +121,16 @@ public:
         take(tester_.test(k, test_ray_), id, obs);
     }
 
-    /// The same for lane i of `test4` (moller_trumbore_lanes on this ray): the lane's
-    /// triangle, whose id is `id` and which `triangle()` returns, is finished as
-    /// intersect_triangle would finish it, so the result is test()'s bit for bit.
-    template <class GetTriangle, class Observer>
-    void test_lane(const PackTest& test4, int i, GetTriangle triangle, uint32_t id, Observer& obs) {
+    /// The same for a triangle of a leaf kept as lanes (for_each_lane_test,
+    /// triangle_lanes.h), whose id is `id`: result() is its TriangleTest, test()'s bit
+    /// for bit, computed only if the mailbox has not seen the triangle.
+    template <class LaneResult, class Observer>
+    void test_lane(const LaneResult& result, uint32_t id, Observer& obs) {
         if (use_mailbox_ && mailbox_.seen(id)) {
             obs.on({.kind = EventKind::MailboxSkip, .tri = id});
             return;
         }
-        TriangleTest test = test4.lane(i);
-        if (test4.candidates >> i & 1) finish_moller_trumbore(triangle(), test_ray_, tester_.box_ray(), test);
-        take(test, id, obs);
+        take(result(), id, obs);
     }
 
     /// Whether every triangle must be looked at (the mailbox records each), or only
@@ -140,6 +138,8 @@ public:
     bool uses_mailbox() const { return use_mailbox_; }
     /// The ray the triangles are tested with (t_max: the closest hit so far).
     const Ray& test_ray() const { return test_ray_; }
+    /// The box test's view of the ray, for the triangle test's own-box rule.
+    const BoxTestRay& box_ray() const { return tester_.box_ray(); }
 
     /// After the current cell: may the walk stop? Strict: yes once the closest
     /// hit lies strictly before the cell's end (every later cell starts at or

@@ -71,27 +71,22 @@ struct CellWalk {
     }
 
     /// test_leaf for Möller–Trumbore on a leaf kept as lanes (LeafTriangleLanes): four
-    /// triangles' first halves at once, then each lane in leaf order through
-    /// CellHits::test_lane, which makes test()'s calls and events. Without an observer
-    /// that watches or a mailbox that must record every id, only the candidates are
-    /// looked at (no other lane can hit).
+    /// triangles' first halves at once (for_each_lane_test, triangle_lanes.h), then each
+    /// lane in leaf order through CellHits::test_lane, which makes test()'s calls and
+    /// events. Without an observer that watches or a mailbox that must record every id,
+    /// only the candidates are looked at (no other lane can hit).
     template <class Lanes, class Hits, class Observer>
     static bool test_leaf_lanes(const Entry& cur, uint32_t first, uint32_t count, const uint32_t* prim_ids,
                                 const LeafTriangleLanes& lanes, Hits& hits, Observer& obs) {
         obs.on({.kind = EventKind::Leaf, .node = cur.node, .first = first, .count = count, .t_enter = cur.t_min,
                 .t_exit = cur.t_max});
         hits.enter(cur.t_max, obs);
-        const float* leaf = lanes.leaf(first);
-        for (uint32_t j = 0; j < count && !hits.found_any(); j += LeafTriangleLanes::kLanes) {
-            const uint32_t in_leaf = (1u << std::min<uint32_t>(count - j, LeafTriangleLanes::kLanes)) - 1;
-            const PackTest test4 = moller_trumbore_lanes<Lanes>(leaf, count, j, hits.test_ray());
-            uint32_t todo = kObserverWatches<Observer> || hits.uses_mailbox() ? in_leaf : test4.candidates & in_leaf;
-            for (; todo && !hits.found_any(); todo &= todo - 1) {
-                const int i = __builtin_ctz(todo);
-                const uint32_t k = j + uint32_t(i);
-                hits.test_lane(test4, i, [&] { return lanes.get(first, count, k); }, prim_ids[first + k], obs);
-            }
-        }
+        const auto test = [&](uint32_t k, const auto& result) __attribute__((always_inline)) {
+            hits.test_lane(result, prim_ids[first + k], obs);
+            return hits.found_any();
+        };
+        for_each_lane_test<Lanes>(lanes, first, count, hits.test_ray(), hits.box_ray(),
+                                  kObserverWatches<Observer> || hits.uses_mailbox(), test);
         return hits.can_stop();
     }
 

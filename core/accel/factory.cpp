@@ -33,15 +33,13 @@ void use_triangle_test(Structure& s, TriangleTestKind test, const Mesh& mesh, st
 BvhConfig bvh_config_of(const AccelConfig& config) {
     BvhConfig c =
         with_shared_flags(config.bvh, config, &BvhConfig::max_leaf_size, &BvhConfig::cost_trav, &BvhConfig::cost_isect);
-    // The wide BVH tests its leaves four at a time with Möller–Trumbore.
-    const bool lanes = c.width != 2 && config.triangle_test == TriangleTestKind::MollerTrumbore;
-    c.leaf_lanes = lanes ? LeafTriangleLanes::kLanes : 1;
+    // The wide BVH's leaves are lanes; the lecture's binary tree tests one triangle at a time.
+    c.leaf_lanes = c.width != 2 ? leaf_lanes_for(config.triangle_test) : 1;
     return c;
 }
 KdConfig kd_config_of(const AccelConfig& config) {
     KdConfig c = with_shared_flags(config.kd, config, &KdConfig::leaf_size, &KdConfig::cost_trav, &KdConfig::cost_isect);
-    // Möller–Trumbore's walk tests a leaf's triangles four at a time, the watertight test one at a time.
-    c.leaf_lanes = config.triangle_test == TriangleTestKind::MollerTrumbore ? LeafTriangleLanes::kLanes : 1;
+    c.leaf_lanes = leaf_lanes_for(config.triangle_test);
     return c;
 }
 OctreeConfig octree_config_of(const AccelConfig& config) {

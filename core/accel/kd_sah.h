@@ -8,19 +8,17 @@
 #include <vector>
 
 #include "core/accel/kd_tree.h"
+#include "core/accel/sah.h"
 #include "core/accel/spatial_refs.h"
 #include "core/util/sort_floats.h"
 
 namespace accelviz {
 
 /// With Möller–Trumbore the KD tree tests a leaf's triangles four at a time (its
-/// leaves are kept as lanes: geometry/triangle_pack.h), so its SAH counts a leaf's
+/// leaves are kept as lanes: geometry/triangle_lanes.h), so its SAH counts a leaf's
 /// tests, ceil(N / L) with L = KdConfig::leaf_lanes, where the lecture's formula has N
 /// (as sah.h does for the wide BVH, and Embree's builders do).
-inline double kd_tests(const KdConfig& c, size_t count) {
-    const size_t lanes = size_t(c.leaf_lanes);
-    return double((count + lanes - 1) / lanes);
-}
+inline double kd_tests(const KdConfig& c, size_t count) { return double(leaf_tests(count, uint64_t(c.leaf_lanes))); }
 
 /// A box's surface area, in double as the build weighs it.
 inline double kd_area(const Aabb& b) {

@@ -9,7 +9,7 @@
 /// Costs are in units of the caller's choosing; only their ratios matter.
 ///
 /// A tree whose leaves test their triangles L at a time (the wide BVH's leaves, four
-/// lanes: geometry/triangle_pack.h) counts a leaf's tests, not its triangles: N
+/// lanes: geometry/triangle_lanes.h) counts a leaf's tests, not its triangles: N
 /// becomes ceil(N / L) in both formulas, as Embree's builders count blocks of four.
 /// L = 1 is the lecture's model.
 
@@ -19,13 +19,17 @@
 
 namespace accelviz {
 
+/// ceil(count / lanes): the tests a leaf of `count` triangles makes when it tests
+/// `lanes` triangles together. Every SAH here (the BVH's, the KD tree's) counts this.
+constexpr uint64_t leaf_tests(uint64_t count, uint64_t lanes) { return (count + lanes - 1) / lanes; }
+
 struct SahCostModel {
     float cost_trav = 1.0f;   ///< C_trav: one interior-node step (its box tests), > 0 not required
     float cost_isect = 1.0f;  ///< C_isect: one ray–triangle test, > 0
     uint32_t leaf_lanes = 1;  ///< L: triangles a leaf tests together
 
     /// ceil(count / L): the tests a leaf of `count` triangles makes.
-    uint32_t tests(uint32_t count) const { return (count + leaf_lanes - 1) / leaf_lanes; }
+    uint32_t tests(uint32_t count) const { return uint32_t(leaf_tests(count, leaf_lanes)); }
 
     /// S_child / S_parent. A parent of zero area (all its triangles are points
     /// or lie on one line) is hit only by rays that hit every child, so 0/0 is 1.

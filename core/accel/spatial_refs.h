@@ -21,7 +21,7 @@
 #include "core/geometry/mesh.h"
 #include "core/geometry/triangle.h"
 #include "core/geometry/triangle_box.h"
-#include "core/geometry/triangle_pack.h"
+#include "core/geometry/triangle_lanes.h"
 #include "core/util/large_array.h"
 #include "core/util/work_progress.h"
 
@@ -302,7 +302,7 @@ constexpr bool one_copy_per_triangle() {
 }
 
 /// Whether a tree of these nodes keeps its leaves' triangles as lanes
-/// (LeafTriangleLanes, geometry/triangle_pack.h: Möller–Trumbore four at a time)
+/// (LeafTriangleLanes, geometry/triangle_lanes.h: Möller–Trumbore four at a time)
 /// instead of one Triangle each (a node type says so with kLeafLanes = true).
 template <class Node>
 constexpr bool keeps_leaf_lanes() {

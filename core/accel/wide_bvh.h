@@ -9,7 +9,7 @@
 ///
 /// Built by collapse_bvh() (below) from a binary Bvh: the triangles, their ids and
 /// the leaves are the binary tree's; only the interior nodes change. The leaves are
-/// tested four triangles at a time (leaf_lanes, geometry/triangle_pack.h), so
+/// tested four triangles at a time (leaf_lanes, geometry/triangle_lanes.h), so
 /// build_accelerator builds that binary tree with an SAH that counts a leaf's tests
 /// (BvhConfig::leaf_lanes = 4, sah.h): leaves of three and four, fewer nodes.
 ///
@@ -31,7 +31,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/accel/bvh.h"
-#include "core/geometry/triangle_pack.h"
+#include "core/geometry/triangle_lanes.h"
 #include "core/math/box_lanes.h"
 #include "core/util/expected.h"
 #include "core/util/work_progress.h"
@@ -80,7 +80,7 @@ struct WideBvh {
     uint32_t root_count = 0;     ///< 0: the root is wide node 0; > 0: the root is a leaf of this many triangles
     std::vector<uint32_t, LargeArrayAllocator<uint32_t>> prim_ids;  ///< leaf order → triangle id (the binary tree's)
     /// The triangles in leaf order, each leaf's as lanes: what Möller–Trumbore's walk
-    /// tests, four at a time (triangle_pack.h). Made by make_leaf_lanes().
+    /// tests, four at a time (triangle_lanes.h). Made by make_leaf_lanes().
     LeafTriangleLanes leaf_lanes;
     CornerArray corners;         ///< leaf order; only when triangle_test is watertight
     BvhConfig build_config;
@@ -193,39 +193,18 @@ private:
         return best;
     }
 
-    /// intersect_leaf_triangles (bvh.h) for Möller–Trumbore, four lanes at a time:
-    /// the leaf [first, first + count) by moller_trumbore_lanes, then its candidates one
-    /// by one in leaf order (triangle_pack.h). An observer that watches hears every
-    /// triangle's test, as from the one-triangle loop; the fast path looks only at the
-    /// candidates (no other lane can hit).
+    /// intersect_leaf_triangles (bvh.h) for Möller–Trumbore, four lanes at a time
+    /// (for_each_lane_test, triangle_lanes.h), each test kept as take_triangle_test keeps
+    /// it. An observer that watches hears every triangle's test, as from the
+    /// one-triangle loop; the fast path looks only at the candidates (no other lane can hit).
     template <StopAt kStop, class Observer>
     [[gnu::always_inline]] bool intersect_leaf_lanes(uint32_t first, uint32_t count, Ray& ray,
                                                      const BoxTestRay& box_ray, Hit& best, Observer& obs) const {
-        const float* leaf = leaf_lanes.leaf(first);
-        for (uint32_t j = 0; j < count; j += LeafTriangleLanes::kLanes) {
-            const uint32_t lanes = (1u << std::min<uint32_t>(count - j, LeafTriangleLanes::kLanes)) - 1;
-            const PackTest test4 = moller_trumbore_lanes<typename Lanes::Four>(leaf, count, j, ray);
-            for (uint32_t todo = kObserverWatches<Observer> ? lanes : test4.candidates & lanes; todo; todo &= todo - 1) {
-                const int i = __builtin_ctz(todo);
-                TriangleTest test = test4.lane(i);
-                if (test4.candidates >> i & 1)
-                    finish_moller_trumbore(leaf_lanes.get(first, count, j + uint32_t(i)), ray, box_ray, test);
-                const uint32_t id = prim_ids[first + j + uint32_t(i)];
-                obs.on({.kind = EventKind::TriangleTest, .hit = test.hit, .tri = id, .t = test.t, .u = test.u,
-                        .v = test.v});
-                if constexpr (kStop == StopAt::AnyHit) {
-                    if (test.hit) {
-                        best = {id, test.t, test.u, test.v};
-                        return true;
-                    }
-                } else if (test.hit && is_closer(test.t, id, best)) {
-                    best = {id, test.t, test.u, test.v};
-                    ray.t_max = test.t;  // later triangles must be at least this close (inclusive, as BruteForce)
-                    obs.on({.kind = EventKind::NewClosest, .tri = best.tri, .t = best.t, .u = best.u, .v = best.v});
-                }
-            }
-        }
-        return false;
+        const auto keep = [&](uint32_t k, const auto& result) __attribute__((always_inline)) {
+            return take_triangle_test<kStop>(result(), prim_ids[first + k], ray, best, obs);
+        };
+        return for_each_lane_test<typename Lanes::Four>(leaf_lanes, first, count, ray, box_ray,
+                                                        kObserverWatches<Observer>, keep);
     }
 };
 

@@ -354,7 +354,7 @@ inline TriangleTest intersect_triangle(const TriangleCorners& tri, const Ray& ra
 /// same order; the other may be empty). A structure tests triangle k of its arrays
 /// through test(k), so every structure runs the same test the same way (the wide
 /// BVH's and the KD tree's Möller–Trumbore leaves run its first half four triangles
-/// at a time, bit for bit, and finish each candidate as it does: triangle_pack.h).
+/// at a time, bit for bit, and finish each candidate as it does: triangle_lanes.h).
 /// The kind is a template parameter, chosen once per ray by the structure, so that
 /// Möller–Trumbore's loops hold no call to the other test: such a call, even never
 /// taken, cost the BVH 8-10% (its registers saved around it; docs/performance.md).

@@ -13,7 +13,7 @@
 /// bit-identical intervals to widened_slab_test() box by box: the wide BVH's
 /// answers stay exactly brute force's, and the tests compare the SIMD lanes with
 /// the loop. The wide BVH's leaves test four triangles with the same lanes
-/// (geometry/triangle_pack.h: its additions, divisions and equality too).
+/// (geometry/triangle_lanes.h: its additions, divisions and equality too).
 
 #include <array>
 #include <cstdint>

@@ -1,4 +1,4 @@
-// Four triangles per instruction sequence (triangle_pack.h): every lane must give
+// Four triangles per instruction sequence (triangle_lanes.h): every lane must give
 // what intersect_triangle gives that triangle, bit for bit, in the SIMD lanes and in
 // the plain loop, on well-shaped triangles, slivers, zero-area triangles and rays in
 // a triangle's plane; lanes past a leaf's end must never count.
@@ -8,7 +8,7 @@
 #include <cmath>
 
 #include "accel/accel_test_support.h"
-#include "core/geometry/triangle_pack.h"
+#include "core/geometry/triangle_lanes.h"
 #include "core/util/random.h"
 
 namespace accelviz {
@@ -37,7 +37,7 @@ void expect_lanes_match_the_one_triangle_test(const LeafTriangleLanes& lanes, co
     const auto count = uint32_t(tris.size());
     const BoxTestRay box_ray(ray);
     for (uint32_t j = 0; j < count; j += 4) {
-        const PackTest test4 = moller_trumbore_lanes<Lanes>(lanes.leaf(0), count, j, ray);
+        const LaneTests test4 = moller_trumbore_lanes<Lanes>(lanes.leaf(0), count, j, ray);
         for (uint32_t i = 0; i < 4 && j + i < count; ++i) {
             const Triangle& tri = tris[j + i];
             const TriangleTest want = intersect_triangle(tri, ray, box_ray);
@@ -98,9 +98,9 @@ TEST(TriangleLanes, LanesPastTheLeafsEndAreMaskedByTheCaller) {
     lanes.resize(2);
     lanes.set(0, 1, 0, missed);
     lanes.set(1, 1, 0, hit);
-    const PackTest first = moller_trumbore_lanes<FastLanes<4>>(lanes.leaf(0), 1, 0, ray);
+    const LaneTests first = moller_trumbore_lanes<FastLanes<4>>(lanes.leaf(0), 1, 0, ray);
     EXPECT_EQ(first.candidates & 1u, 0u);
-    const PackTest second = moller_trumbore_lanes<FastLanes<4>>(lanes.leaf(1), 1, 0, ray);
+    const LaneTests second = moller_trumbore_lanes<FastLanes<4>>(lanes.leaf(1), 1, 0, ray);
     EXPECT_EQ(second.candidates & 1u, 1u);
     EXPECT_EQ(second.t[0], 1.0f);
 }

@@ -21,6 +21,7 @@
 /// tested four lanes at a time reports the same hits, and the same TriangleTest for
 /// every triangle, as the leaf tested triangle by triangle.
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -32,7 +33,7 @@ namespace accelviz {
 
 /// The first half of Möller–Trumbore on four lanes: what intersect_triangle computes
 /// before its own-box rule (finish_moller_trumbore).
-struct PackTest {
+struct LaneTests {
     alignas(16) float t[4];
     alignas(16) float u[4];
     alignas(16) float v[4];
@@ -51,9 +52,14 @@ struct PackTest {
     }
 };
 
+/// Triangles a leaf tests together with `test`: four lanes with Möller–Trumbore, one
+/// at a time with the watertight test (its leaves are not kept as lanes). The wide
+/// BVH's and the KD tree's SAH count tests of this many (sah.h, kd_sah.h).
+constexpr int leaf_lanes_for(TriangleTestKind test) { return test == TriangleTestKind::MollerTrumbore ? 4 : 1; }
+
 /// Every leaf's triangles as structure of arrays (see the layout above).
 struct LeafTriangleLanes {
-    static constexpr int kLanes = 4;
+    static constexpr int kLanes = leaf_lanes_for(TriangleTestKind::MollerTrumbore);
     static constexpr int kComponents = 9;
     /// kLanes floats of padding at the end: the last leaf's last lanes read them.
     std::vector<float, LargeArrayAllocator<float>> floats;
@@ -82,8 +88,8 @@ struct LeafTriangleLanes {
 /// lanes start at `leaf` (LeafTriangleLanes::leaf): lanes at or past `count` hold
 /// whatever follows and must be masked off by the caller.
 template <class Lanes>
-[[gnu::always_inline]] inline PackTest moller_trumbore_lanes(const float* leaf, uint32_t count, uint32_t j,
-                                                             const Ray& ray) {
+[[gnu::always_inline]] inline LaneTests moller_trumbore_lanes(const float* leaf, uint32_t count, uint32_t j,
+                                                              const Ray& ray) {
     static_assert(Lanes::kWidth == 4);
     auto at = [&](int q) { return Lanes::load_unaligned(leaf + size_t(q) * count + j); };
     auto splat = [](float x) { return Lanes::splat(x); };
@@ -101,7 +107,7 @@ template <class Lanes>
     const Lanes qx = ty * e1z - tz * e1y, qy = tz * e1x - tx * e1z, qz = tx * e1y - ty * e1x;
     const Lanes v = (dx * qx + dy * qy + dz * qz) * inv_det;
     const Lanes t = (e2x * qx + e2y * qy + e2z * qz) * inv_det;
-    PackTest r;
+    LaneTests r;
     u.store(r.u);
     v.store(r.v);
     t.store(r.t);
@@ -110,6 +116,36 @@ template <class Lanes>
     r.candidates = r.nonzero_det & Lanes::less_equal(zero, u) & Lanes::less_equal(zero, v) &
                    Lanes::less_equal(u + v, splat(1.0f));
     return r;
+}
+
+/// The leaf loop of every tree whose leaves are lanes: for the leaf [first, first +
+/// count), Möller–Trumbore's first half on four triangles at a time, then, in leaf
+/// order, visit(j, result) for its j-th triangle, where result() is the TriangleTest
+/// intersect_triangle gives that triangle against `ray` as it is then (a candidate
+/// finished by finish_moller_trumbore with the closest hit so far in ray.t_max).
+/// Every triangle is visited when `every_triangle` (an observer hears each test, a
+/// mailbox records each id), else only the candidates: no other lane can hit. visit
+/// returns true to end the leaf (any-hit found one); so does this, then.
+template <class Lanes, class Visit>
+[[gnu::always_inline]] inline bool for_each_lane_test(const LeafTriangleLanes& lanes, uint32_t first, uint32_t count,
+                                                      const Ray& ray, const BoxTestRay& box_ray, bool every_triangle,
+                                                      Visit&& visit) {
+    const float* leaf = lanes.leaf(first);
+    for (uint32_t j = 0; j < count; j += LeafTriangleLanes::kLanes) {
+        const uint32_t in_leaf = (1u << std::min<uint32_t>(count - j, LeafTriangleLanes::kLanes)) - 1;
+        const LaneTests test4 = moller_trumbore_lanes<Lanes>(leaf, count, j, ray);
+        for (uint32_t todo = every_triangle ? in_leaf : test4.candidates & in_leaf; todo; todo &= todo - 1) {
+            const int i = __builtin_ctz(todo);
+            const uint32_t k = j + uint32_t(i);
+            const auto result = [&]() __attribute__((always_inline)) {
+                TriangleTest test = test4.lane(i);
+                if (test4.candidates >> i & 1) finish_moller_trumbore(lanes.get(first, count, k), ray, box_ray, test);
+                return test;
+            };
+            if (visit(k, result)) return true;
+        }
+    }
+    return false;
 }
 
 }  // namespace accelviz
