@@ -170,16 +170,17 @@ private:
     }
 
     /// Tests the boxes of the sibling pair nodes[left], nodes[left + 1] with one
-    /// instruction sequence (box_pair_test.h) and reports them, left then right.
+    /// instruction sequence (box_pair_test.h) and reports them, left then right; kept:
+    /// those the ray enters no later than `limit`.
     template <bool kMayStartBehind, class Observer>
-    [[gnu::always_inline]] std::array<SlabResult, 2> test_boxes(uint32_t left, const BoxPairTestRay<kMayStartBehind>& pair_ray,
-                                                                const Ray& ray, Observer& obs) const {
-        const std::array<SlabResult, 2> boxes =
-            widened_slab_test_pair(nodes[left].bounds, nodes[left + 1].bounds, pair_ray, ray.t_min, ray.t_max);
+    [[gnu::always_inline]] SlabPair test_boxes(uint32_t left, const BoxPairTestRay<kMayStartBehind>& pair_ray,
+                                               const Ray& ray, float limit, Observer& obs) const {
+        const SlabPair pair =
+            widened_slab_test_pair(nodes[left].bounds, nodes[left + 1].bounds, pair_ray, ray.t_min, ray.t_max, limit);
         for (uint32_t i = 0; i < 2; ++i)
-            obs.on({.kind = EventKind::BoxTest, .hit = entered(boxes[i]), .node = left + i,
-                    .t_enter = boxes[i].t_enter, .t_exit = boxes[i].t_exit});
-        return boxes;
+            obs.on({.kind = EventKind::BoxTest, .hit = entered(pair.boxes[i]), .node = left + i,
+                    .t_enter = pair.boxes[i].t_enter, .t_exit = pair.boxes[i].t_exit});
+        return pair;
     }
 
     /// Reports `leaf` and tests its triangles (intersect_leaf_triangles, below).
@@ -281,12 +282,12 @@ Hit Bvh::walk(const Ray& ray, Observer& obs) const {
             const uint32_t left = current.first, right = current.first + 1;
             prefetch_children(left);
             prefetch_children(right);
-            const auto [a, b] = test_boxes(left, pair_ray, ray, obs);
-            const bool keep_left = entered(a) && (!kClosest || !(a.t_enter > best.t));
-            const bool keep_right = entered(b) && (!kClosest || !(b.t_enter > best.t));
+            const SlabPair pair = test_boxes(left, pair_ray, ray, kClosest ? best.t : kInfinity, obs);
+            const SlabResult &a = pair.boxes[0], &b = pair.boxes[1];
+            const bool keep_left = pair.kept & 1, keep_right = pair.kept >> 1;
             if (!keep_left) cull(left, a, obs);
             if (!keep_right) cull(right, b, obs);
-            if (keep_left && keep_right) {
+            if (pair.kept == 3) {
                 // Nearer first (the left on a tie); the other waits on the stack with its interval.
                 if (b.t_enter < a.t_enter) {
                     *top++ = Entry::of(nodes[left], left, a.t_enter, a.t_exit);

@@ -54,12 +54,24 @@ struct BoxPairTestRay {
     }
 };
 
+/// Two boxes' intervals, and which of them the walk keeps.
+struct SlabPair {
+    std::array<SlabResult, 2> boxes;
+    /// Bit i: box i's interval is not empty (t_enter <= t_exit) and begins no later
+    /// than the limit the walk gave (the closest hit so far).
+    uint32_t kept = 0;
+};
+
 /// widened_slab_test on boxes `a` and `b`, each the first six of eight floats that
-/// start 32-byte records (a BVH node: its box, then two 32-bit words the test ignores).
+/// start 32-byte records (a BVH node: its box, then two 32-bit words the test ignores),
+/// and which of them the ray enters no later than `limit`.
 template <bool kMayStartBehind>
-[[gnu::always_inline]] inline std::array<SlabResult, 2> widened_slab_test_pair(const Aabb& a, const Aabb& b,
-                                                                             const BoxPairTestRay<kMayStartBehind>& ray,
-                                                                             float t_min, float t_max) {
+[[gnu::always_inline]] inline SlabPair widened_slab_test_pair(const Aabb& a, const Aabb& b,
+                                                              const BoxPairTestRay<kMayStartBehind>& ray, float t_min,
+                                                              float t_max, float limit) {
+    const auto kept_of = [limit](const SlabResult& box) {
+        return uint32_t(box.t_enter <= box.t_exit && box.t_enter <= limit);
+    };
 #if defined(__AVX2__)
     // Lanes 0-3: a's near planes (x y z z), 4-7: a's far planes; the same for b.
     const __m256 pa = _mm256_permutevar8x32_ps(_mm256_loadu_ps(&a.lo.x), ray.planes);
@@ -73,16 +85,26 @@ template <bool kMayStartBehind>
     exit = _mm256_min_ps(exit, _mm256_permute_ps(exit, 0x4e));
     enter = _mm256_max_ps(enter, _mm256_permute_ps(enter, 0xb1));  // lanes 1 0 3 2
     exit = _mm256_min_ps(exit, _mm256_permute_ps(exit, 0xb1));
-    std::array<SlabResult, 2> r = {
-        SlabResult{_mm256_cvtss_f32(enter), _mm256_cvtss_f32(exit)},
-        SlabResult{_mm_cvtss_f32(_mm256_extractf128_ps(enter, 1)), _mm_cvtss_f32(_mm256_extractf128_ps(exit, 1))}};
+    SlabPair r;
+    r.boxes = {SlabResult{_mm256_cvtss_f32(enter), _mm256_cvtss_f32(exit)},
+               SlabResult{_mm_cvtss_f32(_mm256_extractf128_ps(enter, 1)), _mm_cvtss_f32(_mm256_extractf128_ps(exit, 1))}};
     if constexpr (kMayStartBehind) {
-        for (SlabResult& box : r) box = widen_and_clip(box, t_min, t_max);
+        for (SlabResult& box : r.boxes) box = widen_and_clip(box, t_min, t_max);
+        r.kept = kept_of(r.boxes[0]) | kept_of(r.boxes[1]) << 1;
+    } else {
+        // Both boxes' two comparisons in one: lanes 0 (a) and 4 (b).
+        const __m256 fits = _mm256_and_ps(_mm256_cmp_ps(enter, exit, _CMP_LE_OQ),
+                                          _mm256_cmp_ps(enter, _mm256_set1_ps(limit), _CMP_LE_OQ));
+        const uint32_t mask = uint32_t(_mm256_movemask_ps(fits));
+        r.kept = (mask & 1u) | (mask >> 3 & 2u);
     }
     return r;
 #else
-    return {widened_slab_test<kMayStartBehind>(a, *ray.scalar, t_min, t_max),
-            widened_slab_test<kMayStartBehind>(b, *ray.scalar, t_min, t_max)};
+    SlabPair r;
+    r.boxes = {widened_slab_test<kMayStartBehind>(a, *ray.scalar, t_min, t_max),
+               widened_slab_test<kMayStartBehind>(b, *ray.scalar, t_min, t_max)};
+    r.kept = kept_of(r.boxes[0]) | kept_of(r.boxes[1]) << 1;
+    return r;
 #endif
 }
 

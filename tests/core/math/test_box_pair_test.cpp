@@ -1,5 +1,6 @@
 // The binary BVH's paired box test (one instruction sequence for a node's two
-// children) against the scalar widened slab test, box by box: hostile boxes (flat,
+// children) against the scalar widened slab test, box by box (the intervals, and
+// whether the walk keeps each box for a closest hit so far): hostile boxes (flat,
 // empty, unbounded) and rays (±0 direction components, origins on the planes, where
 // 0 · inf is NaN), for rays that start at or ahead of their origin and rays that may
 // hit behind it.
@@ -72,16 +73,22 @@ void expect_pairs_match_the_scalar_test(uint32_t seed) {
         ray.t_max = rng() % 4 == 0 ? kInfinity : std::uniform_real_distribution<float>(0.0f, 8.0f)(rng);
         const BoxTestRay box_ray(ray);
         const BoxPairTestRay<kMayStartBehind> pair_ray(box_ray);
-        const auto both = widened_slab_test_pair(pair[0].box, pair[1].box, pair_ray, ray.t_min, ray.t_max);
+        const float limit = rng() % 2 ? kInfinity : std::uniform_real_distribution<float>(-1.0f, 6.0f)(rng);
+        const SlabPair result = widened_slab_test_pair(pair[0].box, pair[1].box, pair_ray, ray.t_min, ray.t_max, limit);
+        const std::array<SlabResult, 2>& both = result.boxes;
         for (int k = 0; k < 2; ++k) {
             const SlabResult one = widened_slab_test<kMayStartBehind>(pair[k].box, box_ray, ray.t_min, ray.t_max);
-            if (same(one.t_enter, both[k].t_enter) && same(one.t_exit, both[k].t_exit)) continue;
+            const bool kept = one.t_enter <= one.t_exit && !(one.t_enter > limit);
+            if (same(one.t_enter, both[k].t_enter) && same(one.t_exit, both[k].t_exit) &&
+                kept == bool(result.kept >> k & 1))
+                continue;
             std::ostringstream s;
             s << "box " << k << " lo " << pair[k].box.lo.x << ' ' << pair[k].box.lo.y << ' ' << pair[k].box.lo.z
               << " hi " << pair[k].box.hi.x << ' ' << pair[k].box.hi.y << ' ' << pair[k].box.hi.z << ", ray o "
               << ray.origin.x << ' ' << ray.origin.y << ' ' << ray.origin.z << " d " << ray.dir.x << ' ' << ray.dir.y
               << ' ' << ray.dir.z << " [" << ray.t_min << ", " << ray.t_max << "]: scalar [" << one.t_enter << ", "
-              << one.t_exit << "], pair [" << both[k].t_enter << ", " << both[k].t_exit << "]";
+              << one.t_exit << "], pair [" << both[k].t_enter << ", " << both[k].t_exit << "], limit " << limit
+              << ", kept " << kept << " / " << (result.kept >> k & 1);
             ADD_FAILURE() << s.str();
             ++differences;
         }
