@@ -15,6 +15,7 @@
 /// Box events report the widened interval, clipped to the ray's [t_min, t_max].
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -44,6 +45,7 @@ struct BvhNode {
     bool is_leaf() const { return count > 0; }
 };
 static_assert(sizeof(BvhNode) == 32, "a BVH node is 32 bytes: two fit in a cache line");
+static_assert(offsetof(BvhNode, bounds) == 0, "the pair box test reads a node's 32 bytes from its box");
 
 /// The node array's allocator: nodes[1] starts a 64-byte cache line. The root is
 /// alone at nodes[0]; every other node has its sibling next to it, pairs starting at

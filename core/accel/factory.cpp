@@ -33,7 +33,8 @@ void use_triangle_test(Structure& s, TriangleTestKind test, const Mesh& mesh, st
 BvhConfig bvh_config_of(const AccelConfig& config) {
     BvhConfig c =
         with_shared_flags(config.bvh, config, &BvhConfig::max_leaf_size, &BvhConfig::cost_trav, &BvhConfig::cost_isect);
-    // The wide BVH's leaves are lanes; the lecture's binary tree tests one triangle at a time.
+    // The wide BVH's leaves test leaf_lanes_for(test) triangles together; the lecture's
+    // binary tree tests one at a time.
     c.leaf_lanes = c.width != 2 ? leaf_lanes_for(config.triangle_test) : 1;
     return c;
 }

@@ -120,7 +120,7 @@ template <class Lanes>
 
 /// The leaf loop of every tree whose leaves are lanes: for the leaf [first, first +
 /// count), Möller–Trumbore's first half on four triangles at a time, then, in leaf
-/// order, visit(j, result) for its j-th triangle, where result() is the TriangleTest
+/// order, visit(k, result) for its k-th triangle, where result() is the TriangleTest
 /// intersect_triangle gives that triangle against `ray` as it is then (a candidate
 /// finished by finish_moller_trumbore with the closest hit so far in ray.t_max).
 /// Every triangle is visited when `every_triangle` (an observer hears each test, a

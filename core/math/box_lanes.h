@@ -31,7 +31,7 @@ namespace accelviz {
 template <int W>
 struct ScalarLanes {
     static constexpr int kWidth = W;
-    using Four = ScalarLanes<4>;  ///< the same kind of lanes, four wide (a triangle pack's)
+    using Four = ScalarLanes<4>;  ///< the same kind of lanes, four wide (a leaf's triangle lanes)
     std::array<float, W> v;
 
     static ScalarLanes load(const float* p) {

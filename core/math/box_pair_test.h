@@ -14,10 +14,11 @@
 /// "a > b ? a : b" / "a < b ? a : b" (MAXPS / MINPS) starting from [t_min, t_max]
 /// (or ±inf for rays that may hit behind their origin). Taking the maximum with
 /// t_min first turns a NaN distance (0 · inf: the origin on a plane of a ±0 axis) into
-/// t_min, so it never narrows the interval, as in widened_slab_test; the maximum of
-/// the same values in another order is the same value. So both intervals equal the
-/// scalar test's, box by box (a zero's sign aside, which no comparison sees); the
-/// tests hold them to it. Without AVX2 the pair is two scalar tests.
+/// t_min, so it never narrows the interval, as in widened_slab_test; the reduction
+/// takes x against y, then z, keeping the earlier on a tie as the scalar loop does. So
+/// both intervals equal the scalar test's bit for bit, box by box (a zero's sign
+/// included, which the events show); the tests hold them to it. Without AVX2 the pair
+/// is two scalar tests (scalar_slab_test_pair, which the tests check too).
 
 #include <array>
 
@@ -62,16 +63,33 @@ struct SlabPair {
     uint32_t kept = 0;
 };
 
-/// widened_slab_test on boxes `a` and `b`, each the first six of eight floats that
-/// start 32-byte records (a BVH node: its box, then two 32-bit words the test ignores),
-/// and which of them the ray enters no later than `limit`.
+/// Bit 0 / 1: box 0 / 1 is kept (see SlabPair::kept).
+[[gnu::always_inline]] inline uint32_t kept_boxes(const std::array<SlabResult, 2>& boxes, float limit) {
+    uint32_t kept = 0;
+    for (uint32_t i = 0; i < 2; ++i)
+        kept |= uint32_t(boxes[i].t_enter <= boxes[i].t_exit && boxes[i].t_enter <= limit) << i;
+    return kept;
+}
+
+/// The pair as two scalar tests: what widened_slab_test_pair computes without AVX2.
+template <bool kMayStartBehind>
+[[gnu::always_inline]] inline SlabPair scalar_slab_test_pair(const Aabb& a, const Aabb& b, const BoxTestRay& ray,
+                                                             float t_min, float t_max, float limit) {
+    SlabPair r;
+    r.boxes = {widened_slab_test<kMayStartBehind>(a, ray, t_min, t_max),
+               widened_slab_test<kMayStartBehind>(b, ray, t_min, t_max)};
+    r.kept = kept_boxes(r.boxes, limit);
+    return r;
+}
+
+/// widened_slab_test on boxes `a` and `b`, and which of them the ray enters no later
+/// than `limit`. Each box must be the first six of eight floats that start a 32-byte
+/// record (a BVH node: its box, then two 32-bit words the test ignores): AVX2 loads
+/// all eight.
 template <bool kMayStartBehind>
 [[gnu::always_inline]] inline SlabPair widened_slab_test_pair(const Aabb& a, const Aabb& b,
                                                               const BoxPairTestRay<kMayStartBehind>& ray, float t_min,
                                                               float t_max, float limit) {
-    const auto kept_of = [limit](const SlabResult& box) {
-        return uint32_t(box.t_enter <= box.t_exit && box.t_enter <= limit);
-    };
 #if defined(__AVX2__)
     // Lanes 0-3: a's near planes (x y z z), 4-7: a's far planes; the same for b.
     const __m256 pa = _mm256_permutevar8x32_ps(_mm256_loadu_ps(&a.lo.x), ray.planes);
@@ -81,16 +99,19 @@ template <bool kMayStartBehind>
     const float start = kMayStartBehind ? -kInfinity : t_min, end = kMayStartBehind ? kInfinity : t_max;
     __m256 enter = _mm256_max_ps(_mm256_mul_ps(_mm256_sub_ps(near, ray.origin), ray.near_scale), _mm256_set1_ps(start));
     __m256 exit = _mm256_min_ps(_mm256_mul_ps(_mm256_sub_ps(far, ray.origin), ray.far_scale), _mm256_set1_ps(end));
-    enter = _mm256_max_ps(enter, _mm256_permute_ps(enter, 0x4e));  // lanes 2 3 0 1 of each half
-    exit = _mm256_min_ps(exit, _mm256_permute_ps(exit, 0x4e));
-    enter = _mm256_max_ps(enter, _mm256_permute_ps(enter, 0xb1));  // lanes 1 0 3 2
-    exit = _mm256_min_ps(exit, _mm256_permute_ps(exit, 0xb1));
+    // x against y, then that against z, the earlier axis kept on a tie (MAXPS returns
+    // its second operand then), as the scalar loop keeps it: so even a zero's sign is
+    // the scalar test's.
+    enter = _mm256_max_ps(_mm256_permute_ps(enter, 0xb1), enter);  // lane 0: y vs x (lanes 1 0 3 2)
+    exit = _mm256_min_ps(_mm256_permute_ps(exit, 0xb1), exit);
+    enter = _mm256_max_ps(_mm256_permute_ps(enter, 0x4e), enter);  // lane 0: z vs (x, y) (lanes 2 3 0 1)
+    exit = _mm256_min_ps(_mm256_permute_ps(exit, 0x4e), exit);
     SlabPair r;
     r.boxes = {SlabResult{_mm256_cvtss_f32(enter), _mm256_cvtss_f32(exit)},
                SlabResult{_mm_cvtss_f32(_mm256_extractf128_ps(enter, 1)), _mm_cvtss_f32(_mm256_extractf128_ps(exit, 1))}};
     if constexpr (kMayStartBehind) {
         for (SlabResult& box : r.boxes) box = widen_and_clip(box, t_min, t_max);
-        r.kept = kept_of(r.boxes[0]) | kept_of(r.boxes[1]) << 1;
+        r.kept = kept_boxes(r.boxes, limit);
     } else {
         // Both boxes' two comparisons in one: lanes 0 (a) and 4 (b).
         const __m256 fits = _mm256_and_ps(_mm256_cmp_ps(enter, exit, _CMP_LE_OQ),
@@ -100,11 +121,7 @@ template <bool kMayStartBehind>
     }
     return r;
 #else
-    SlabPair r;
-    r.boxes = {widened_slab_test<kMayStartBehind>(a, *ray.scalar, t_min, t_max),
-               widened_slab_test<kMayStartBehind>(b, *ray.scalar, t_min, t_max)};
-    r.kept = kept_of(r.boxes[0]) | kept_of(r.boxes[1]) << 1;
-    return r;
+    return scalar_slab_test_pair<kMayStartBehind>(a, b, *ray.scalar, t_min, t_max, limit);
 #endif
 }
 

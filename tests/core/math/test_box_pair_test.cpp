@@ -4,6 +4,7 @@
 // empty, unbounded) and rays (±0 direction components, origins on the planes, where
 // 0 · inf is NaN), for rays that start at or ahead of their origin and rays that may
 // hit behind it.
+#include <bit>
 #include <cmath>
 #include <random>
 #include <sstream>
@@ -58,7 +59,8 @@ Record random_record(std::mt19937& rng) {
     return r;
 }
 
-bool same(float a, float b) { return a == b || (std::isnan(a) && std::isnan(b)); }
+/// Bit for bit (a zero's sign included: the events show it).
+bool same(float a, float b) { return std::bit_cast<uint32_t>(a) == std::bit_cast<uint32_t>(b); }
 
 template <bool kMayStartBehind>
 void expect_pairs_match_the_scalar_test(uint32_t seed) {
@@ -73,14 +75,28 @@ void expect_pairs_match_the_scalar_test(uint32_t seed) {
         ray.t_max = rng() % 4 == 0 ? kInfinity : std::uniform_real_distribution<float>(0.0f, 8.0f)(rng);
         const BoxTestRay box_ray(ray);
         const BoxPairTestRay<kMayStartBehind> pair_ray(box_ray);
-        const float limit = rng() % 2 ? kInfinity : std::uniform_real_distribution<float>(-1.0f, 6.0f)(rng);
+        // The limit (the closest hit so far): none, any value, or exactly a box's entry.
+        const SlabResult first = widened_slab_test<kMayStartBehind>(pair[0].box, box_ray, ray.t_min, ray.t_max);
+        const int limit_kind = int(rng() % 3);
+        const float limit = limit_kind == 0   ? kInfinity
+                            : limit_kind == 1 ? std::uniform_real_distribution<float>(-1.0f, 6.0f)(rng)
+                                              : first.t_enter;
+        // The SIMD pair (without AVX2 the scalar one), and the scalar pair.
         const SlabPair result = widened_slab_test_pair(pair[0].box, pair[1].box, pair_ray, ray.t_min, ray.t_max, limit);
+        const SlabPair scalar =
+            scalar_slab_test_pair<kMayStartBehind>(pair[0].box, pair[1].box, box_ray, ray.t_min, ray.t_max, limit);
+        if (result.kept >> 2 || scalar.kept >> 2) {
+            ADD_FAILURE() << "kept has bits beyond the two boxes: " << result.kept << ", " << scalar.kept;
+            ++differences;
+        }
         const std::array<SlabResult, 2>& both = result.boxes;
         for (int k = 0; k < 2; ++k) {
             const SlabResult one = widened_slab_test<kMayStartBehind>(pair[k].box, box_ray, ray.t_min, ray.t_max);
+            // The walk's rule: the interval is not empty and begins no later than the closest hit.
             const bool kept = one.t_enter <= one.t_exit && !(one.t_enter > limit);
             if (same(one.t_enter, both[k].t_enter) && same(one.t_exit, both[k].t_exit) &&
-                kept == bool(result.kept >> k & 1))
+                kept == bool(result.kept >> k & 1) && same(one.t_enter, scalar.boxes[k].t_enter) &&
+                same(one.t_exit, scalar.boxes[k].t_exit) && kept == bool(scalar.kept >> k & 1))
                 continue;
             std::ostringstream s;
             s << "box " << k << " lo " << pair[k].box.lo.x << ' ' << pair[k].box.lo.y << ' ' << pair[k].box.lo.z
