@@ -289,7 +289,7 @@ Hit Bvh::walk(const Ray& ray, Observer& obs) const {
             const bool keep_left = pair.kept & 1, keep_right = pair.kept >> 1;
             if (!keep_left) cull(left, a, obs);
             if (!keep_right) cull(right, b, obs);
-            if (pair.kept == 3) {
+            if (keep_left && keep_right) {
                 // Nearer first (the left on a tie); the other waits on the stack with its interval.
                 if (b.t_enter < a.t_enter) {
                     *top++ = Entry::of(nodes[left], left, a.t_enter, a.t_exit);

@@ -33,16 +33,19 @@ namespace accelviz {
 /// What the pair test needs of a ray, computed once per ray from its BoxTestRay.
 template <bool kMayStartBehind>
 struct BoxPairTestRay {
-    const BoxTestRay* scalar;
-#if defined(__AVX2__)
+#if !defined(__AVX2__)
+    const BoxTestRay* scalar;  ///< the ray the two scalar tests take
+#else
     __m256i planes;      ///< per child: lanes 0-3 its near planes x, y, z, z; lanes 4-7 its far planes
     __m256 origin;       ///< o.x o.y o.z o.z, twice
     __m256 near_scale;   ///< what the near planes' distances are scaled by (x y z z, twice)
     __m256 far_scale;    ///< the same for the far planes
 #endif
 
-    [[gnu::always_inline]] explicit BoxPairTestRay(const BoxTestRay& ray) : scalar(&ray) {
-#if defined(__AVX2__)
+    [[gnu::always_inline]] explicit BoxPairTestRay(const BoxTestRay& ray) {
+#if !defined(__AVX2__)
+        scalar = &ray;
+#else
         const Vec3& ns = kMayStartBehind ? ray.dir_inv : ray.near_dir_inv;
         const Vec3& fs = kMayStartBehind ? ray.dir_inv : ray.far_dir_inv;
         planes = _mm256_setr_epi32(ray.near_plane[0], ray.near_plane[1], ray.near_plane[2], ray.near_plane[2],
