@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include "core/accel/kd_sah.h"
+#include "core/accel/kd_sorted_bounds.h"
 #include "core/geometry/triangle_box.h"
 #include "core/util/sort_floats.h"
 
@@ -47,32 +48,29 @@ int kd_max_depth(const KdConfig& config, size_t triangles) {
 
 namespace {
 
-/// The cheapest plane of the SAH sweep (kd_sah.h), found by counting in small nodes;
-/// axis -1 when no plane lies strictly inside the node. The first cheapest in the
-/// sweep's order (axis, then position), also when big nodes sweep their axes in parallel.
-KdPlane best_sah_plane(const SpatialRefs& refs, const Aabb& box, const KdConfig& c,
-                       std::vector<float>& los, std::vector<float>& his, SortScratch& scratch,
+/// The cheapest plane of the SAH sweep (kd_sah.h) over the node's sorted bounds, found
+/// by counting in small nodes (which need no lists); axis -1 when no plane lies
+/// strictly inside the node. The first cheapest in the sweep's order (axis, then
+/// position); big nodes sweep their three axes in parallel.
+KdPlane best_sah_plane(const SpatialRefs& refs, const SortedBounds& bounds, const Aabb& box, const KdConfig& c,
                        const PartitionProgress& progress) {
     if (refs.size() <= kKdCountingMax) return kd_cheapest_plane_by_counting(refs, box, c);
-    KdPlane best;
-    if (refs.size() < kRefsToShareOut) {
-        sweep_kd_sah(refs, box, c, los, his, scratch, [&](int a, float s, size_t, size_t, double cost) {
-            if (cost < best.cost) best = {a, s, cost};
-        });
-        return best;
-    }
     std::array<KdPlane, 3> per_axis;
-    tbb::parallel_for(0, 3, [&](int a) {
-        std::vector<float> axis_los, axis_his;
-        SortScratch axis_scratch;
+    const auto sweep_axis = [&](int a) {
         KdPlane& axis_best = per_axis[size_t(a)];
-        sweep_kd_sah_axis(
-            refs, box, c, a, axis_los, axis_his, axis_scratch,
+        sweep_sorted_kd_sah_axis<true>(
+            bounds.list(2 * a), bounds.list(2 * a + 1), box, c, a,
             [&](int, float s, size_t, size_t, double cost) {
                 if (cost < axis_best.cost) axis_best = {a, s, cost};
             },
             [&] { return progress.cancelled(); });
-    });
+    };
+    if (refs.size() < kRefsToShareOut) {
+        for (int a = 0; a < 3; ++a) sweep_axis(a);
+    } else {
+        tbb::parallel_for(0, 3, sweep_axis);
+    }
+    KdPlane best;
     for (const KdPlane& p : per_axis)
         if (p.cost < best.cost) best = p;
     return best;
@@ -106,6 +104,7 @@ struct WorkItem {
     Aabb box;
     SpatialRefs refs;
     uint64_t progress_units;  ///< its part of PartitionProgress::kTotal
+    SortedBounds bounds = {};  ///< made for a node the SAH will sweep (not for leaves-to-be, counting or deferred ones)
 };
 
 /// What building one subtree gives: local nodes (its root at 0), leaf references,
@@ -140,9 +139,12 @@ Subtree build_subtree(const BuildContext& ctx, WorkItem root, double budget, siz
     root.node = 0;
     out.nodes.emplace_back();
     work.push_back(std::move(root));
-    std::vector<float> los, his;  // scratch for the SAH sweep
-    SortScratch sort_scratch;
     SpatialRefs below, above;
+    // Whether a node of `count` references at `depth` will sweep its sorted bounds.
+    const auto will_sweep = [&](size_t count, uint32_t depth) {
+        return config.builder == KdBuilder::Sah && count > kKdCountingMax && count > size_t(config.leaf_size) &&
+               int(depth) < ctx.depth_limit && !(deferred && count < defer_below);
+    };
     bool is_root = true;
     while (!work.empty()) {
         if (progress.cancelled()) return out;  // the caller drops the unfinished tree
@@ -161,7 +163,8 @@ Subtree build_subtree(const BuildContext& ctx, WorkItem root, double budget, siz
         KdPlane plane;
         bool split = n > size_t(config.leaf_size) && int(item.depth) < ctx.depth_limit;
         if (split && config.builder == KdBuilder::Sah) {
-            plane = best_sah_plane(item.refs, item.box, config, los, his, sort_scratch, progress);
+            if (n > kKdCountingMax && !item.bounds.made()) item.bounds = sort_bounds(item.refs);
+            plane = best_sah_plane(item.refs, item.bounds, item.box, config, progress);
             split = plane.axis >= 0 && plane.cost < config.cost_isect * kd_tests(config, n);
         }
         below.clear();
@@ -213,9 +216,14 @@ Subtree build_subtree(const BuildContext& ctx, WorkItem root, double budget, siz
         upper.lo[plane.axis] = plane.position;
         const uint64_t below_units =
             PartitionProgress::share_of(item.progress_units, below.size(), below.size() + above.size());
+        auto [below_bounds, above_bounds] =
+            children_bounds(item.refs, item.bounds, {&below, &above},
+                            {will_sweep(below.size(), item.depth + 1), will_sweep(above.size(), item.depth + 1)});
+        item.bounds = {};
         // Upper pushed first so the lower child is built first: depth-first order.
-        work.push_back({first + 1, item.depth + 1, upper, std::move(above), item.progress_units - below_units});
-        work.push_back({first, item.depth + 1, lower, std::move(below), below_units});
+        work.push_back({first + 1, item.depth + 1, upper, std::move(above), item.progress_units - below_units,
+                        std::move(above_bounds)});
+        work.push_back({first, item.depth + 1, lower, std::move(below), below_units, std::move(below_bounds)});
         above = {};
         below = {};
         item.refs = {};

@@ -1,10 +1,12 @@
 #pragma once
-/// Sorting floats fast: the KD tree's SAH sweep sorts every node's box bounds.
+/// Sorting floats fast: the KD tree's SAH sweeps sorted box bounds (the build sorts
+/// them where a subtree starts, the construction stepper's chart for every node it shows).
 
 #include <algorithm>
 #include <bit>
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace accelviz {
@@ -60,9 +62,8 @@ void radix_sort_floats(std::vector<float>& values, SortScratch& scratch) {
 /// (float_sort_key), with four 8-bit digits for arrays of up to 2047 values (small
 /// count tables) and three digits of 11, 11 and 10 bits above; tiny arrays by
 /// std::sort. The order is std::sort's but for -0 and +0, which compare equal (the KD
-/// sweep treats them as one value). No NaN. Linear in n, so a KD build's sorts are
-/// O(N log N) in all instead of O(N log^2 N), and free of the comparison sort's
-/// mispredicted branches.
+/// sweep treats them as one value). No NaN. Linear in n, and free of the comparison
+/// sort's mispredicted branches.
 inline void sort_ascending(std::vector<float>& values, SortScratch& scratch) {
     constexpr size_t kRadixFrom = 32, kWideDigitsFrom = 2048;
     const size_t n = values.size();
@@ -72,6 +73,37 @@ inline void sort_ascending(std::vector<float>& values, SortScratch& scratch) {
         radix_sort_floats<4, 8, 8, 8, 8>(values, scratch);
     } else {
         radix_sort_floats<3, 11, 11, 10>(values, scratch);
+    }
+}
+
+
+/// Sorts `values` ascending as sort_ascending does, and `owners` (one per value) along
+/// with them: afterwards owners[i] is the owner of values[i]. A least-significant-digit
+/// radix sort of (key, owner) pairs by the key alone (three digits of 11, 11 and 10
+/// bits; std::sort of the pairs below 64 values). `pairs`, `other`: reused buffers.
+inline void sort_ascending_with_owners(std::span<float> values, std::span<uint32_t> owners,
+                                       std::vector<uint64_t>& pairs, std::vector<uint64_t>& other) {
+    const size_t n = values.size();
+    pairs.resize(n);
+    for (size_t i = 0; i < n; ++i) pairs[i] = uint64_t(float_sort_key(values[i])) << 32 | owners[i];
+    if (n < 64) {
+        std::sort(pairs.begin(), pairs.end());
+    } else {
+        other.resize(n);
+        constexpr int kShift[3] = {32, 43, 54}, kWidth[3] = {11, 11, 10};
+        for (int d = 0; d < 3; ++d) {
+            const uint64_t mask = (uint64_t(1) << kWidth[d]) - 1;
+            std::vector<uint32_t> start(size_t(mask) + 2, 0);
+            for (size_t i = 0; i < n; ++i) ++start[((pairs[i] >> kShift[d]) & mask) + 1];
+            if (start[((pairs[0] >> kShift[d]) & mask) + 1] == n) continue;  // one digit value: order unchanged
+            for (size_t b = 1; b < start.size(); ++b) start[b] += start[b - 1];
+            for (size_t i = 0; i < n; ++i) other[start[(pairs[i] >> kShift[d]) & mask]++] = pairs[i];
+            pairs.swap(other);
+        }
+    }
+    for (size_t i = 0; i < n; ++i) {
+        values[i] = float_from_sort_key(uint32_t(pairs[i] >> 32));
+        owners[i] = uint32_t(pairs[i]);
     }
 }
 

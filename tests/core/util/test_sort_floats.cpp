@@ -1,9 +1,11 @@
 // sort_ascending: the KD tree's sort of box bounds gives std::sort's order, for small
 // arrays (std::sort itself), mid-sized ones (8-bit digits) and big ones (11-bit digits),
-// negative and special values included, and values sharing digits (passes skipped).
+// negative and special values included, and values sharing digits (passes skipped);
+// sort_ascending_with_owners gives the same order and carries each value's owner along.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -25,7 +27,44 @@ void expect_sorted_like_std(std::vector<float> values) {
     for (size_t i = 0; i < values.size(); ++i) ASSERT_EQ(values[i], expected[i]) << "position " << i;
 }
 
+/// sort_ascending_with_owners: the values in sort_ascending's order, each still with
+/// its owner (owners start as 0..n-1, so owner k must point at a k-th value equal to it
+/// bit for bit), and every owner once.
+void expect_owners_follow(const std::vector<float>& values) {
+    std::vector<float> sorted = values;
+    std::vector<uint32_t> owners(values.size());
+    for (size_t i = 0; i < owners.size(); ++i) owners[i] = uint32_t(i);
+    std::vector<uint64_t> pairs, other;
+    sort_ascending_with_owners(sorted, owners, pairs, other);
+    std::vector<float> expected = values;
+    std::sort(expected.begin(), expected.end());
+    std::vector<bool> seen(values.size(), false);
+    for (size_t i = 0; i < values.size(); ++i) {
+        ASSERT_EQ(sorted[i], expected[i]) << "position " << i;
+        ASSERT_LT(owners[i], values.size());
+        ASSERT_FALSE(seen[owners[i]]) << "owner " << owners[i] << " twice";
+        seen[owners[i]] = true;
+        ASSERT_EQ(std::bit_cast<uint32_t>(sorted[i]), std::bit_cast<uint32_t>(values[owners[i]])) << "position " << i;
+    }
+}
+
 }  // namespace
+
+TEST(SortFloats, OwnersFollowTheirValuesInEverySize) {
+    Rng rng(17);
+    for (size_t n : {0, 1, 2, 63, 64, 65, 1000, 5000, 100000}) {
+        SCOPED_TRACE(n);
+        std::vector<float> values(n);
+        for (float& v : values) v = rng.uniform(-1000.0f, 1000.0f);
+        expect_owners_follow(values);
+        // Ties, both zeros and values sharing their high digits (skipped passes).
+        for (float& v : values) v = float(rng.next_u64() % 7) - 3.0f;
+        for (size_t i = 0; i < n; i += 5) values[i] = -0.0f;
+        expect_owners_follow(values);
+        for (float& v : values) v = rng.uniform(1.0f, 1.001f);
+        expect_owners_follow(values);
+    }
+}
 
 TEST(SortFloats, BigAndSmallArraysSortAsStdSortDoes) {
     Rng rng(7);
