@@ -302,6 +302,30 @@ TEST(KdTree, ParallelBuildIsTheSameOnAnyNumberOfThreads) {
     EXPECT_EQ(many.build_stats.leaves, one.build_stats.leaves);
 }
 
+TEST(KdTree, TheSahTreesOfTwoScenesArePinned) {
+    // A change meant to make the build faster, not different (how the sweep gets its
+    // sorted bounds, what runs in parallel), must leave these trees as they are: the
+    // counts and the SAH cost to the last bit. A change to the tree itself updates them
+    // and says why. The soup's top nodes make their lists and sweeps in parallel.
+    struct Pin {
+        const char* scene;
+        size_t nodes, references, leaves;
+        uint32_t max_depth;
+        double sah_cost;
+    };
+    for (const Pin& pin : {Pin{"builtin:teapot", 1537, 7785, 769, 20, 51.495292221066116},
+                           Pin{"builtin:soup?n=10000&seed=3", 1895, 13211, 948, 13, 109.09049198753311}}) {
+        SCOPED_TRACE(pin.scene);
+        const SceneCase& scene = scene_case(pin.scene, 10);
+        const KdTree tree = build(scene.mesh, KdConfig{});
+        EXPECT_EQ(tree.nodes.size(), pin.nodes);
+        EXPECT_EQ(tree.prim_ids.size(), pin.references);
+        EXPECT_EQ(tree.build_stats.leaves, pin.leaves);
+        EXPECT_EQ(tree.build_stats.max_depth, pin.max_depth);
+        EXPECT_EQ(tree.build_stats.sah_cost, pin.sah_cost);
+    }
+}
+
 TEST(KdTree, MailboxSavesTestsWithoutChangingAnswers) {
     const SceneCase& scene = scene_case("builtin:soup?n=2000&seed=3", 2000);
     KdConfig on, off;
