@@ -160,8 +160,8 @@ inline constexpr size_t kKdCountingMax = 32;
 
 /// The cheapest plane of sweep_kd_sah without sorting, for a node of at most
 /// kKdCountingMax references: every candidate's counts are found by comparing it with
-/// every reference (O(n²) compares over fixed-size arrays the compiler vectorises,
-/// against two sorts per axis). Same candidates, same costs, and the same choice:
+/// every reference (O(n²) compares over fixed-size arrays the compiler vectorises;
+/// such a node needs no sorted bounds). Same candidates, same costs, and the same choice:
 /// the first cheapest in the sweep's order (axis, then position).
 template <size_t kLanes = kKdCountingMax>
 KdPlane kd_cheapest_plane_by_counting(const SpatialRefs& refs, const Aabb& box, const KdConfig& c) {

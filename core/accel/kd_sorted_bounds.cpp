@@ -39,6 +39,12 @@ std::array<SortedBounds, 2> children_bounds(const SpatialRefs& parent, const Sor
     // parts' boxes, grown by the padding, are the whole box again).
     constexpr uint32_t kNotKept = UINT32_MAX;
     const size_t n = parent.size();
+    if (parent_bounds.n != n) {  // the parent has no lists (not expected): the children's sorted from scratch
+        std::array<SortedBounds, 2> sorted;
+        for (size_t side = 0; side < 2; ++side)
+            if (wanted[side]) sorted[side] = sort_bounds(*children[side]);
+        return sorted;
+    }
     std::array<std::vector<uint32_t>, 2> kept, cut;  // cut[c]: child c's references with a new box
     std::array<SortedBounds, 2> out;
     for (size_t side = 0; side < 2; ++side) {

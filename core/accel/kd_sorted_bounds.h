@@ -15,8 +15,8 @@ namespace accelviz {
 /// sorted ascending, with the index in the node's references of the box each bound
 /// came from. Wald and Havran 2006, section 4.3: sorted once where a subtree's build
 /// starts, then each child's lists are its parent's filtered in order, with only the
-/// new bounds of references the split cut (the straddlers) sorted and merged in; no
-/// sort of a whole node below the top, and the build is O(N log N).
+/// new bounds of references the split cut (the straddlers) sorted and merged in. A
+/// per-node radix sort is linear too; this saves its passes (a constant factor).
 struct SortedBounds {
     size_t n = 0;                  ///< references; 0: the lists are not made (a node that sweeps has more than 32)
     std::vector<float> values;     ///< list k (2·axis, +1 for hi) at [k·stride(), k·stride() + n)
@@ -44,6 +44,7 @@ SortedBounds sort_bounds(const SpatialRefs& refs);
 /// reference whose box the split left as it was keeps its place in every list: one
 /// pass over each of the parent's lists hands each bound to its child, in order. The
 /// others' new bounds (the straddlers', cut by the plane) are sorted and merged in.
+/// A parent without lists, or children not made so, get theirs sorted from scratch.
 std::array<SortedBounds, 2> children_bounds(const SpatialRefs& parent, const SortedBounds& parent_bounds,
                                             const std::array<const SpatialRefs*, 2>& children,
                                             std::array<bool, 2> wanted);

@@ -163,7 +163,10 @@ Subtree build_subtree(const BuildContext& ctx, WorkItem root, double budget, siz
         KdPlane plane;
         bool split = n > size_t(config.leaf_size) && int(item.depth) < ctx.depth_limit;
         if (split && config.builder == KdBuilder::Sah) {
-            if (n > kKdCountingMax && !item.bounds.made()) item.bounds = sort_bounds(item.refs);
+            if (n > kKdCountingMax && !item.bounds.made()) {
+                item.bounds = sort_bounds(item.refs);
+                if (progress.cancelled()) return out;  // a big root's sorts take a good part of a second
+            }
             plane = best_sah_plane(item.refs, item.bounds, item.box, config, progress);
             split = plane.axis >= 0 && plane.cost < config.cost_isect * kd_tests(config, n);
         }

@@ -87,7 +87,13 @@ uint64_t fixed_build_bytes(const AccelConfig& config, uint64_t triangles) {
             // grid's triangles are by id, not per reference.
             return (grid_cells_bound(config.grid, triangles) + 1) * sizeof(uint32_t) + triangles * sizeof(uint32_t) +
                    copy;
-        case AccelType::Kd: return triangles * sizeof(CornerTriples::value_type);  // the corners the splits read
+        case AccelType::Kd:
+            // The corners the splits read; with the SAH, the sorted bounds at their
+            // largest, when the root splits (kd_sorted_bounds.h): the root's six lists
+            // and its children's (8 bytes a bound, about 48 + 53 bytes a triangle) and
+            // the map between them, 8; the root's sorts take up to 16 bytes a triangle
+            // a list sorted at once, six at most: 144 in all.
+            return triangles * (sizeof(CornerTriples::value_type) + (config.kd.builder == KdBuilder::Sah ? 144 : 0));
         case AccelType::Octree:
             // The same in Morton order, each triangle's padded box, that order (the tree
             // keeps it: copy_order), and the triangle copy, one per triangle
@@ -112,11 +118,8 @@ uint64_t bytes_per_reference(const AccelConfig& config) {
             // splits' scratch (measured peaks: KD tree 69-74 bytes per reference in all;
             // octree, 871k, 5.7M references: 291 MB for the process, 104 MB of it
             // without a structure, against this estimate's 315 MB; docs/performance.md).
-            // The KD tree's SAH also keeps the sorted bounds of the nodes on its path
-            // (kd_sorted_bounds.h, 48 bytes a reference there): 16 bytes a reference
-            // more (measured at 871k: 25 MB more for 1.67M references).
             return config.type == AccelType::Kd
-                       ? sizeof(SpatialRef) + 2 * sizeof(uint32_t) + triangle_copy_bytes(config) + 24 + 16
+                       ? sizeof(SpatialRef) + 2 * sizeof(uint32_t) + triangle_copy_bytes(config) + 24
                        : sizeof(uint32_t) + 2 * sizeof(uint32_t) + sizeof(uint32_t) + 24;
         case AccelType::Bsp:
             // A piece under construction (a polygon of up to 9 corners, 116 bytes), its

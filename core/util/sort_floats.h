@@ -11,7 +11,7 @@
 
 namespace accelviz {
 
-/// Scratch for sort_ascending (kept across nodes: no allocation per node).
+/// Scratch for sort_ascending (kept across the sorts of a chart: no allocation per sort).
 struct SortScratch {
     std::vector<uint32_t> keys, other;
 };
@@ -80,7 +80,7 @@ inline void sort_ascending(std::vector<float>& values, SortScratch& scratch) {
 /// Sorts `values` ascending as sort_ascending does, and `owners` (one per value) along
 /// with them: afterwards owners[i] is the owner of values[i]. A least-significant-digit
 /// radix sort of (key, owner) pairs by the key alone (three digits of 11, 11 and 10
-/// bits; std::sort of the pairs below 64 values). `pairs`, `other`: reused buffers.
+/// bits; std::sort of the pairs below 64 values). `pairs`, `other`: scratch.
 inline void sort_ascending_with_owners(std::span<float> values, std::span<uint32_t> owners,
                                        std::vector<uint64_t>& pairs, std::vector<uint64_t>& other) {
     const size_t n = values.size();

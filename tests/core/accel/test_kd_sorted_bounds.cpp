@@ -5,6 +5,7 @@
 // the references' padding (boxes a split keeps whole on both sides) and on ties.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cstring>
 
@@ -24,6 +25,7 @@ void expect_lists_of(const SpatialRefs& refs, const SortedBounds& bounds) {
     for (int k = 0; k < 6; ++k) {
         const std::span<const float> list = bounds.list(k), expected = fresh.list(k);
         const uint32_t* owners = bounds.owners.data() + size_t(k) * bounds.stride();
+        ASSERT_TRUE(std::is_sorted(list.begin(), list.end())) << "list " << k;
         std::vector<bool> seen(refs.size(), false);
         for (size_t i = 0; i < refs.size(); ++i) {
             ASSERT_EQ(list[i], expected[i]) << "list " << k << " position " << i;
@@ -111,6 +113,24 @@ TEST(KdSortedBounds, ThinTrianglesAndSharedCoordinates) {
         mesh.indices.push_back({first, first + 1, first + 2});
     }
     check_mesh(mesh, 33);
+}
+
+TEST(KdSortedBounds, ChildrenNotMadeFromTheParentInOrderAreSortedFromScratch) {
+    // A child list that is not the parent's references in order (here reversed), or a
+    // parent without lists: the lists are still the child's, sorted from scratch.
+    auto mesh = load_scene("builtin:soup?n=500&seed=2", MeshCache::Skip);
+    ASSERT_TRUE(mesh.ok());
+    const Aabb box = mesh->bounds();
+    const float pad = reference_padding(box);
+    const SpatialRefs root = root_references(*mesh, pad);
+    SpatialRefs reversed(root.rbegin(), root.rend()), half(root.begin(), root.begin() + 200);
+    const SortedBounds root_bounds = sort_bounds(root);
+    const std::array<SortedBounds, 2> made = children_bounds(root, root_bounds, {&reversed, &half}, {true, true});
+    expect_lists_of(reversed, made[0]);
+    expect_lists_of(half, made[1]);
+    const std::array<SortedBounds, 2> without = children_bounds(root, SortedBounds{}, {&reversed, &half}, {true, false});
+    expect_lists_of(reversed, without[0]);
+    EXPECT_FALSE(without[1].made());
 }
 
 }  // namespace

@@ -392,6 +392,50 @@ TEST(KdTree, SmallNodesChooseBySweepsPlaneWhenCounting) {
     }
 }
 
+TEST(KdTree, TheBuildersSweepKeepsTheFirstCheapestOfTheWholeSweep) {
+    // The builder visits only candidates that may be cheaper than every earlier one
+    // (kCheaperOnly: the division skipped where the area sum is no lower): its first
+    // cheapest must be the whole sweep's, bit for bit, with ties (lattice bounds, four
+    // lanes making equal test counts), the empty-side bonus and one or four lanes.
+    Rng rng(29);
+    const Aabb node{{-2, -1, -0.5f}, {2, 1, 0.5f}};
+    std::vector<float> los, his;
+    SortScratch scratch;
+    for (int trial = 0; trial < 2000; ++trial) {
+        KdConfig config;
+        config.empty_bonus = trial % 2 ? 0.2f : 0.0f;
+        config.leaf_lanes = trial % 4 < 2 ? 4 : 1;
+        const size_t n = 1 + rng.below(trial % 3 == 0 ? 300 : 40);
+        const SpatialRefs refs = lattice_refs(rng, node, n, trial % 5 == 0 ? 4 : 16, 0.5f, trial % 7 == 0);
+        for (int a = 0; a < 3; ++a) {
+            los.resize(n);
+            his.resize(n);
+            for (size_t i = 0; i < n; ++i) {
+                los[i] = refs[i].box.lo[a];
+                his[i] = refs[i].box.hi[a];
+            }
+            sort_ascending(los, scratch);
+            sort_ascending(his, scratch);
+            KdPlane every, cheaper_only;
+            size_t visited_every = 0, visited_cheaper = 0;
+            const auto keep = [&](KdPlane& best, size_t& visited) {
+                return [&](int axis, float s, size_t, size_t, double cost) {
+                    ++visited;
+                    if (cost < best.cost) best = {axis, s, cost};
+                };
+            };
+            sweep_sorted_kd_sah_axis<false>(los, his, node, config, a, keep(every, visited_every), [] { return false; });
+            sweep_sorted_kd_sah_axis<true>(los, his, node, config, a, keep(cheaper_only, visited_cheaper),
+                                           [] { return false; });
+            ASSERT_EQ(cheaper_only.axis, every.axis) << "trial " << trial;
+            ASSERT_EQ(std::bit_cast<uint32_t>(cheaper_only.position), std::bit_cast<uint32_t>(every.position))
+                << "trial " << trial;
+            ASSERT_EQ(cheaper_only.cost, every.cost) << "trial " << trial;
+            ASSERT_LE(visited_cheaper, visited_every);
+        }
+    }
+}
+
 TEST(KdTree, SweepVisitsEveryBoundInsideOnceWithItsCounts) {
     // The sweep against its definition: every distinct bound strictly inside
     // the node once, in increasing order, with below = #{lo < s}, above = #{hi > s}
