@@ -4,8 +4,6 @@
 #include <cstring>
 #include <utility>
 
-#include <tbb/parallel_for.h>
-
 #include "core/util/sort_floats.h"
 
 namespace accelviz {
@@ -23,11 +21,7 @@ SortedBounds sort_bounds(const SpatialRefs& refs) {
         std::vector<uint64_t> pairs, other;
         sort_ascending_with_owners({values, out.n}, {owners, out.n}, pairs, other);
     };
-    if (out.n < kRefsToShareOut) {
-        for (int k = 0; k < 6; ++k) sort_list(k);
-    } else {
-        tbb::parallel_for(0, 6, sort_list);
-    }
+    for_each_part(out.n, 6, sort_list);
     return out;
 }
 
@@ -141,11 +135,7 @@ std::array<SortedBounds, 2> children_bounds(const SpatialRefs& parent, const Sor
             }
         }
     };
-    if (n < kRefsToShareOut) {
-        for (int k = 0; k < 6; ++k) make_lists(k);
-    } else {
-        tbb::parallel_for(0, 6, make_lists);
-    }
+    for_each_part(n, 6, make_lists);
     return out;
 }
 

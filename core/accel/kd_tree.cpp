@@ -11,7 +11,6 @@
 #include "core/accel/kd_sah.h"
 #include "core/accel/kd_sorted_bounds.h"
 #include "core/geometry/triangle_box.h"
-#include "core/util/sort_floats.h"
 
 namespace accelviz {
 
@@ -65,11 +64,7 @@ KdPlane best_sah_plane(const SpatialRefs& refs, const SortedBounds& bounds, cons
             },
             [&] { return progress.cancelled(); });
     };
-    if (refs.size() < kRefsToShareOut) {
-        for (int a = 0; a < 3; ++a) sweep_axis(a);
-    } else {
-        tbb::parallel_for(0, 3, sweep_axis);
-    }
+    for_each_part(refs.size(), 3, sweep_axis);
     KdPlane best;
     for (const KdPlane& p : per_axis)
         if (p.cost < best.cost) best = p;
@@ -140,10 +135,15 @@ Subtree build_subtree(const BuildContext& ctx, WorkItem root, double budget, siz
     out.nodes.emplace_back();
     work.push_back(std::move(root));
     SpatialRefs below, above;
-    // Whether a node of `count` references at `depth` will sweep its sorted bounds.
-    const auto will_sweep = [&](size_t count, uint32_t depth) {
+    // Whether a node of `count` references at `depth` sweeps sorted bounds if this
+    // subtree builds it (it may split, and has too many references to count), and
+    // whether it will here (a node handed on as a subtree sorts its own).
+    const auto sweeps_sorted = [&](size_t count, uint32_t depth) {
         return config.builder == KdBuilder::Sah && count > kKdCountingMax && count > size_t(config.leaf_size) &&
-               int(depth) < ctx.depth_limit && !(deferred && count < defer_below);
+               int(depth) < ctx.depth_limit;
+    };
+    const auto will_sweep = [&](size_t count, uint32_t depth) {
+        return sweeps_sorted(count, depth) && !(deferred && count < defer_below);
     };
     bool is_root = true;
     while (!work.empty()) {
@@ -163,7 +163,7 @@ Subtree build_subtree(const BuildContext& ctx, WorkItem root, double budget, siz
         KdPlane plane;
         bool split = n > size_t(config.leaf_size) && int(item.depth) < ctx.depth_limit;
         if (split && config.builder == KdBuilder::Sah) {
-            if (n > kKdCountingMax && !item.bounds.made()) {
+            if (sweeps_sorted(n, item.depth) && !item.bounds.made()) {
                 item.bounds = sort_bounds(item.refs);
                 if (progress.cancelled()) return out;  // a big root's sorts take a good part of a second
             }

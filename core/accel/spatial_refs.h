@@ -183,6 +183,18 @@ private:
 /// in parallel). A fixed size, so the same on any number of threads.
 inline constexpr size_t kRefsToShareOut = 8192;
 
+/// part(k) for k in [0, parts), the independent parts of one node's work (an axis, a
+/// list): as tasks over the threads for a node of kRefsToShareOut references or more,
+/// one after another for a smaller one.
+template <class Part>
+void for_each_part(size_t node_refs, int parts, Part&& part) {
+    if (node_refs < kRefsToShareOut) {
+        for (int k = 0; k < parts; ++k) part(k);
+    } else {
+        tbb::parallel_for(0, parts, part);
+    }
+}
+
 /// When the top of a KD tree or octree hands a node on to be built as a subtree, 1/4
 /// of the node's progress units count at once (PartitionProgress::count_part): about
 /// the top's share of the build's work (docs/performance.md).
