@@ -129,12 +129,12 @@ Expected<BspTree> build_bsp_tree(const Mesh& mesh, const BspConfig& config, Work
 
 template <TriangleTestKind kTest, StopAt kStop, class Observer>
 Hit BspTree::front_to_back(const Ray& ray, Observer& obs) const {
-    CellHits<kTest, kStop> hits(ray, triangles, corners, build_config.mailbox, /*strict_cell=*/true, build_stats.triangles);
-    if (nodes.empty()) return hits.done(obs);
+    using Hits = CellHits<kTest, kStop>;
     const RayPrecomp pre(ray);
     CellWalk<kBspStackSize> walk;
     CellWalk<kBspStackSize>::Entry cur;
-    if (!walk.start(bounds, pre, ray, cur, obs)) return hits.done(obs);
+    if (nodes.empty() || !walk.start(bounds, pre, ray, cur, obs)) return Hits::missed(obs);
+    Hits hits(ray, pre, triangles, corners, build_config.mailbox, /*strict_cell=*/true, build_stats.triangles);
     do {
         walk.visit(cur, obs);
         const BspNode* n = &nodes[cur.node];

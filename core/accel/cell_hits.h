@@ -93,11 +93,23 @@ public:
     /// cell is accepted at once and ends the walk after that cell, which gives
     /// wrong answers when a triangle's hit lies beyond the cell it was tested in.
     /// `triangle_count`: ids are below it (the mailbox's bitset size).
-    /// `triangles`, `corners`: the structure's arrays, as TriangleTester reads them.
-    CellHits(const Ray& ray, const TriangleArray& triangles, const CornerArray& corners, bool use_mailbox,
-             bool strict_cell, uint32_t triangle_count)
-        : test_ray_(ray), tester_(ray, triangles, corners), use_mailbox_(use_mailbox),
+    /// `triangles`, `corners`: the structure's arrays, as TriangleTester reads them;
+    /// `pre`: RayPrecomp(ray), which the walk made for its root box.
+    /// Made only once the ray has entered the structure's box: a ray that misses it
+    /// (most of a wide view) pays for none of this set-up (missed()).
+    CellHits(const Ray& ray, const RayPrecomp& pre, const TriangleArray& triangles, const CornerArray& corners,
+             bool use_mailbox, bool strict_cell, uint32_t triangle_count)
+        : test_ray_(ray), tester_(ray, pre, triangles, corners), use_mailbox_(use_mailbox),
           strict_(strict_cell), mailbox_(triangle_count) {}
+
+    /// The answer, and done()'s event, for a ray that enters no cell (an empty
+    /// structure, or a ray that misses its box): no hit.
+    template <class Observer>
+    static Hit missed(Observer& obs) {
+        const Hit none;
+        obs.on({.kind = EventKind::Done, .hit = false, .tri = none.tri, .t = none.t, .u = none.u, .v = none.v});
+        return none;
+    }
 
     /// The walk enters a cell spanning [t_in, t_out] along the ray. A hit
     /// remembered from an earlier cell whose t lies in this cell is accepted now.

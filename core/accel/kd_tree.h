@@ -164,12 +164,12 @@ Expected<KdTree> build_kd_tree(const Mesh& mesh, const KdConfig& config, WorkPro
 
 template <TriangleTestKind kTest, StopAt kStop, class Observer>
 Hit KdTree::front_to_back(const Ray& ray, Observer& obs) const {
-    CellHits<kTest, kStop> hits(ray, triangles, corners, build_config.mailbox, build_config.strict_cell, build_stats.triangles);
-    if (nodes.empty()) return hits.done(obs);
+    using Hits = CellHits<kTest, kStop>;
     const RayPrecomp pre(ray);
     CellWalk<kKdStackSize> walk;
     CellWalk<kKdStackSize>::Entry cur;
-    if (!walk.start(bounds, pre, ray, cur, obs)) return hits.done(obs);
+    if (nodes.empty() || !walk.start(bounds, pre, ray, cur, obs)) return Hits::missed(obs);
+    Hits hits(ray, pre, triangles, corners, build_config.mailbox, build_config.strict_cell, build_stats.triangles);
     // Plain arrays: indexed by a node's axis, Vec3's operator[] would be a chain of selects.
     const float origin[3] = {ray.origin.x, ray.origin.y, ray.origin.z};
     const float dir_inv[3] = {pre.dir_inv.x, pre.dir_inv.y, pre.dir_inv.z};

@@ -103,13 +103,13 @@ Expected<Octree> build_octree(const Mesh& mesh, const OctreeConfig& config, Work
 
 template <TriangleTestKind kTest, StopAt kStop, class Observer>
 Hit Octree::front_to_back(const Ray& ray, Observer& obs) const {
-    CellHits<kTest, kStop> hits(ray, triangles, corners, build_config.mailbox, /*strict_cell=*/true, build_stats.triangles);
-    if (nodes.empty()) return hits.done(obs);
+    using Hits = CellHits<kTest, kStop>;
     const RayPrecomp pre(ray);
     CellWalk<kOctreeStackSize> walk;
     using Entry = CellWalk<kOctreeStackSize>::Entry;
     Entry cur;
-    if (!walk.start(bounds, pre, ray, cur, obs)) return hits.done(obs);
+    if (nodes.empty() || !walk.start(bounds, pre, ray, cur, obs)) return Hits::missed(obs);
+    Hits hits(ray, pre, triangles, corners, build_config.mailbox, /*strict_cell=*/true, build_stats.triangles);
     do {
         walk.visit(cur, obs);
         const OctreeNode* n = &nodes[cur.node];

@@ -128,8 +128,8 @@ Expected<UniformGrid> build_uniform_grid(const Mesh& mesh, const GridConfig& con
 
 template <TriangleTestKind kTest, StopAt kStop, class Observer>
 Hit UniformGrid::front_to_back(const Ray& ray, Observer& obs) const {
-    CellHits<kTest, kStop> hits(ray, triangles, corners, build_config.mailbox, /*strict_cell=*/true, uint32_t(triangles.size()));
-    if (cell_start.empty()) return hits.done(obs);
+    using Hits = CellHits<kTest, kStop>;
+    if (cell_start.empty()) return Hits::missed(obs);
     const RayPrecomp pre(ray);
     const SlabResult box = slab_test(bounds, pre, ray.t_min, ray.t_max);
     obs.on({.kind = EventKind::BoxTest, .hit = box.hit(), .node = 0, .t_enter = box.t_enter, .t_exit = box.t_exit});
@@ -137,8 +137,9 @@ Hit UniformGrid::front_to_back(const Ray& ray, Observer& obs) const {
     if (!(box.t_enter <= box.t_exit)) {
         obs.on({.kind = EventKind::Cull, .reason = CullReason::MissedBox, .node = 0, .t_enter = box.t_enter,
                 .t_exit = box.t_exit});
-        return hits.done(obs);
+        return Hits::missed(obs);
     }
+    Hits hits(ray, pre, triangles, corners, build_config.mailbox, /*strict_cell=*/true, uint32_t(triangles.size()));
     const float t_end = box.t_exit;
 
     // The first cell: where the ray enters the grid, or the one holding the origin.

@@ -368,6 +368,15 @@ public:
         : box_ray_(ray), triangles_(triangles), corners_(corners) {
         if constexpr (kTest == TriangleTestKind::Watertight) watertight_ = WatertightRay(ray);
     }
+    /// For a walk that has the ray's slab-test values `pre` (RayPrecomp(ray)) already.
+    [[gnu::always_inline]] TriangleTester(const Ray& ray, const RayPrecomp& pre, const TriangleArray& triangles,
+                                          const CornerArray& corners)
+        : TriangleTester(ray, pre, triangles.data(), corners.data()) {}
+    [[gnu::always_inline]] TriangleTester(const Ray& ray, const RayPrecomp& pre, const Triangle* triangles,
+                                          const TriangleCorners* corners)
+        : box_ray_(pre), triangles_(triangles), corners_(corners) {
+        if constexpr (kTest == TriangleTestKind::Watertight) watertight_ = WatertightRay(ray);
+    }
 
     /// Triangle k of the arrays against `ray` (whose t_max may have shrunk since).
     [[gnu::always_inline]] TriangleTest test(size_t k, const Ray& ray) const {

@@ -71,7 +71,7 @@ struct SlabResult {
 /// otherwise. When the origin lies exactly on a plane, (plane - o) * inf is
 /// 0 * inf = NaN; slab_test() below ignores NaN bounds, which is exactly right
 /// (an origin on the plane is inside the closed slab).
-inline SlabInterval slab_interval(const Aabb& box, const RayPrecomp& ray, int axis) {
+[[gnu::always_inline]] inline SlabInterval slab_interval(const Aabb& box, const RayPrecomp& ray, int axis) {
     const float t_lo = (box.lo[axis] - ray.origin[axis]) * ray.dir_inv[axis];
     const float t_hi = (box.hi[axis] - ray.origin[axis]) * ray.dir_inv[axis];
     return ray.dir_negative[axis] ? SlabInterval{t_hi, t_lo} : SlabInterval{t_lo, t_hi};
@@ -81,7 +81,7 @@ inline SlabInterval slab_interval(const Aabb& box, const RayPrecomp& ray, int ax
 /// [-inf, +inf] for the lecture's raw numbers, or the ray's valid range to clip).
 /// NaN-safe: `a > b ? a : b` keeps b when a is NaN, so a NaN bound never narrows
 /// the interval.
-inline SlabResult slab_test(const Aabb& box, const RayPrecomp& ray,
+[[gnu::always_inline]] inline SlabResult slab_test(const Aabb& box, const RayPrecomp& ray,
                             float t_enter = -kInfinity, float t_exit = kInfinity) {
     for (int axis = 0; axis < 3; ++axis) {
         const SlabInterval s = slab_interval(box, ray, axis);

@@ -27,7 +27,7 @@ struct RayPrecomp {
     Vec3 dir_inv;
     int dir_negative[3];
 
-    explicit RayPrecomp(const Ray& ray)
+    [[gnu::always_inline]] explicit RayPrecomp(const Ray& ray)
         : origin(ray.origin), dir(ray.dir),
           dir_inv(1.0f / ray.dir.x, 1.0f / ray.dir.y, 1.0f / ray.dir.z),
           // signbit, not `< 0`: a -0 component divides to -inf, so its near slab is the max side.

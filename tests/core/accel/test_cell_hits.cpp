@@ -23,7 +23,7 @@ TEST(CellHits, HitBeyondTheCellIsDeferredUntilItsCell) {
     const TriangleArray tris{Triangle::from_points({-1, -1, 5}, {1, -1, 5}, {0, 1, 5})};
     const Ray ray{{0, 0, 0}, {0, 0, 1}};
     RecordingObserver rec;
-    CellHits<TriangleTestKind::MollerTrumbore> hits(ray, tris, {}, /*use_mailbox=*/true, /*strict_cell=*/true, 1);
+    CellHits<TriangleTestKind::MollerTrumbore> hits(ray, RayPrecomp(ray), tris, {}, /*use_mailbox=*/true, /*strict_cell=*/true, 1);
     hits.enter(2.0f, rec);  // first cell: t in [0, 2]
     hits.test(0, 0, rec);
     EXPECT_FALSE(hits.can_stop());
@@ -44,7 +44,7 @@ TEST(CellHits, HitExactlyAtTheCellEndKeepsTheWalkGoing) {
     const TriangleArray tris{Triangle::from_points({-1, -1, 2}, {1, -1, 2}, {0, 1, 2})};
     const Ray ray{{0, 0, 0}, {0, 0, 1}};
     NoObserver none;
-    CellHits<TriangleTestKind::MollerTrumbore> hits(ray, tris, {}, true, true, 8);
+    CellHits<TriangleTestKind::MollerTrumbore> hits(ray, RayPrecomp(ray), tris, {}, true, true, 8);
     hits.enter(2.0f, none);
     hits.test(0, 7, none);
     EXPECT_FALSE(hits.can_stop());
@@ -58,7 +58,7 @@ TEST(CellHits, NaiveRuleStopsAtTheFirstCellWithAHit) {
     const TriangleArray far{Triangle::from_points({-1, -1, 5}, {1, -1, 5}, {0, 1, 5})};
     const Ray ray{{0, 0, 0}, {0, 0, 1}};
     NoObserver none;
-    CellHits<TriangleTestKind::MollerTrumbore> hits(ray, far, {}, true, /*strict_cell=*/false, 1);
+    CellHits<TriangleTestKind::MollerTrumbore> hits(ray, RayPrecomp(ray), far, {}, true, /*strict_cell=*/false, 1);
     hits.enter(2.0f, none);
     hits.test(0, 0, none);
     EXPECT_TRUE(hits.can_stop());  // the lecture's pitfall: it never looks at the cells in between
