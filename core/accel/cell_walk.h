@@ -33,7 +33,8 @@ struct CellWalk {
     /// cull. (Where the walk is, `cur`, stays a local of the caller's loop, so the
     /// compiler keeps it in registers.)
     template <class Observer>
-    bool start(const Aabb& bounds, const RayPrecomp& pre, const Ray& ray, Entry& cur, Observer& obs) const {
+    [[gnu::always_inline]] bool start(const Aabb& bounds, const RayPrecomp& pre, const Ray& ray, Entry& cur,
+                                      Observer& obs) const {
         const SlabResult root = slab_test(bounds, pre, ray.t_min, ray.t_max);
         obs.on({.kind = EventKind::BoxTest, .hit = root.hit(), .node = 0, .t_enter = root.t_enter,
                 .t_exit = root.t_exit});
