@@ -371,10 +371,7 @@ public:
     /// For a walk that has the ray's slab-test values `pre` (RayPrecomp(ray)) already.
     [[gnu::always_inline]] TriangleTester(const Ray& ray, const RayPrecomp& pre, const TriangleArray& triangles,
                                           const CornerArray& corners)
-        : TriangleTester(ray, pre, triangles.data(), corners.data()) {}
-    [[gnu::always_inline]] TriangleTester(const Ray& ray, const RayPrecomp& pre, const Triangle* triangles,
-                                          const TriangleCorners* corners)
-        : box_ray_(pre), triangles_(triangles), corners_(corners) {
+        : box_ray_(pre), triangles_(triangles.data()), corners_(corners.data()) {
         if constexpr (kTest == TriangleTestKind::Watertight) watertight_ = WatertightRay(ray);
     }
 

@@ -81,8 +81,8 @@ struct SlabResult {
 /// [-inf, +inf] for the lecture's raw numbers, or the ray's valid range to clip).
 /// NaN-safe: `a > b ? a : b` keeps b when a is NaN, so a NaN bound never narrows
 /// the interval.
-[[gnu::always_inline]] inline SlabResult slab_test(const Aabb& box, const RayPrecomp& ray,
-                            float t_enter = -kInfinity, float t_exit = kInfinity) {
+[[gnu::always_inline]] inline SlabResult slab_test(const Aabb& box, const RayPrecomp& ray, float t_enter = -kInfinity,
+                                                   float t_exit = kInfinity) {
     for (int axis = 0; axis < 3; ++axis) {
         const SlabInterval s = slab_interval(box, ray, axis);
         t_enter = s.t_min > t_enter ? s.t_min : t_enter;

@@ -118,3 +118,23 @@ TEST(BoxPairTest, BothIntervalsAreTheScalarTestsForRaysAhead) { expect_pairs_mat
 TEST(BoxPairTest, BothIntervalsAreTheScalarTestsForRaysThatMayHitBehind) {
     expect_pairs_match_the_scalar_test<true>(11);
 }
+
+// The cell walks make their triangle tests' BoxTestRay from the slab test's RayPrecomp,
+// the BVH from the Ray: the two must be the same bits (±0 and tiny components included),
+// or the own-box rule would differ between structures.
+TEST(BoxTestRay, MadeFromRayPrecompIsMadeFromTheRay) {
+    std::mt19937 rng(13);
+    for (int i = 0; i < 100000; ++i) {
+        const Ray ray{{coordinate(rng), coordinate(rng), coordinate(rng)},
+                      {direction_component(rng), direction_component(rng), direction_component(rng)}};
+        const BoxTestRay from_ray(ray), from_pre{RayPrecomp(ray)};
+        for (int axis = 0; axis < 3; ++axis) {
+            ASSERT_TRUE(same(from_ray.origin[axis], from_pre.origin[axis]));
+            ASSERT_TRUE(same(from_ray.dir_inv[axis], from_pre.dir_inv[axis])) << "ray " << i << " axis " << axis;
+            ASSERT_TRUE(same(from_ray.near_dir_inv[axis], from_pre.near_dir_inv[axis]));
+            ASSERT_TRUE(same(from_ray.far_dir_inv[axis], from_pre.far_dir_inv[axis]));
+            ASSERT_EQ(from_ray.near_plane[axis], from_pre.near_plane[axis]);
+            ASSERT_EQ(from_ray.far_plane[axis], from_pre.far_plane[axis]);
+        }
+    }
+}
