@@ -97,8 +97,8 @@ public:
     /// `pre`: RayPrecomp(ray), which the walk made for its root box.
     /// Made only once the ray has entered the structure's box: a ray that misses it
     /// (most of a wide view) pays for none of this set-up (missed()).
-    /// Always inlined: the trees' walks run 5-8% faster, the grid's about 7% slower
-    /// (its loop's registers are allocated differently; docs/performance.md).
+    /// Always inlined: the trees' walks are faster so; the grid's a little slower (its
+    /// loop's registers are allocated differently). Figures in docs/performance.md.
     [[gnu::always_inline]] CellHits(const Ray& ray, const RayPrecomp& pre, const TriangleArray& triangles,
                                     const CornerArray& corners, bool use_mailbox, bool strict_cell,
                                     uint32_t triangle_count)

@@ -54,7 +54,8 @@ struct BoxTestRay {
     int far_plane[3];
 
     /// (Written out, not made through RayPrecomp: that detour made the BVH's walk,
-    /// which builds this from a Ray, 20% slower at a wide view; docs/performance.md.)
+    /// which builds this from a Ray, markedly slower on rays that miss; figures in
+    /// docs/performance.md.)
     [[gnu::always_inline]] explicit BoxTestRay(const Ray& ray)
         : origin(ray.origin), dir_inv(1.0f / ray.dir.x, 1.0f / ray.dir.y, 1.0f / ray.dir.z),
           near_dir_inv(dir_inv * (1.0f - kBoxTestMargin)), far_dir_inv(dir_inv * (1.0f + kBoxTestMargin)) {
