@@ -244,7 +244,8 @@ Command register_bench_view(CLI::App& app) {
         ->check(whole_number(0, INT32_MAX, ">= 0"));
     add_draw_flag(*sub, opt->draw,
                   "whichever is measured faster; orbit frames draw a quarter of the pixels and the overlay's "
-                  "shallow levels only (at most 8192 boxes), the still frame after every pixel and box");
+                  "shallow levels only (4096 boxes at first, then as many as keep a frame under 40 ms), the still frame "
+                  "after every pixel and box");
     sub->add_flag("--json", opt->json, "Print one JSON object instead of the table");
     opt->camera.add_to(*sub);
     add_accel_flags(*sub, opt->accel);

@@ -25,8 +25,11 @@ namespace accelviz {
 class MovingBoxBudget {
 public:
     /// The budget before any frame is timed (and for golden images, never timed):
-    /// 13 levels of a binary BVH.
-    static constexpr size_t kStartBoxes = 8192;
+    /// 12 levels of a binary BVH, as many boxes as a still picture's share frame
+    /// draws (ViewCache::kStillBoxesPerFrame). One level more made the first two
+    /// frames of a drag the slowest of the orbit on a software renderer
+    /// (docs/performance.md); a faster machine takes the next levels two frames each.
+    static constexpr size_t kStartBoxes = 4096;
     /// The fewest boxes a slow frame drops to (10 levels of a binary BVH): the frame
     /// may be slow for other reasons (a ray-cast mesh of millions of triangles).
     static constexpr size_t kFewestBoxes = 1024;

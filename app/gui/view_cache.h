@@ -56,7 +56,7 @@ public:
     /// A full draw of the view is kept only if the last one took at least this long:
     /// the copy (a few ms) would slow down a view that is quick to redraw.
     static constexpr double kWorthKeepingMs = 25.0;
-    /// Boxes a still view draws per frame when it draws them over several: half the
+    /// Boxes a still view draws per frame when it draws them over several: the
     /// moving camera's first budget (MovingBoxBudget::kStartBoxes), so that the first
     /// such frame, which draws the mesh too, takes no longer than a frame while the
     /// camera moves on a renderer slow enough to draw a picture in shares (measured:
