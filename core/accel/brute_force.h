@@ -61,9 +61,7 @@ private:
                 obs.on({.kind = EventKind::NewClosest, .tri = id, .t = test.t, .u = test.u, .v = test.v});
             }
         }
-        obs.on({.kind = EventKind::Done, .hit = best.found(), .tri = best.tri, .t = best.t,
-                .u = best.u, .v = best.v});
-        return best;
+        return report_done(best, obs);
     }
 
     template <TriangleTestKind kTest, class Observer>
@@ -76,9 +74,7 @@ private:
                     .v = test.v});
             if (test.hit) found = {id, test.t, test.u, test.v};
         }
-        obs.on({.kind = EventKind::Done, .hit = found.found(), .tri = found.tri, .t = found.t, .u = found.u,
-                .v = found.v});
-        return found.found();
+        return report_done(found, obs).found();
     }
 };
 

@@ -109,9 +109,7 @@ public:
     /// structure, or a ray that misses its box): no hit.
     template <class Observer>
     static Hit missed(Observer& obs) {
-        const Hit none;
-        obs.on({.kind = EventKind::Done, .hit = false, .tri = none.tri, .t = none.t, .u = none.u, .v = none.v});
-        return none;
+        return report_done(Hit{}, obs);
     }
 
     /// The walk enters a cell spanning [t_in, t_out] along the ray. A hit
@@ -176,9 +174,7 @@ public:
     /// still the closest over all triangles tested, so it is the answer.
     template <class Observer>
     Hit done(Observer& obs) const {
-        obs.on({.kind = EventKind::Done, .hit = best_.found(), .tri = best_.tri, .t = best_.t, .u = best_.u,
-                .v = best_.v});
-        return best_;
+        return report_done(best_, obs);
     }
 
 private:

@@ -189,8 +189,7 @@ private:
 
     template <class Observer>
     static Hit done(const Hit& best, Observer& obs) {
-        obs.on({.kind = EventKind::Done, .hit = best.found(), .tri = best.tri, .t = best.t, .u = best.u, .v = best.v});
-        return best;
+        return report_done(best, obs);
     }
 
     /// intersect_leaf_triangles (bvh.h) for Möller–Trumbore, four lanes at a time

@@ -29,6 +29,14 @@ struct NoObserver {
 template <class Observer>
 inline constexpr bool kObserverWatches = !std::is_same_v<Observer, NoObserver>;
 
+/// A ray query's last event, Done, with its answer `best` (Hit{}: no hit), and the
+/// answer: how every structure's walk ends.
+template <class Observer>
+Hit report_done(const Hit& best, Observer& obs) {
+    obs.on({.kind = EventKind::Done, .hit = best.found(), .tri = best.tri, .t = best.t, .u = best.u, .v = best.v});
+    return best;
+}
+
 /// A value a traversal carries only to report it in events (a node's id, an exit
 /// distance). When nobody watches (kKept false) it is an empty type: as a
 /// [[no_unique_address]] member it takes no room, and it reads as T{}. So the walk
