@@ -169,7 +169,9 @@ TEST(IllConditionedHits, EveryMollerTrumboreHitLiesOnItsTriangle) {
     const int hits = shoot_at_slivers(300000, [](Vec3 a, Vec3 b, Vec3 c, const Ray& ray) {
         const Triangle tri = Triangle::from_points(a, b, c);
         const TriangleTest test = intersect_triangle(tri, ray);
-        if (test.hit) EXPECT_LT(off_triangle_share(tri, ray, test.t), 0x1p-16);
+        if (test.hit) {
+            EXPECT_LT(off_triangle_share(tri, ray, test.t), 0x1p-16);
+        }
         return test.hit;
     });
     EXPECT_GT(hits, 5000);
@@ -181,7 +183,9 @@ TEST(IllConditionedHits, EveryWatertightHitLiesOnItsTriangle) {
     // until small sums of them were computed again in double.
     const int hits = shoot_at_slivers(300000, [](Vec3 a, Vec3 b, Vec3 c, const Ray& ray) {
         const TriangleTest test = intersect_triangle(TriangleCorners::from_points(a, b, c), ray);
-        if (test.hit) EXPECT_LT(off_triangle_share(to_double(a), to_double(b), to_double(c), ray, test.t), 0x1p-16);
+        if (test.hit) {
+            EXPECT_LT(off_triangle_share(to_double(a), to_double(b), to_double(c), ray, test.t), 0x1p-16);
+        }
         return test.hit;
     });
     EXPECT_GT(hits, 5000);
