@@ -14,6 +14,7 @@
 #include <iostream>
 #include <memory>
 #include <numbers>
+#include <string>
 #include <thread>
 
 #include <nlohmann/json.hpp>
@@ -28,6 +29,7 @@
 #include "app/cli/window_flags.h"
 #include "app/gui/camera_control.h"
 #include "app/gui/headless.h"
+#include "app/gui/moving_box_budget.h"
 #include "app/gui/scene_loader.h"
 #include "app/gui/session.h"
 #include "core/accel/memory_budget.h"
@@ -244,8 +246,10 @@ Command register_bench_view(CLI::App& app) {
         ->check(whole_number(0, INT32_MAX, ">= 0"));
     add_draw_flag(*sub, opt->draw,
                   "whichever is measured faster; orbit frames draw a quarter of the pixels and the overlay's "
-                  "shallow levels only (4096 boxes at first, then as many as keep a frame under 40 ms), the still frame "
-                  "after every pixel and box");
+                  "shallow levels only (" + std::to_string(MovingBoxBudget::kStartBoxes) +
+                      " boxes at first, then as many as keep a frame under " +
+                      std::to_string(int(MovingBoxBudget::kTargetMs)) +
+                      " ms), the still frame after every pixel and box");
     sub->add_flag("--json", opt->json, "Print one JSON object instead of the table");
     opt->camera.add_to(*sub);
     add_accel_flags(*sub, opt->accel);

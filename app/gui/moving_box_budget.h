@@ -25,8 +25,8 @@ namespace accelviz {
 class MovingBoxBudget {
 public:
     /// The budget before any frame is timed (and for golden images, never timed):
-    /// 12 levels of a binary BVH, as many boxes as a still picture's share frame
-    /// draws (ViewCache::kStillBoxesPerFrame). One level more made the first two
+    /// 12 levels of a binary BVH (a still picture's share frames draw as many,
+    /// ViewCache::kStillBoxesPerFrame). One level more made the first two
     /// frames of a drag the slowest of the orbit on a software renderer
     /// (docs/performance.md); a faster machine takes the next levels two frames each.
     static constexpr size_t kStartBoxes = 4096;

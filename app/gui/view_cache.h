@@ -30,6 +30,7 @@
 #include "app/gl/texture.h"
 #include "app/gl/view3d.h"
 #include "app/gui/app_state.h"
+#include "app/gui/moving_box_budget.h"
 #include "app/gui/surface_cast.h"
 #include "core/render/camera.h"
 
@@ -61,7 +62,7 @@ public:
     /// such frame, which draws the mesh too, takes no longer than a frame while the
     /// camera moves on a renderer slow enough to draw a picture in shares (measured:
     /// docs/performance.md).
-    static constexpr size_t kStillBoxesPerFrame = 4096;
+    static constexpr size_t kStillBoxesPerFrame = MovingBoxBudget::kStartBoxes;
 
     /// A frame begins; the previous one took `previous_frame_ms` (0: unknown). The time
     /// of a frame that drew the view in full says whether the next full draw is kept.
