@@ -200,11 +200,6 @@ private:
         obs.on({.kind = EventKind::Cull, .reason = entered(box) ? CullReason::BeyondClosestHit : CullReason::MissedBox,
                 .node = node, .t_enter = box.t_enter, .t_exit = box.t_exit});
     }
-
-    template <class Observer>
-    static Hit done(const Hit& best, Observer& obs) {
-        return report_done(best, obs);
-    }
 };
 
 // ---------------------------------------------------------------------------
@@ -257,7 +252,7 @@ Hit Bvh::walk(const Ray& ray, Observer& obs) const {
     constexpr bool kClosest = kStop == StopAt::ClosestHit;
     using Entry = StackEntry<kObserverWatches<Observer> || !kNearestFirst>;
     Hit best;
-    if (nodes.empty()) return done(best, obs);
+    if (nodes.empty()) return report_done(best, obs);
     const TriangleTester<kTest> tester(ray, triangles, corners);
     const BoxTestRay& box_ray = tester.box_ray();
     const BoxPairTestRay<kMayStartBehind> pair_ray(box_ray);
@@ -269,14 +264,14 @@ Hit Bvh::walk(const Ray& ray, Observer& obs) const {
     const SlabResult root = test_box<kMayStartBehind>(0, box_ray, ray, obs);
     if (!entered(root)) {
         cull(0, root, obs);
-        return done(best, obs);
+        return report_done(best, obs);
     }
     Entry current = Entry::of(nodes[0], 0, root.t_enter, root.t_exit);
     while (true) {
         obs.on({.kind = EventKind::VisitNode, .node = current.node, .t_enter = current.t_enter,
                 .t_exit = current.t_exit});
         if (current.is_leaf()) {
-            if (intersect_leaf<kStop>(current, shrinking, tester, best, obs)) return done(best, obs);
+            if (intersect_leaf<kStop>(current, shrinking, tester, best, obs)) return report_done(best, obs);
         } else if constexpr (kNearestFirst) {
             // find_hit_order (lecture): test both children; keep those the ray enters
             // no later than the closest hit so far; go to the nearer, defer the other.
@@ -349,7 +344,7 @@ Hit Bvh::walk(const Ray& ray, Observer& obs) const {
         }
         if (!found) break;
     }
-    return done(best, obs);
+    return report_done(best, obs);
 }
 
 // The traversals for the three observers every structure serves are compiled once, in

@@ -187,11 +187,6 @@ private:
         }
     }
 
-    template <class Observer>
-    static Hit done(const Hit& best, Observer& obs) {
-        return report_done(best, obs);
-    }
-
     /// intersect_leaf_triangles (bvh.h) for Möller–Trumbore, four lanes at a time
     /// (for_each_lane_test, triangle_lanes.h), each test kept as take_triangle_test keeps
     /// it. An observer that watches hears every triangle's test, as from the
@@ -234,7 +229,7 @@ Hit WideBvh<W, Lanes>::walk(const Ray& ray, Observer& obs) const {
     constexpr bool kWatched = kObserverWatches<Observer>;
     using Entry = StackEntry<kWatched>;
     Hit best;
-    if (empty()) return done(best, obs);
+    if (empty()) return report_done(best, obs);
     const TriangleTester<kTest> tester(ray, nullptr, corners.data());  // Möller–Trumbore reads leaf_lanes
     const BoxTestRay& box_ray = tester.box_ray();
     Ray shrinking = ray;  // t_max follows the closest hit, for the triangle tests only
@@ -248,7 +243,7 @@ Hit WideBvh<W, Lanes>::walk(const Ray& ray, Observer& obs) const {
     if (!root_entered) {
         obs.on({.kind = EventKind::Cull, .reason = CullReason::MissedBox, .node = 0, .t_enter = root.t_enter,
                 .t_exit = root.t_exit});
-        return done(best, obs);
+        return report_done(best, obs);
     }
     Entry current{root_first, root_count, root.t_enter, 0u, root.t_exit};
     while (true) {
@@ -259,10 +254,10 @@ Hit WideBvh<W, Lanes>::walk(const Ray& ray, Observer& obs) const {
                     .t_enter = current.t_enter, .t_exit = current.t_exit});
             if constexpr (kTest == TriangleTestKind::MollerTrumbore) {
                 if (intersect_leaf_lanes<kStop>(current.first, current.count, shrinking, box_ray, best, obs))
-                    return done(best, obs);
+                    return report_done(best, obs);
             } else if (intersect_leaf_triangles<kStop>(current.first, current.count, prim_ids.data(), shrinking, tester,
                                                        best, obs)) {
-                return done(best, obs);
+                return report_done(best, obs);
             }
         } else {
             // All children's boxes in one go; keep those the ray enters no later than
@@ -351,7 +346,7 @@ Hit WideBvh<W, Lanes>::walk(const Ray& ray, Observer& obs) const {
         }
         if (!found) break;
     }
-    return done(best, obs);
+    return report_done(best, obs);
 }
 
 // The walks for the three observers, compiled once in wide_bvh.cpp (as bvh.h does).
